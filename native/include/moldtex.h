@@ -1,0 +1,221 @@
+/* moldtex.h — the one public header of libmoldtex, the Moldtex simulation core.
+ *
+ * Conventions (modelled on Embree's rtc* and SQLite's C APIs):
+ *  - Opaque handles with create/release pairs. A simulation keeps its surface alive,
+ *    so the caller may release the surface right after creating the simulation.
+ *  - Every call that can fail returns a moldtex_status; MOLDTEX_OK is 0.
+ *    moldtex_last_error() explains the last failure *on the calling thread* in words
+ *    a user can act on. No C++ exception ever crosses this boundary.
+ *  - Parameter structs start with struct_size; fill them with the matching *_init
+ *    function first, so an old caller keeps working when fields are appended.
+ *  - Every input is validated (finite numbers, index ranges, sizes, memory needed).
+ *  - A handle may be used from one thread at a time; different handles are independent.
+ *
+ * Units (docs/ARCHITECTURE.md has the reasoning):
+ *  - One step is one tick of the paper's 60 Hz clock by default (time_step = 1/60 s).
+ *  - Lengths on the surface are measured in texels: one texel is the mean 3D length
+ *    that one texel of the chosen texture covers on this mesh,
+ *    sqrt(surface area / (UV area * width * height)). Agents walk in true 3D lengths.
+ */
+#ifndef MOLDTEX_H
+#define MOLDTEX_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(_WIN32)
+#define MOLDTEX_API __declspec(dllexport)
+#else
+#define MOLDTEX_API __attribute__((visibility("default")))
+#endif
+
+/* Bumped whenever a struct layout or a function signature changes incompatibly. */
+#define MOLDTEX_ABI_VERSION 1u
+
+typedef enum moldtex_status {
+  MOLDTEX_OK = 0,
+  MOLDTEX_ERROR_INVALID_ARGUMENT = 1, /* null pointer, NaN, out-of-range value or index */
+  MOLDTEX_ERROR_INVALID_MESH = 2,     /* no faces, bad indices, non-manifold edges, ... */
+  MOLDTEX_ERROR_MISSING_UVS = 3,      /* no UVs, or a UV layout with zero area */
+  MOLDTEX_ERROR_TOO_LARGE = 4,        /* the request would need absurd memory or sizes */
+  MOLDTEX_ERROR_OUT_OF_MEMORY = 5,    /* an allocation failed */
+  MOLDTEX_ERROR_INTERNAL = 6          /* a bug: please report the message */
+} moldtex_status;
+
+typedef struct moldtex_surface_t* moldtex_surface;
+typedef struct moldtex_sim_t* moldtex_sim;
+
+/* ---- library --------------------------------------------------------------------- */
+
+/* MOLDTEX_ABI_VERSION of the loaded library; callers compare it with their own. */
+MOLDTEX_API uint32_t moldtex_abi_version(void);
+/* Human-readable version, e.g. "0.1.0". Static storage. */
+MOLDTEX_API const char* moldtex_version_string(void);
+/* Message of the last failed call on this thread ("" if none). Valid until the next
+ * call on this thread. */
+MOLDTEX_API const char* moldtex_last_error(void);
+
+/* ---- surface: a triangle mesh with a UV layout ------------------------------------ */
+
+typedef struct moldtex_mesh_desc {
+  uint32_t struct_size;
+  const float* positions;       /* vertex_count * 3 floats (x, y, z) */
+  uint32_t vertex_count;
+  const uint32_t* triangles;    /* triangle_count * 3 vertex indices */
+  uint32_t triangle_count;
+  const float* uvs;             /* uv_count * 2 floats (u, v); v = 0 is the image bottom */
+  uint32_t uv_count;
+  /* triangle_count * 3 indices into uvs (e.g. Blender loop indices of each loop
+   * triangle). NULL means uvs are given per corner: uv_count == 3 * triangle_count. */
+  const uint32_t* triangle_uvs;
+} moldtex_mesh_desc;
+
+MOLDTEX_API void moldtex_mesh_desc_init(moldtex_mesh_desc* desc);
+
+/* Builds adjacency across UV seams (triangles that share a 3D edge are neighbours),
+ * per-triangle frames and metric tensors. Refuses non-manifold edges (an edge shared
+ * by more than two triangles), out-of-range indices, non-finite numbers, meshes with
+ * no faces or zero area, and layouts with zero UV area. Zero-area triangles are
+ * allowed but agents treat them as walls. */
+MOLDTEX_API moldtex_status moldtex_surface_create(const moldtex_mesh_desc* desc,
+                                                  moldtex_surface* out_surface);
+MOLDTEX_API void moldtex_surface_release(moldtex_surface surface);
+
+typedef struct moldtex_surface_info {
+  uint32_t struct_size;
+  uint32_t vertex_count;
+  uint32_t triangle_count;
+  uint32_t boundary_edge_count;     /* edges with one triangle: agents bounce there */
+  uint32_t seam_edge_count;         /* shared 3D edges whose two sides have different UVs */
+  uint32_t degenerate_triangle_count;
+  double area;                      /* total 3D area */
+  double uv_area;                   /* total UV area (unit square = 1) */
+} moldtex_surface_info;
+
+MOLDTEX_API void moldtex_surface_info_init(moldtex_surface_info* info);
+MOLDTEX_API moldtex_status moldtex_surface_get_info(moldtex_surface surface,
+                                                    moldtex_surface_info* info);
+
+/* Metric tensor g(t) of a triangle: the 2x2 symmetric matrix (row-major) such that
+ * a UV displacement d has 3D length sqrt(d^T g d). */
+MOLDTEX_API moldtex_status moldtex_surface_get_metric(moldtex_surface surface,
+                                                      uint32_t triangle, float g[4]);
+
+/* A point on the surface: a triangle and barycentric weights of its three corners
+ * (non-negative, summing to 1). */
+typedef struct moldtex_surface_point {
+  uint32_t triangle;
+  float bary[3];
+} moldtex_surface_point;
+
+/* 3D position and UV of a surface point. Either output may be NULL. */
+MOLDTEX_API moldtex_status moldtex_surface_evaluate(moldtex_surface surface,
+                                                    const moldtex_surface_point* point,
+                                                    float position[3], float uv[2]);
+
+/* Walks a straightest path over the surface (the tangent step): starts at `start`,
+ * heads along `direction` (3D, projected onto the start triangle's plane), and
+ * travels `length` 3D units, unfolding across edges and bouncing at open boundaries.
+ * `end` receives the final point. If path_xyz is not NULL it receives up to
+ * path_capacity 3D points: the start, each edge crossing or bounce, and the end;
+ * *path_count (if not NULL) receives how many points the full path has. */
+MOLDTEX_API moldtex_status moldtex_surface_trace(moldtex_surface surface,
+                                                 const moldtex_surface_point* start,
+                                                 const float direction[3], float length,
+                                                 moldtex_surface_point* end,
+                                                 float* path_xyz, uint32_t path_capacity,
+                                                 uint32_t* path_count);
+
+/* ---- simulation (MoMaS, momas-paper.md Algorithm 1) ------------------------------- */
+
+/* Choices that need a reset to change. */
+typedef struct moldtex_sim_config {
+  uint32_t struct_size;
+  uint32_t width, height;  /* pheromone texture size in texels, 8 .. 16384 each */
+  uint32_t agent_count;    /* 1 .. 67108864 */
+  uint64_t seed;           /* same seed => bit-identical results for any thread count */
+} moldtex_sim_config;
+
+/* Parameters that may change between steps without a reset. Ranges in brackets are
+ * the ones momas-paper.md Table 1 tested; the core accepts the wider hard limits. */
+typedef struct moldtex_sim_params {
+  uint32_t struct_size;
+  float movement_speed;   /* delta_a: texels travelled per step [1, 2]; hard 0 .. 64 */
+  float turn_speed;       /* theta_a: a turn is r * turn_speed * pi * time_step radians,
+                             r ~ U[0,1) [10, 50]; hard 0 .. 1000 */
+  float vision_distance;  /* delta_s: sensor distance in units of 10 texels [0.4, 2];
+                             hard 0 .. 50 */
+  float vision_angle;     /* theta_s: sensor angle in degrees [10, 50]; hard 0 .. 180 */
+  float evaporation_rate; /* epsilon_d: pheromone lost per second [0.2, 1]; hard 0 .. 1000 */
+  float diffusion_rate;   /* blur weight per second: each step mixes
+                             min(1, diffusion_rate * time_step) of a 3x3 Gaussian blur */
+  float deposit;          /* pheromone an agent leaves: texel = max(texel, deposit), 0 .. 1 */
+  float time_step;        /* seconds per step, 1/60 by default; hard (0, 1] */
+  uint32_t substeps;      /* deposits along each move (line-integrated trail), 1 .. 64 */
+  uint32_t thread_count;  /* 0 = all cores; results do not depend on it */
+} moldtex_sim_params;
+
+MOLDTEX_API void moldtex_sim_config_init(moldtex_sim_config* config);
+MOLDTEX_API void moldtex_sim_params_init(moldtex_sim_params* params);
+
+/* Creates a simulation on the surface's UV layout and spawns agents uniformly by area
+ * with headings over the full circle. The simulation holds its own reference to the
+ * surface. */
+MOLDTEX_API moldtex_status moldtex_sim_create(moldtex_surface surface,
+                                              const moldtex_sim_config* config,
+                                              const moldtex_sim_params* params,
+                                              moldtex_sim* out_sim);
+MOLDTEX_API void moldtex_sim_release(moldtex_sim sim);
+
+MOLDTEX_API moldtex_status moldtex_sim_set_params(moldtex_sim sim,
+                                                  const moldtex_sim_params* params);
+MOLDTEX_API moldtex_status moldtex_sim_get_params(moldtex_sim sim, moldtex_sim_params* params);
+MOLDTEX_API moldtex_status moldtex_sim_get_config(moldtex_sim sim, moldtex_sim_config* config);
+
+/* Clears the pheromone and respawns the agents from the config's seed. */
+MOLDTEX_API moldtex_status moldtex_sim_reset(moldtex_sim sim);
+/* Advances `steps` steps (sense, turn, move, deposit, blur, evaporate). */
+MOLDTEX_API moldtex_status moldtex_sim_step(moldtex_sim sim, uint32_t steps);
+
+/* Copies the pheromone as RGBA float, Blender's order (row 0 is the bottom row, each
+ * row left to right): width * height * 4 floats. With one species R = G = B = the
+ * pheromone in [0, 1] and A = 1. Texels just outside the UV islands (the gutter) hold
+ * copies of their neighbours across the seam, all other outside texels are 0.
+ * `float_count` is the capacity of `rgba` in floats and must be >= width*height*4. */
+MOLDTEX_API moldtex_status moldtex_sim_read_rgba(moldtex_sim sim, float* rgba,
+                                                 size_t float_count);
+
+/* Texel classes of the layout (same order as the pheromone): 0 outside, 1 inside a UV
+ * island, 2 gutter. `count` must be >= width * height. */
+#define MOLDTEX_TEXEL_OUTSIDE 0u
+#define MOLDTEX_TEXEL_INSIDE 1u
+#define MOLDTEX_TEXEL_GUTTER 2u
+MOLDTEX_API moldtex_status moldtex_sim_read_texel_classes(moldtex_sim sim, uint8_t* classes,
+                                                          size_t count);
+
+/* Current agent positions: writes min(capacity, agent_count) points. */
+MOLDTEX_API moldtex_status moldtex_sim_read_agents(moldtex_sim sim,
+                                                   moldtex_surface_point* points,
+                                                   uint32_t capacity);
+
+typedef struct moldtex_sim_stats {
+  uint32_t struct_size;
+  uint64_t step_count;     /* steps since create or reset */
+  uint32_t agent_count;
+  uint64_t bytes_in_use;   /* memory held by the simulation and its surface */
+  double coverage;         /* momas-paper.md Eq. 1: mean pheromone over the islands,
+                              weighted by 3D area */
+  double presence;         /* Eq. 1 with the ceiling: 3D-area fraction where pheromone > 0 */
+} moldtex_sim_stats;
+
+MOLDTEX_API void moldtex_sim_stats_init(moldtex_sim_stats* stats);
+MOLDTEX_API moldtex_status moldtex_sim_get_stats(moldtex_sim sim, moldtex_sim_stats* stats);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* MOLDTEX_H */

@@ -1,0 +1,41 @@
+#include "agents/agents.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "common/rng.h"
+
+namespace moldtex {
+
+Agents spawn_uniform(const Surface& s, uint32_t count, uint64_t seed, ThreadPool& pool) {
+  std::vector<double> cdf(s.triangle_count());
+  double total = 0;
+  for (uint32_t t = 0; t < s.triangle_count(); ++t) {
+    total += s.degenerate[t] ? 0.0 : s.areas[t];
+    cdf[t] = total;
+  }
+  Agents a;
+  a.triangle.resize(count);
+  a.b1.resize(count);
+  a.b2.resize(count);
+  a.hx.resize(count);
+  a.hy.resize(count);
+  pool.parallel_for(count, 4096, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      CounterRng rng(seed, RngPurpose::Spawn, i, 0);
+      double target = rng.next_double() * total;
+      auto it = std::upper_bound(cdf.begin(), cdf.end(), target);
+      uint32_t t = static_cast<uint32_t>(std::min<size_t>(it - cdf.begin(), cdf.size() - 1));
+      while (s.degenerate[t] && t > 0) --t;  // only reachable through rounding at the end
+      // Uniform point on a triangle by the square-root map (no rejection loop).
+      float r1 = std::sqrt(rng.next_float()), r2 = rng.next_float();
+      float angle = rng.next_float() * 2.f * std::numbers::pi_v<float>;
+      Walker w{t, {1.f - r1, r1 * (1.f - r2), r1 * r2}, {std::cos(angle), std::sin(angle)}};
+      a.store(i, w);
+    }
+  });
+  return a;
+}
+
+}  // namespace moldtex

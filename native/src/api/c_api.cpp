@@ -1,0 +1,311 @@
+// The C boundary: validates handles and pointers, converts every C++ exception into a
+// status code and a per-thread message, and never lets one escape into the host.
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <new>
+#include <string>
+
+#include "common/error.h"
+#include "moldtex.h"
+#include "sim.h"
+#include "surface/surface.h"
+#include "surface/trace.h"
+
+struct moldtex_surface_t {
+  std::shared_ptr<const moldtex::Surface> surface;
+};
+struct moldtex_sim_t {
+  std::unique_ptr<moldtex::Simulation> sim;
+};
+
+namespace {
+
+thread_local std::string g_last_error;
+
+moldtex_status set_error(moldtex_status status, const std::string& message) {
+  g_last_error = message;
+  return status;
+}
+
+// Runs body, mapping exceptions to statuses; clears the message on success.
+template <class Body>
+moldtex_status guarded(Body&& body) {
+  try {
+    body();
+    g_last_error.clear();
+    return MOLDTEX_OK;
+  } catch (const moldtex::Error& e) {
+    return set_error(e.status(), e.what());
+  } catch (const std::bad_alloc&) {
+    return set_error(MOLDTEX_ERROR_OUT_OF_MEMORY,
+                     "Out of memory: lower the texture resolution or the number of agents");
+  } catch (const std::length_error&) {
+    return set_error(MOLDTEX_ERROR_OUT_OF_MEMORY,
+                     "Out of memory: lower the texture resolution or the number of agents");
+  } catch (const std::exception& e) {
+    return set_error(MOLDTEX_ERROR_INTERNAL, std::string("Internal error: ") + e.what());
+  } catch (...) {
+    return set_error(MOLDTEX_ERROR_INTERNAL, "Internal error of unknown kind");
+  }
+}
+
+void require(bool ok, const char* message) {
+  if (!ok) moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT, message);
+}
+
+void require_point(const moldtex::Surface& s, const moldtex_surface_point* p) {
+  require(p != nullptr, "The surface point is NULL");
+  require(p->triangle < s.triangle_count(), "The surface point's triangle index is out of range");
+  float sum = 0;
+  for (float b : p->bary) {
+    require(std::isfinite(b) && b >= -1e-4f, "Barycentric weights must be finite and non-negative");
+    sum += b;
+  }
+  require(std::fabs(sum - 1.f) < 1e-3f, "Barycentric weights must sum to 1");
+}
+
+// Copies the caller's struct into a zeroed one of our size (older callers pass less).
+template <class T>
+T read_struct(const T* in, const char* name) {
+  if (in == nullptr) moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT, std::string(name) + " is NULL");
+  if (in->struct_size < sizeof(T))
+    moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+                  std::string(name) + ".struct_size is too small: initialise it with its _init function");
+  return *in;
+}
+
+}  // namespace
+
+extern "C" {
+
+uint32_t moldtex_abi_version(void) { return MOLDTEX_ABI_VERSION; }
+const char* moldtex_version_string(void) { return "0.1.0"; }
+const char* moldtex_last_error(void) { return g_last_error.c_str(); }
+
+void moldtex_mesh_desc_init(moldtex_mesh_desc* d) {
+  if (!d) return;
+  std::memset(d, 0, sizeof(*d));
+  d->struct_size = sizeof(*d);
+}
+
+moldtex_status moldtex_surface_create(const moldtex_mesh_desc* desc, moldtex_surface* out) {
+  return guarded([&] {
+    require(out != nullptr, "out_surface is NULL");
+    *out = nullptr;
+    moldtex_mesh_desc d = read_struct(desc, "moldtex_mesh_desc");
+    auto surface = std::make_shared<const moldtex::Surface>(moldtex::build_surface(d));
+    *out = new moldtex_surface_t{std::move(surface)};
+  });
+}
+
+void moldtex_surface_release(moldtex_surface surface) { delete surface; }
+
+void moldtex_surface_info_init(moldtex_surface_info* info) {
+  if (!info) return;
+  std::memset(info, 0, sizeof(*info));
+  info->struct_size = sizeof(*info);
+}
+
+moldtex_status moldtex_surface_get_info(moldtex_surface surface, moldtex_surface_info* info) {
+  return guarded([&] {
+    require(surface != nullptr, "The surface handle is NULL");
+    moldtex_surface_info out = read_struct(info, "moldtex_surface_info");
+    const moldtex::Surface& s = *surface->surface;
+    out.vertex_count = s.vertex_count();
+    out.triangle_count = s.triangle_count();
+    out.boundary_edge_count = s.boundary_edges;
+    out.seam_edge_count = s.seam_edges;
+    out.degenerate_triangle_count = s.degenerate_count;
+    out.area = s.area;
+    out.uv_area = s.uv_area;
+    *info = out;
+  });
+}
+
+moldtex_status moldtex_surface_get_metric(moldtex_surface surface, uint32_t triangle, float g[4]) {
+  return guarded([&] {
+    require(surface != nullptr && g != nullptr, "NULL argument");
+    require(triangle < surface->surface->triangle_count(), "Triangle index out of range");
+    auto m = surface->surface->metric(triangle);
+    for (int i = 0; i < 4; ++i) g[i] = static_cast<float>(m[i]);
+  });
+}
+
+moldtex_status moldtex_surface_evaluate(moldtex_surface surface, const moldtex_surface_point* point,
+                                        float position[3], float uv[2]) {
+  return guarded([&] {
+    require(surface != nullptr, "The surface handle is NULL");
+    require_point(*surface->surface, point);
+    surface->surface->evaluate(point->triangle, point->bary, position, uv);
+  });
+}
+
+moldtex_status moldtex_surface_trace(moldtex_surface surface, const moldtex_surface_point* start,
+                                     const float direction[3], float length,
+                                     moldtex_surface_point* end, float* path_xyz,
+                                     uint32_t path_capacity, uint32_t* path_count) {
+  return guarded([&] {
+    require(surface != nullptr && direction != nullptr && end != nullptr, "NULL argument");
+    const moldtex::Surface& s = *surface->surface;
+    require_point(s, start);
+    require(std::isfinite(length) && length >= 0.f, "The length must be a finite number >= 0");
+    for (int k = 0; k < 3; ++k) require(std::isfinite(direction[k]), "The direction must be finite");
+    require(!s.degenerate[start->triangle], "The start triangle has zero area");
+    // Project the 3D direction onto the start triangle's local frame.
+    const uint32_t t = start->triangle;
+    const float* p0 = &s.positions[3 * s.triangles[3 * t]];
+    const float* p1 = &s.positions[3 * s.triangles[3 * t + 1]];
+    const float* p2 = &s.positions[3 * s.triangles[3 * t + 2]];
+    const moldtex::TriangleFrame& f = s.frames[t];
+    double ex[3], ey[3];
+    for (int k = 0; k < 3; ++k) ex[k] = (p1[k] - p0[k]) / f.a;
+    for (int k = 0; k < 3; ++k) ey[k] = (p2[k] - p0[k] - f.bx * ex[k]) / f.by;
+    double dx = 0, dy = 0;
+    for (int k = 0; k < 3; ++k) {
+      dx += direction[k] * ex[k];
+      dy += direction[k] * ey[k];
+    }
+    double n = std::sqrt(dx * dx + dy * dy);
+    require(n > 1e-12, "The direction is perpendicular to the surface at the start point");
+    moldtex::Walker w{t, {start->bary[0], start->bary[1], start->bary[2]},
+                      {static_cast<float>(dx / n), static_cast<float>(dy / n)}};
+    moldtex::clamp_bary(w.bary);
+    uint32_t count = 0;
+    auto record = [&](const moldtex::Walker& at) {
+      if (path_xyz && count < path_capacity) s.evaluate(at.triangle, at.bary, path_xyz + 3 * count, nullptr);
+      ++count;
+    };
+    record(w);
+    moldtex::walk(s.frames.data(), s.adjacency.data(), w, length,
+                  [&](const moldtex::Walker& at, bool) { record(at); });
+    record(w);
+    end->triangle = w.triangle;
+    std::copy(w.bary, w.bary + 3, end->bary);
+    if (path_count) *path_count = count;
+  });
+}
+
+void moldtex_sim_config_init(moldtex_sim_config* c) {
+  if (!c) return;
+  std::memset(c, 0, sizeof(*c));
+  c->struct_size = sizeof(*c);
+  c->width = 1024;
+  c->height = 1024;
+  c->agent_count = 200000;
+  c->seed = 1;
+}
+
+void moldtex_sim_params_init(moldtex_sim_params* p) {
+  if (!p) return;
+  std::memset(p, 0, sizeof(*p));
+  p->struct_size = sizeof(*p);
+  p->movement_speed = 1.0f;
+  p->turn_speed = 20.0f;
+  p->vision_distance = 1.0f;
+  p->vision_angle = 30.0f;
+  p->evaporation_rate = 0.5f;
+  p->diffusion_rate = 10.0f;
+  p->deposit = 1.0f;
+  p->time_step = 1.0f / 60.0f;
+  p->substeps = 2;
+  p->thread_count = 0;
+}
+
+moldtex_status moldtex_sim_create(moldtex_surface surface, const moldtex_sim_config* config,
+                                  const moldtex_sim_params* params, moldtex_sim* out) {
+  return guarded([&] {
+    require(out != nullptr, "out_sim is NULL");
+    *out = nullptr;
+    require(surface != nullptr, "The surface handle is NULL");
+    moldtex_sim_config c = read_struct(config, "moldtex_sim_config");
+    moldtex_sim_params p = read_struct(params, "moldtex_sim_params");
+    auto sim = std::make_unique<moldtex::Simulation>(surface->surface, c, p);
+    *out = new moldtex_sim_t{std::move(sim)};
+  });
+}
+
+void moldtex_sim_release(moldtex_sim sim) { delete sim; }
+
+moldtex_status moldtex_sim_set_params(moldtex_sim sim, const moldtex_sim_params* params) {
+  return guarded([&] {
+    require(sim != nullptr, "The simulation handle is NULL");
+    sim->sim->set_params(read_struct(params, "moldtex_sim_params"));
+  });
+}
+
+moldtex_status moldtex_sim_get_params(moldtex_sim sim, moldtex_sim_params* params) {
+  return guarded([&] {
+    require(sim != nullptr, "The simulation handle is NULL");
+    read_struct(params, "moldtex_sim_params");
+    *params = sim->sim->params();
+  });
+}
+
+moldtex_status moldtex_sim_get_config(moldtex_sim sim, moldtex_sim_config* config) {
+  return guarded([&] {
+    require(sim != nullptr, "The simulation handle is NULL");
+    read_struct(config, "moldtex_sim_config");
+    *config = sim->sim->config();
+  });
+}
+
+moldtex_status moldtex_sim_reset(moldtex_sim sim) {
+  return guarded([&] {
+    require(sim != nullptr, "The simulation handle is NULL");
+    sim->sim->reset();
+  });
+}
+
+moldtex_status moldtex_sim_step(moldtex_sim sim, uint32_t steps) {
+  return guarded([&] {
+    require(sim != nullptr, "The simulation handle is NULL");
+    sim->sim->step(steps);
+  });
+}
+
+moldtex_status moldtex_sim_read_rgba(moldtex_sim sim, float* rgba, size_t float_count) {
+  return guarded([&] {
+    require(sim != nullptr && rgba != nullptr, "NULL argument");
+    size_t need = sim->sim->domain().texel_count() * 4;
+    if (float_count < need)
+      moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+                    "The RGBA buffer is too small: it needs width * height * 4 floats (" +
+                        std::to_string(need) + ")");
+    sim->sim->read_rgba(rgba);
+  });
+}
+
+moldtex_status moldtex_sim_read_texel_classes(moldtex_sim sim, uint8_t* classes, size_t count) {
+  return guarded([&] {
+    require(sim != nullptr && classes != nullptr, "NULL argument");
+    const auto& d = sim->sim->domain();
+    if (count < d.texel_count())
+      moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The class buffer needs width * height bytes");
+    std::memcpy(classes, d.classes.data(), d.texel_count());
+  });
+}
+
+moldtex_status moldtex_sim_read_agents(moldtex_sim sim, moldtex_surface_point* points,
+                                       uint32_t capacity) {
+  return guarded([&] {
+    require(sim != nullptr && points != nullptr, "NULL argument");
+    sim->sim->read_agents(points, capacity);
+  });
+}
+
+void moldtex_sim_stats_init(moldtex_sim_stats* stats) {
+  if (!stats) return;
+  std::memset(stats, 0, sizeof(*stats));
+  stats->struct_size = sizeof(*stats);
+}
+
+moldtex_status moldtex_sim_get_stats(moldtex_sim sim, moldtex_sim_stats* stats) {
+  return guarded([&] {
+    require(sim != nullptr, "The simulation handle is NULL");
+    read_struct(stats, "moldtex_sim_stats");
+    *stats = sim->sim->stats();
+  });
+}
+
+}  // extern "C"

@@ -1,0 +1,35 @@
+// The CPU backend: agents on all cores through a thread pool, field operations split
+// by rows. Deterministic for any thread count (see momas_update_agents).
+#pragma once
+#include <memory>
+#include <vector>
+
+#include "agents/agents.h"
+#include "backends/backend.h"
+#include "domain/texture_domain.h"
+
+namespace moldtex {
+
+class CpuBackend final : public Backend {
+ public:
+  CpuBackend(std::shared_ptr<const Surface> surface, std::shared_ptr<const TextureDomain> domain,
+             uint32_t agent_count, unsigned threads);
+  void reset(uint64_t seed) override;
+  void step(const moldtex_sim_params& params, uint64_t seed, uint64_t step_index) override;
+  void set_thread_count(unsigned threads) override;
+  void read_pheromone(float* out) const override;
+  void read_agents(moldtex_surface_point* out, size_t count) const override;
+  size_t agent_count() const override { return agent_count_; }
+  size_t bytes() const override;
+
+ private:
+  std::shared_ptr<const Surface> surface_;
+  std::shared_ptr<const TextureDomain> domain_;
+  uint32_t agent_count_;
+  std::unique_ptr<ThreadPool> pool_;
+  Agents agents_;
+  std::vector<float> pheromone_, scratch_;
+  std::vector<uint8_t> marks_;
+};
+
+}  // namespace moldtex

@@ -1,0 +1,98 @@
+#include "backends/cpu/thread_pool.h"
+
+#include <algorithm>
+#include <cstdint>
+
+namespace moldtex {
+
+unsigned ThreadPool::resolve_thread_count(unsigned requested) {
+  unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+  if (requested == 0) return hw;
+  return std::min(requested, 256u);
+}
+
+ThreadPool::ThreadPool(unsigned thread_count) {
+  unsigned n = resolve_thread_count(thread_count);
+  for (unsigned i = 1; i < n; ++i) workers_.emplace_back([this] { worker_loop(); });
+}
+
+ThreadPool::~ThreadPool() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  for (auto& w : workers_) w.join();
+}
+
+void ThreadPool::run_chunks() {
+  for (;;) {
+    size_t begin;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (next_ >= count_ || error_) return;
+      begin = next_;
+      next_ = std::min(count_, next_ + chunk_);
+    }
+    size_t end = std::min(count_, begin + chunk_);
+    try {
+      (*body_)(begin, end);
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!error_) error_ = std::current_exception();
+    }
+  }
+}
+
+void ThreadPool::worker_loop() {
+  uint64_t seen = 0;
+  for (;;) {
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
+      if (stop_) return;
+      seen = generation_;
+      ++busy_;
+    }
+    run_chunks();
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      --busy_;
+    }
+    done_.notify_all();
+  }
+}
+
+void ThreadPool::parallel_for(size_t count, size_t min_chunk,
+                              const std::function<void(size_t, size_t)>& body) {
+  if (count == 0) return;
+  size_t threads = size();
+  // Several chunks per thread balance uneven work (agents crossing many edges).
+  size_t chunk = std::max<size_t>(std::max<size_t>(min_chunk, 1), count / (threads * 8) + 1);
+  if (threads == 1 || count <= chunk) {
+    body(0, count);
+    return;
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    body_ = &body;
+    count_ = count;
+    chunk_ = chunk;
+    next_ = 0;
+    error_ = nullptr;
+    ++generation_;
+  }
+  wake_.notify_all();
+  run_chunks();
+  std::exception_ptr error;
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    done_.wait(lock, [&] { return busy_ == 0 && (next_ >= count_ || error_); });
+    body_ = nullptr;
+    error = error_;
+    error_ = nullptr;
+  }
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace moldtex

@@ -1,0 +1,240 @@
+#include "domain/texture_domain.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "surface/trace.h"
+
+namespace moldtex {
+
+size_t TextureDomain::bytes() const {
+  return texel_triangle.capacity() * 4 + classes.capacity() + gutter_texel.capacity() * 4 +
+         gutter_source.capacity() * 4 + triangle_area_scale.capacity() * 4;
+}
+
+namespace {
+
+// Texel centres covered by each triangle's UV image. Shared edges are inclusive, so no
+// texel between two triangles of an island is lost; the later triangle wins a tie.
+void rasterize(const Surface& s, TextureDomain& d) {
+  const float W = static_cast<float>(d.width), H = static_cast<float>(d.height);
+  for (uint32_t t = 0; t < s.triangle_count(); ++t) {
+    if (s.degenerate[t]) continue;
+    const float* uv = &s.corner_uvs[6 * t];
+    float x[3], y[3];
+    for (int c = 0; c < 3; ++c) {
+      x[c] = uv[2 * c] * W;
+      y[c] = uv[2 * c + 1] * H;
+    }
+    float area2 = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
+    float sign = area2 > 0 ? 1.f : -1.f;  // mirrored UV islands wind clockwise
+    const float eps = -1e-5f * std::fabs(area2);
+    int x0 = std::max(0, static_cast<int>(std::floor(std::min({x[0], x[1], x[2]}) - 0.5f)));
+    int x1 = std::min(static_cast<int>(d.width) - 1,
+                      static_cast<int>(std::ceil(std::max({x[0], x[1], x[2]}) - 0.5f)));
+    int y0 = std::max(0, static_cast<int>(std::floor(std::min({y[0], y[1], y[2]}) - 0.5f)));
+    int y1 = std::min(static_cast<int>(d.height) - 1,
+                      static_cast<int>(std::ceil(std::max({y[0], y[1], y[2]}) - 0.5f)));
+    for (int iy = y0; iy <= y1; ++iy)
+      for (int ix = x0; ix <= x1; ++ix) {
+        float px = ix + 0.5f, py = iy + 0.5f;
+        bool inside = true;
+        for (int e = 0; e < 3 && inside; ++e) {
+          int a = (e + 1) % 3, b = (e + 2) % 3;
+          float f = sign * ((x[b] - x[a]) * (py - y[a]) - (y[b] - y[a]) * (px - x[a]));
+          inside = f >= eps;
+        }
+        if (inside) {
+          size_t i = static_cast<size_t>(iy) * d.width + ix;
+          d.texel_triangle[i] = static_cast<int32_t>(t);
+          d.classes[i] = MOLDTEX_TEXEL_INSIDE;
+        }
+      }
+  }
+}
+
+// Barycentrics of a UV point with respect to triangle t's UV corners (may be negative).
+bool uv_bary(const Surface& s, uint32_t t, float u, float v, float b[3]) {
+  const float* uv = &s.corner_uvs[6 * t];
+  double t00 = uv[2] - uv[0], t01 = uv[4] - uv[0], t10 = uv[3] - uv[1], t11 = uv[5] - uv[1];
+  double det = t00 * t11 - t01 * t10;
+  if (det == 0) return false;
+  double du = u - uv[0], dv = v - uv[1];
+  b[1] = static_cast<float>((t11 * du - t01 * dv) / det);
+  b[2] = static_cast<float>((-t10 * du + t00 * dv) / det);
+  b[0] = 1.f - b[1] - b[2];
+  return true;
+}
+
+// Where a UV point just beyond edge `edge` of triangle t lands when the surface is
+// unfolded into the neighbour across that edge; returns false if it cannot say.
+bool across_seam(const Surface& s, const TextureDomain& d, uint32_t t, const float b[3], int edge,
+                 uint32_t& texel) {
+  AdjacencyCode code = s.adjacency[t][edge];
+  if (code == kNoNeighbour) return false;
+  uint32_t n = code >> 3;
+  int ne = static_cast<int>((code >> 1) & 3u);
+  bool same_direction = code & 1u;
+  int j = (edge + 1) % 3, k = (edge + 2) % 3;
+  int jn = (ne + (same_direction ? 1 : 2)) % 3, kn = (ne + (same_direction ? 2 : 1)) % 3;
+  const TriangleFrame& f = s.frames[t];
+  const TriangleFrame& g = s.frames[n];
+  // Local point and its position relative to the shared edge.
+  Vec2 p{b[1] * f.a + b[2] * f.bx, b[2] * f.by};
+  Vec2 qj = frame_corner(f, j), qk = frame_corner(f, k);
+  Vec2 e{qk.x - qj.x, qk.y - qj.y};
+  float len2 = e.x * e.x + e.y * e.y;
+  float along = ((p.x - qj.x) * e.x + (p.y - qj.y) * e.y) / len2;
+  float out = -((p.x - qj.x) * -e.y + (p.y - qj.y) * e.x) / std::sqrt(len2);  // > 0 beyond
+  Vec2 rj = frame_corner(g, jn), rk = frame_corner(g, kn);
+  Vec2 ccw = unit(Vec2{frame_corner(g, (ne + 2) % 3).x - frame_corner(g, (ne + 1) % 3).x,
+                       frame_corner(g, (ne + 2) % 3).y - frame_corner(g, (ne + 1) % 3).y});
+  Vec2 q{rj.x + along * (rk.x - rj.x) - out * ccw.y, rj.y + along * (rk.y - rj.y) + out * ccw.x};
+  float c2 = q.y / g.by, c1 = (q.x - g.bx * c2) / g.a;
+  float c[3] = {1.f - c1 - c2, c1, c2};
+  clamp_bary(c);
+  float uv[2];
+  s.evaluate(n, c, nullptr, uv);
+  texel = d.texel_of_uv(uv[0], uv[1]);
+  return d.classes[texel] == MOLDTEX_TEXEL_INSIDE;
+}
+
+void build_gutter(const Surface& s, TextureDomain& d, ThreadPool& pool) {
+  const int W = static_cast<int>(d.width), H = static_cast<int>(d.height);
+  // Rows are processed in parallel into per-row lists, then joined in row order so
+  // the gutter list is the same for any thread count.
+  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> rows(H);
+  pool.parallel_for(H, 8, [&](size_t begin, size_t end) {
+    for (size_t y = begin; y < end; ++y) {
+      for (int x = 0; x < W; ++x) {
+        size_t i = y * W + x;
+        if (d.classes[i] != MOLDTEX_TEXEL_OUTSIDE) continue;
+        int best = -1, best_d2 = 1 << 30;
+        for (int dy = -kGutterWidth; dy <= kGutterWidth; ++dy)
+          for (int dx = -kGutterWidth; dx <= kGutterWidth; ++dx) {
+            int nx = x + dx, ny = static_cast<int>(y) + dy;
+            if (nx < 0 || ny < 0 || nx >= W || ny >= H) continue;
+            size_t ni = static_cast<size_t>(ny) * W + nx;
+            int d2 = dx * dx + dy * dy;
+            if (d.classes[ni] == MOLDTEX_TEXEL_INSIDE && d2 < best_d2) {
+              best_d2 = d2;
+              best = static_cast<int>(ni);
+            }
+          }
+        if (best < 0) continue;
+        uint32_t source = static_cast<uint32_t>(best);
+        uint32_t t = static_cast<uint32_t>(d.texel_triangle[best]);
+        float b[3];
+        float u = (x + 0.5f) / W, v = (y + 0.5f) / H;
+        if (uv_bary(s, t, u, v, b)) {
+          int edge = static_cast<int>(std::min_element(b, b + 3) - b);
+          uint32_t across;
+          if (b[edge] < 0 && across_seam(s, d, t, b, edge, across)) source = across;
+        }
+        rows[y].push_back({static_cast<uint32_t>(i), source});
+      }
+    }
+  });
+  for (auto& row : rows)
+    for (auto [texel, source] : row) {
+      d.gutter_texel.push_back(texel);
+      d.gutter_source.push_back(source);
+      d.classes[texel] = MOLDTEX_TEXEL_GUTTER;
+    }
+}
+
+}  // namespace
+
+TextureDomain build_texture_domain(const Surface& s, uint32_t width, uint32_t height,
+                                   ThreadPool& pool) {
+  TextureDomain d;
+  d.width = width;
+  d.height = height;
+  d.texel_triangle.assign(d.texel_count(), -1);
+  d.classes.assign(d.texel_count(), MOLDTEX_TEXEL_OUTSIDE);
+  rasterize(s, d);
+  build_gutter(s, d, pool);
+  d.triangle_area_scale.resize(s.triangle_count());
+  for (uint32_t t = 0; t < s.triangle_count(); ++t)
+    d.triangle_area_scale[t] = static_cast<float>(s.area_per_uv_area(t));
+  d.texel_length = std::sqrt(s.area / (s.uv_area * static_cast<double>(width) * height));
+  return d;
+}
+
+void apply_deposits(const TextureDomain& d, float* p, uint8_t* marks, float deposit,
+                    ThreadPool& pool) {
+  pool.parallel_for(d.texel_count(), 1 << 16, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i)
+      if (marks[i]) {
+        p[i] = std::max(p[i], deposit);
+        marks[i] = 0;
+      }
+  });
+}
+
+void fill_gutter(const TextureDomain& d, float* p, ThreadPool& pool) {
+  pool.parallel_for(d.gutter_texel.size(), 1 << 14, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) p[d.gutter_texel[i]] = p[d.gutter_source[i]];
+  });
+}
+
+void diffuse_and_evaporate(const TextureDomain& d, const float* in, float* out, float mix,
+                           float evaporation, ThreadPool& pool) {
+  const int W = static_cast<int>(d.width), H = static_cast<int>(d.height);
+  static constexpr float kWeights[3] = {1.f, 2.f, 1.f};  // 3x3 Gaussian = outer product
+  pool.parallel_for(H, 4, [&](size_t begin, size_t end) {
+    for (int y = static_cast<int>(begin); y < static_cast<int>(end); ++y) {
+      const bool inner_row = y > 0 && y < H - 1;
+      for (int x = 0; x < W; ++x) {
+        size_t i = static_cast<size_t>(y) * W + x;
+        if (d.classes[i] != MOLDTEX_TEXEL_INSIDE) {
+          out[i] = 0.f;
+          continue;
+        }
+        float sum = 0.f, weight = 0.f;
+        if (inner_row && x > 0 && x < W - 1) {
+          for (int dy = -1; dy <= 1; ++dy) {
+            const size_t row = static_cast<size_t>(y + dy) * W;
+            for (int dx = -1; dx <= 1; ++dx) {
+              float w = kWeights[dy + 1] * kWeights[dx + 1];
+              size_t ni = row + x + dx;
+              sum += w * in[ni];  // outside texels hold 0
+              weight += d.classes[ni] != MOLDTEX_TEXEL_OUTSIDE ? w : 0.f;
+            }
+          }
+        } else {
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+              int nx = x + dx, ny = y + dy;
+              if (nx < 0 || ny < 0 || nx >= W || ny >= H) continue;
+              size_t ni = static_cast<size_t>(ny) * W + nx;
+              float w = kWeights[dy + 1] * kWeights[dx + 1];
+              sum += w * in[ni];
+              weight += d.classes[ni] != MOLDTEX_TEXEL_OUTSIDE ? w : 0.f;
+            }
+        }
+        float v = in[i] + mix * (sum / weight - in[i]) - evaporation;
+        out[i] = v < 0.f ? 0.f : (v > 1.f ? 1.f : v);
+      }
+    }
+  });
+}
+
+FieldMetrics measure(const TextureDomain& d, const float* p) {
+  double full = 0, covered = 0, present = 0;
+  for (size_t i = 0; i < d.texel_count(); ++i) {
+    if (d.classes[i] != MOLDTEX_TEXEL_INSIDE) continue;
+    double w = d.triangle_area_scale[d.texel_triangle[i]];
+    full += w;
+    covered += w * p[i];
+    present += p[i] > 0.f ? w : 0.0;
+  }
+  FieldMetrics m;
+  if (full > 0) {
+    m.coverage = covered / full;
+    m.presence = present / full;
+  }
+  return m;
+}
+
+}  // namespace moldtex

@@ -1,0 +1,58 @@
+// The texture domain (MoMaS): pheromone lives in a UV texture. This file owns the
+// layout (which texel belongs to which triangle, which texels form the gutter around
+// the UV islands) and the per-step field operations (deposit, seam-aware Gaussian blur,
+// evaporation) and the coverage/presence metrics of momas-paper.md Eq. 1.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "backends/cpu/thread_pool.h"
+#include "surface/surface.h"
+
+namespace moldtex {
+
+// Texels this far (Chebyshev) from an island are gutter: wide enough for bilinear
+// filtering and the first mip level not to pull in black from outside.
+constexpr int kGutterWidth = 2;
+
+struct TextureDomain {
+  uint32_t width = 0, height = 0;
+  std::vector<int32_t> texel_triangle;  // triangle whose UV covers the texel centre, or -1
+  std::vector<uint8_t> classes;         // MOLDTEX_TEXEL_* per texel
+  // Gutter texel i copies texel gutter_source[i]: the texel across the seam where the
+  // edge has a neighbour in another island, else the nearest texel of its own island.
+  std::vector<uint32_t> gutter_texel, gutter_source;
+  std::vector<float> triangle_area_scale;  // 3D area per UV area, for Eq. 1 weights
+  double texel_length = 0;                 // 3D length of one texel on this mesh
+
+  size_t texel_count() const { return static_cast<size_t>(width) * height; }
+  size_t bytes() const;
+
+  uint32_t texel_of_uv(float u, float v) const {
+    float x = u * static_cast<float>(width), y = v * static_cast<float>(height);
+    int ix = static_cast<int>(x), iy = static_cast<int>(y);
+    ix = ix < 0 ? 0 : (ix >= static_cast<int>(width) ? static_cast<int>(width) - 1 : ix);
+    iy = iy < 0 ? 0 : (iy >= static_cast<int>(height) ? static_cast<int>(height) - 1 : iy);
+    return static_cast<uint32_t>(iy) * width + static_cast<uint32_t>(ix);
+  }
+};
+
+TextureDomain build_texture_domain(const Surface& surface, uint32_t width, uint32_t height,
+                                   ThreadPool& pool);
+
+// pheromone[i] = max(pheromone[i], deposit) where marks[i] is set; clears the marks.
+void apply_deposits(const TextureDomain& d, float* pheromone, uint8_t* marks, float deposit,
+                    ThreadPool& pool);
+// Copies every gutter texel from its source.
+void fill_gutter(const TextureDomain& d, float* pheromone, ThreadPool& pool);
+// out = clamp(p + mix * (blur3x3(p) - p) - evaporation, 0, 1) on island texels, 0 elsewhere.
+// The blur only weighs island and gutter texels, so borders neither darken nor leak.
+void diffuse_and_evaporate(const TextureDomain& d, const float* in, float* out, float mix,
+                           float evaporation, ThreadPool& pool);
+
+struct FieldMetrics {
+  double coverage = 0, presence = 0;
+};
+FieldMetrics measure(const TextureDomain& d, const float* pheromone);
+
+}  // namespace moldtex

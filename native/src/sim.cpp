@@ -1,0 +1,144 @@
+#include "sim.h"
+
+#include <cmath>
+#include <sstream>
+#include <unistd.h>
+#include <vector>
+
+#include "backends/cpu/cpu_backend.h"
+#include "common/error.h"
+
+namespace moldtex {
+
+namespace {
+
+constexpr uint32_t kMinTextureSize = 8, kMaxTextureSize = 16384;
+constexpr uint32_t kMaxAgents = 1u << 26;
+
+// Bytes a simulation will hold: agents, two float fields, marks, classes, the texel ->
+// triangle raster, and roughly one gutter entry per texel along the island borders.
+double estimated_bytes(const moldtex_sim_config& c) {
+  double texels = static_cast<double>(c.width) * c.height;
+  return static_cast<double>(c.agent_count) * 20.0 + texels * (4 + 4 + 4 + 1 + 1) + texels * 0.5;
+}
+
+double physical_memory_bytes() {
+  long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page > 0 ? static_cast<double>(pages) * page : 8.0 * (1ull << 30);
+}
+
+void check_range(const char* name, float value, float lo, float hi, const char* hint) {
+  if (!std::isfinite(value) || value < lo || value > hi) {
+    std::ostringstream m;
+    m << name << " must be a number between " << lo << " and " << hi << " (got " << value << ")";
+    if (hint && *hint) m << "; " << hint;
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, m.str());
+  }
+}
+
+}  // namespace
+
+void validate_config(const moldtex_sim_config& c, const Surface&) {
+  if (c.struct_size < sizeof(moldtex_sim_config))
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "moldtex_sim_config.struct_size is too small: call moldtex_sim_config_init first");
+  if (c.width < kMinTextureSize || c.height < kMinTextureSize || c.width > kMaxTextureSize ||
+      c.height > kMaxTextureSize) {
+    std::ostringstream m;
+    m << "Texture size " << c.width << " x " << c.height << " is outside " << kMinTextureSize
+      << " .. " << kMaxTextureSize << " texels per side";
+    fail(c.width > kMaxTextureSize || c.height > kMaxTextureSize ? MOLDTEX_ERROR_TOO_LARGE
+                                                                  : MOLDTEX_ERROR_INVALID_ARGUMENT,
+         m.str());
+  }
+  if (c.agent_count == 0)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The number of agents must be at least 1");
+  if (c.agent_count > kMaxAgents) {
+    std::ostringstream m;
+    m << c.agent_count << " agents is more than the limit of " << kMaxAgents;
+    fail(MOLDTEX_ERROR_TOO_LARGE, m.str());
+  }
+  double need = estimated_bytes(c), have = physical_memory_bytes();
+  if (need > 0.75 * have) {
+    std::ostringstream m;
+    m.precision(3);
+    m << "This simulation would need about " << need / (1ull << 30) << " GiB but the machine has "
+      << have / (1ull << 30) << " GiB: lower the texture resolution or the number of agents";
+    fail(MOLDTEX_ERROR_TOO_LARGE, m.str());
+  }
+}
+
+void validate_params(const moldtex_sim_params& p) {
+  if (p.struct_size < sizeof(moldtex_sim_params))
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "moldtex_sim_params.struct_size is too small: call moldtex_sim_params_init first");
+  check_range("Movement speed", p.movement_speed, 0.f, 64.f, "the paper tested 1 to 2");
+  check_range("Turn speed", p.turn_speed, 0.f, 1000.f, "the paper tested 10 to 50");
+  check_range("Vision distance", p.vision_distance, 0.f, 50.f, "the paper tested 0.4 to 2");
+  check_range("Vision angle", p.vision_angle, 0.f, 180.f, "in degrees; the paper tested 10 to 50");
+  check_range("Evaporation rate", p.evaporation_rate, 0.f, 1000.f, "the paper tested 0.2 to 1");
+  check_range("Diffusion rate", p.diffusion_rate, 0.f, 1000.f, "");
+  check_range("Deposit", p.deposit, 0.f, 1.f, "");
+  check_range("Time step", p.time_step, 1e-6f, 1.f, "1/60 s reproduces the paper");
+  if (p.substeps < 1 || p.substeps > 64)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Substeps must be between 1 and 64");
+  if (p.thread_count > 256)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Thread count must be between 0 (all cores) and 256");
+}
+
+Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim_config& config,
+                       const moldtex_sim_params& params)
+    : surface_(std::move(surface)), config_(config), params_(params) {
+  validate_config(config, *surface_);
+  validate_params(params);
+  {
+    ThreadPool pool(params.thread_count);
+    domain_ = std::make_shared<const TextureDomain>(
+        build_texture_domain(*surface_, config.width, config.height, pool));
+  }
+  backend_ = std::make_unique<CpuBackend>(surface_, domain_, config.agent_count, params.thread_count);
+  reset();
+}
+
+void Simulation::set_params(const moldtex_sim_params& params) {
+  validate_params(params);
+  if (params.thread_count != params_.thread_count) backend_->set_thread_count(params.thread_count);
+  params_ = params;
+}
+
+void Simulation::reset() {
+  backend_->reset(config_.seed);
+  step_count_ = 0;
+}
+
+void Simulation::step(uint32_t steps) {
+  for (uint32_t i = 0; i < steps; ++i) backend_->step(params_, config_.seed, step_count_++);
+}
+
+void Simulation::read_rgba(float* rgba) const {
+  std::vector<float> field(domain_->texel_count());
+  backend_->read_pheromone(field.data());
+  for (size_t i = 0; i < field.size(); ++i) {
+    float v = field[i];
+    rgba[4 * i] = v;
+    rgba[4 * i + 1] = v;
+    rgba[4 * i + 2] = v;
+    rgba[4 * i + 3] = 1.f;
+  }
+}
+
+moldtex_sim_stats Simulation::stats() const {
+  moldtex_sim_stats s{};
+  s.struct_size = sizeof(s);
+  s.step_count = step_count_;
+  s.agent_count = static_cast<uint32_t>(backend_->agent_count());
+  s.bytes_in_use = backend_->bytes() + domain_->bytes() + surface_->bytes();
+  std::vector<float> field(domain_->texel_count());
+  backend_->read_pheromone(field.data());
+  FieldMetrics m = measure(*domain_, field.data());
+  s.coverage = m.coverage;
+  s.presence = m.presence;
+  return s;
+}
+
+}  // namespace moldtex

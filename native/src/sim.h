@@ -1,0 +1,39 @@
+// A simulation: a surface, its texture domain, the parameters, and a backend that owns
+// the evolving state.
+#pragma once
+#include <memory>
+
+#include "backends/backend.h"
+#include "domain/texture_domain.h"
+#include "surface/surface.h"
+
+namespace moldtex {
+
+void validate_config(const moldtex_sim_config& config, const Surface& surface);
+void validate_params(const moldtex_sim_params& params);
+
+class Simulation {
+ public:
+  Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim_config& config,
+             const moldtex_sim_params& params);
+  void set_params(const moldtex_sim_params& params);
+  const moldtex_sim_params& params() const { return params_; }
+  const moldtex_sim_config& config() const { return config_; }
+  const TextureDomain& domain() const { return *domain_; }
+  const Surface& surface() const { return *surface_; }
+  void reset();
+  void step(uint32_t steps);
+  void read_rgba(float* rgba) const;
+  void read_agents(moldtex_surface_point* out, size_t count) const { backend_->read_agents(out, count); }
+  moldtex_sim_stats stats() const;
+
+ private:
+  std::shared_ptr<const Surface> surface_;
+  std::shared_ptr<const TextureDomain> domain_;
+  moldtex_sim_config config_;
+  moldtex_sim_params params_;
+  std::unique_ptr<Backend> backend_;
+  uint64_t step_count_ = 0;
+};
+
+}  // namespace moldtex

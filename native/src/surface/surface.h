@@ -1,0 +1,67 @@
+// The surface: a triangle mesh with a UV layout, prepared for walking agents.
+//
+// Every triangle gets an isometric local 2D frame (corner 0 at the origin, corner 1 on
+// the +x axis, corner 2 above it), so distances and angles measured in a frame are true
+// 3D distances and angles. Agents carry their heading in the frame of the triangle they
+// stand on; crossing an edge unfolds the heading into the neighbour's frame. This is
+// what the metric tensor g(t) does in MoMaS, without inverting the 3x3 matrix L.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "moldtex.h"
+
+namespace moldtex {
+
+struct Vec2 {
+  float x, y;
+};
+
+// Local frame of triangle t: q0 = (0,0), q1 = (a,0), q2 = (bx,by) with by > 0.
+struct TriangleFrame {
+  float a, bx, by;
+};
+
+// Neighbour across edge i (the edge opposite corner i, from corner i+1 to corner i+2).
+// Packed as (triangle << 3) | (edge_in_neighbour << 1) | same_direction
+// (same_direction = 1 when the neighbour is wound the other way round); kNoNeighbour at
+// open boundaries and next to zero-area triangles.
+using AdjacencyCode = uint32_t;
+constexpr AdjacencyCode kNoNeighbour = 0xffffffffu;
+
+struct Surface {
+  // Input, kept for queries.
+  std::vector<float> positions;            // 3 per vertex
+  std::vector<uint32_t> triangles;         // 3 per triangle
+  std::vector<float> corner_uvs;           // 6 per triangle
+  // Derived.
+  std::vector<TriangleFrame> frames;
+  std::vector<std::array<AdjacencyCode, 3>> adjacency;
+  std::vector<float> areas;                // 3D area per triangle
+  std::vector<uint8_t> degenerate;         // 1 where the 3D or UV area is ~zero
+  double area = 0, uv_area = 0;
+  uint32_t boundary_edges = 0, seam_edges = 0, degenerate_count = 0;
+
+  uint32_t triangle_count() const { return static_cast<uint32_t>(frames.size()); }
+  uint32_t vertex_count() const { return static_cast<uint32_t>(positions.size() / 3); }
+  size_t bytes() const;
+
+  // Corner position in the triangle's local frame.
+  Vec2 local_corner(uint32_t t, int corner) const {
+    const TriangleFrame& f = frames[t];
+    if (corner == 0) return {0.f, 0.f};
+    if (corner == 1) return {f.a, 0.f};
+    return {f.bx, f.by};
+  }
+  // Metric tensor g(t) = J^T J for the UV -> 3D Jacobian J; row-major 2x2.
+  std::array<double, 4> metric(uint32_t t) const;
+  // 3D area covered by a unit of UV area in triangle t (sqrt det g).
+  double area_per_uv_area(uint32_t t) const;
+  void evaluate(uint32_t t, const float bary[3], float position[3], float uv[2]) const;
+};
+
+// Builds and validates; throws moldtex::Error with a user-facing message.
+Surface build_surface(const moldtex_mesh_desc& desc);
+
+}  // namespace moldtex
