@@ -38,4 +38,31 @@ Agents spawn_uniform(const Surface& s, uint32_t count, uint64_t seed, ThreadPool
   return a;
 }
 
+void sort_by_tile(const Surface& s, uint32_t width, uint32_t height, Agents& a) {
+  constexpr uint32_t kTile = 32;
+  const uint32_t tiles_x = (width + kTile - 1) / kTile, tiles_y = (height + kTile - 1) / kTile;
+  const size_t n = a.size();
+  std::vector<uint32_t> key(n), start(static_cast<size_t>(tiles_x) * tiles_y + 1, 0);
+  for (size_t i = 0; i < n; ++i) {
+    Walker w = a.load(i);
+    float uv[2];
+    s.evaluate(w.triangle, w.bary, nullptr, uv);
+    auto tile = [](float x, uint32_t size, uint32_t tiles) {
+      int v = static_cast<int>(x * static_cast<float>(size)) / static_cast<int>(kTile);
+      return static_cast<uint32_t>(v < 0 ? 0 : (v >= static_cast<int>(tiles) ? tiles - 1 : v));
+    };
+    key[i] = tile(uv[1], height, tiles_y) * tiles_x + tile(uv[0], width, tiles_x);
+    ++start[key[i] + 1];
+  }
+  for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
+  Agents sorted;
+  sorted.triangle.resize(n);
+  sorted.b1.resize(n);
+  sorted.b2.resize(n);
+  sorted.hx.resize(n);
+  sorted.hy.resize(n);
+  for (size_t i = 0; i < n; ++i) sorted.store(start[key[i]]++, a.load(i));
+  a = std::move(sorted);
+}
+
 }  // namespace moldtex

@@ -31,6 +31,10 @@ struct Agents {
 // Places `count` agents uniformly by 3D area (triangle chosen by area, barycentrics
 // uniform on the triangle) with headings uniform over the full circle. Agent i depends
 // only on (seed, i), never on the thread that placed it.
+// Reorders agents by the texture tile they stand in (a stable counting sort), so that
+// neighbouring agents read neighbouring texels and stay in cache. Deterministic.
+void sort_by_tile(const Surface& surface, uint32_t width, uint32_t height, Agents& agents);
+
 Agents spawn_uniform(const Surface& surface, uint32_t count, uint64_t seed, ThreadPool& pool);
 
 }  // namespace moldtex

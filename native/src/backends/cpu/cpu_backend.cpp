@@ -7,6 +7,8 @@
 
 namespace moldtex {
 
+constexpr uint64_t kSortInterval = 16;
+
 CpuBackend::CpuBackend(std::shared_ptr<const Surface> surface,
                        std::shared_ptr<const TextureDomain> domain, uint32_t agent_count,
                        unsigned threads)
@@ -34,6 +36,8 @@ void CpuBackend::set_thread_count(unsigned threads) {
 void CpuBackend::step(const moldtex_sim_params& p, uint64_t seed, uint64_t step_index) {
   const TextureDomain& d = *domain_;
   const MomasStepConstants c = momas_constants(p, d, seed, step_index);
+  // Agents drift apart in memory order as they move; regroup them now and then.
+  if (step_index % kSortInterval == 0) sort_by_tile(*surface_, d.width, d.height, agents_);
   // 1. Agents sense the field as it was at the start of the step (read-only) and mark
   //    where they deposit: no thread reads what another is writing.
   pool_->parallel_for(agents_.size(), 1024, [&](size_t begin, size_t end) {

@@ -1,0 +1,49 @@
+# Shared by the README's two commands: install Debian packages, build, stage the add-on.
+# Sourced, not run.
+set -euo pipefail
+
+MOLDTEX_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+MOLDTEX_BUILD="${MOLDTEX_BUILD:-$MOLDTEX_ROOT/build}"
+# The modern-Blender test target: PyPI's bpy wheel (Blender as a Python module).
+MOLDTEX_BPY_VERSION="${MOLDTEX_BPY_VERSION:-4.2.23}"
+
+moldtex_install_packages() {
+  local pkgs=(build-essential cmake pkg-config libgtest-dev libbenchmark-dev
+              blender python3 python3-venv python3-pip)
+  local missing=()
+  for p in "${pkgs[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  if ((${#missing[@]})); then
+    if [ "$(id -u)" != 0 ]; then
+      echo "Missing Debian packages: ${missing[*]}; run this command as root (or with sudo)." >&2
+      exit 1
+    fi
+    echo "== Installing Debian packages: ${missing[*]}"
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq
+    apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  fi
+}
+
+moldtex_build() {
+  echo "== Building into $MOLDTEX_BUILD"
+  cmake -S "$MOLDTEX_ROOT" -B "$MOLDTEX_BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake --build "$MOLDTEX_BUILD" -j"$(nproc)"
+}
+
+# Python venv with the bpy wheel; prints the interpreter path.
+moldtex_bpy_python() {
+  local venv="$MOLDTEX_BUILD/venv-bpy"
+  if [ ! -x "$venv/bin/python" ]; then
+    # bpy wheels are built for CPython 3.11: prefer an interpreter of that version.
+    local py=python3
+    command -v python3.11 >/dev/null && py=python3.11
+    "$py" -m venv "$venv" >&2
+  fi
+  if ! "$venv/bin/python" -c "import bpy" >/dev/null 2>&1; then
+    echo "== Installing bpy==$MOLDTEX_BPY_VERSION from PyPI into $venv" >&2
+    "$venv/bin/pip" install -q "bpy==$MOLDTEX_BPY_VERSION" >&2
+  fi
+  echo "$venv/bin/python"
+}

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Installs what is needed, builds everything, and runs every test: the GoogleTest suite
+# (CTest) and the Blender background tests on Debian's Blender and on PyPI's bpy.
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+moldtex_install_packages
+moldtex_build
+
+echo "== CTest (native core)"
+ctest --test-dir "$MOLDTEX_BUILD" --output-on-failure -j"$(nproc)"
+
+echo "== Blender tests on $(blender --version 2>/dev/null | head -n1)"
+blender -b --factory-startup --python-exit-code 1 \
+  -P "$MOLDTEX_ROOT/blender_tests/run_all.py" -- --addon-dir "$MOLDTEX_BUILD/addon"
+
+BPY_PYTHON="$(moldtex_bpy_python)"
+echo "== Blender tests on bpy $("$BPY_PYTHON" -c 'import bpy; print(bpy.app.version_string)' 2>/dev/null)"
+"$BPY_PYTHON" "$MOLDTEX_ROOT/blender_tests/run_all.py" --addon-dir "$MOLDTEX_BUILD/addon"
+
+echo "== All Moldtex tests passed"
