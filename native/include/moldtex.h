@@ -183,8 +183,9 @@ MOLDTEX_API moldtex_status moldtex_sim_step(moldtex_sim sim, uint32_t steps);
 
 /* Copies the pheromone as RGBA float, Blender's order (row 0 is the bottom row, each
  * row left to right): width * height * 4 floats. With one species R = G = B = the
- * pheromone in [0, 1] and A = 1. Texels just outside the UV islands (the gutter) hold
- * copies of their neighbours across the seam, all other outside texels are 0.
+ * pheromone in [0, 1]; A is 1 on the islands and their gutter (a mask). Texels just
+ * outside the UV islands (the gutter) hold copies of their neighbours across the seam;
+ * all other outside texels are 0 in every channel.
  * `float_count` is the capacity of `rgba` in floats and must be >= width*height*4. */
 MOLDTEX_API moldtex_status moldtex_sim_read_rgba(moldtex_sim sim, float* rgba,
                                                  size_t float_count);

@@ -118,12 +118,13 @@ void Simulation::step(uint32_t steps) {
 void Simulation::read_rgba(float* rgba) const {
   std::vector<float> field(domain_->texel_count());
   backend_->read_pheromone(field.data());
+  const auto& classes = domain_->classes;
   for (size_t i = 0; i < field.size(); ++i) {
     float v = field[i];
     rgba[4 * i] = v;
     rgba[4 * i + 1] = v;
     rgba[4 * i + 2] = v;
-    rgba[4 * i + 3] = 1.f;
+    rgba[4 * i + 3] = classes[i] == MOLDTEX_TEXEL_OUTSIDE ? 0.f : 1.f;  // alpha = island mask
   }
 }
 

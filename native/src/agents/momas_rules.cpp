@@ -61,18 +61,16 @@ void momas_update_agents(const Surface& s, const TextureDomain& d, const MomasSt
     const float front = sense(s, d, pheromone, w, 1.f, 0.f, c.sensor_length);
     const float right = sense(s, d, pheromone, w, c.sensor_cos, -c.sensor_sin, c.sensor_length);
 
-    // Steering: keep going while the front is strongest, turn toward the stronger side
-    // otherwise, pick a side at random when both sides beat the front. The turn is
-    // scaled by r ~ U[0,1), the paper's random jitter.
+    // Steering: keep going only while the front is strictly strongest, else turn
+    // toward the stronger side, or to a random side on a tie (so agents on bare
+    // ground wander instead of running straight). The turn is scaled by r ~ U[0,1),
+    // the paper's random jitter.
     CounterRng rng(c.seed, RngPurpose::Steer, i, c.step);
     const float r = rng.next_float();
     float turn = 0.f;
-    if (front >= left && front >= right) {
-      turn = 0.f;
-    } else if (front < left && front < right) {
-      turn = (rng.next_float() < 0.5f ? 1.f : -1.f) * r * c.max_turn;
-    } else {
-      turn = (left > right ? 1.f : -1.f) * r * c.max_turn;
+    if (!(front > left && front > right)) {
+      const float side = left > right ? 1.f : (right > left ? -1.f : (rng.next_float() < 0.5f ? 1.f : -1.f));
+      turn = side * r * c.max_turn;
     }
     if (turn != 0.f) {
       rotate(w.heading, std::cos(turn), std::sin(turn));

@@ -29,9 +29,12 @@ void validate(const moldtex_mesh_desc& d) {
   if (d.struct_size < sizeof(moldtex_mesh_desc))
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
          "moldtex_mesh_desc.struct_size is too small: call moldtex_mesh_desc_init first");
-  if (d.triangle_count == 0 || d.triangles == nullptr)
+  if ((d.triangle_count && !d.triangles) || (d.vertex_count && !d.positions) ||
+      (d.uv_count && !d.uvs))
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "A mesh array is NULL although its count is not zero");
+  if (d.triangle_count == 0)
     fail(MOLDTEX_ERROR_INVALID_MESH, "The mesh has no faces: agents need triangles to walk on");
-  if (d.vertex_count < 3 || d.positions == nullptr)
+  if (d.vertex_count < 3)
     fail(MOLDTEX_ERROR_INVALID_MESH, "The mesh has fewer than three vertices");
   if (d.triangle_count > kMaxTriangles)
     fail(MOLDTEX_ERROR_TOO_LARGE, "The mesh has more than 268 million triangles");
@@ -139,6 +142,7 @@ Surface build_surface(const moldtex_mesh_desc& d) {
       max_edge = std::max(max_edge, norm(sub(vertex(s, s.triangles[3 * t + (c + 1) % 3]),
                                              vertex(s, s.triangles[3 * t + c]))));
   const double area_eps = 1e-12 * max_edge * max_edge;
+  uint32_t flat_3d_count = 0;
   for (uint32_t t = 0; t < nt; ++t) {
     V3 p0 = vertex(s, s.triangles[3 * t]), p1 = vertex(s, s.triangles[3 * t + 1]),
        p2 = vertex(s, s.triangles[3 * t + 2]);
@@ -147,8 +151,9 @@ Surface build_surface(const moldtex_mesh_desc& d) {
     const float* uv = &s.corner_uvs[6 * t];
     double uv_area = 0.5 * std::fabs((uv[2] - uv[0]) * (uv[5] - uv[1]) - (uv[4] - uv[0]) * (uv[3] - uv[1]));
     double a = norm(e1);
-    bool degenerate = area <= area_eps || a == 0 || uv_area <= 1e-14;
-    if (degenerate) {
+    bool flat_3d = area <= area_eps || a == 0;
+    flat_3d_count += flat_3d;
+    if (flat_3d || uv_area <= 1e-14) {
       s.degenerate[t] = 1;
       ++s.degenerate_count;
       s.frames[t] = {1.f, 0.f, 1.f};  // never walked on; keeps arithmetic finite
@@ -162,9 +167,9 @@ Surface build_surface(const moldtex_mesh_desc& d) {
     s.area += area;
     s.uv_area += uv_area;
   }
-  if (s.degenerate_count == nt)
-    fail(MOLDTEX_ERROR_INVALID_MESH, "Every triangle of the mesh has zero area (in 3D or in UV)");
-  if (s.uv_area <= 1e-12)
+  if (flat_3d_count == nt)
+    fail(MOLDTEX_ERROR_INVALID_MESH, "Every triangle of the mesh has zero area");
+  if (s.degenerate_count == nt || s.uv_area <= 1e-12)
     fail(MOLDTEX_ERROR_MISSING_UVS,
          "The UV map has zero area: unwrap the mesh (UV > Unwrap or Smart UV Project)");
 
