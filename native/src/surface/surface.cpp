@@ -23,6 +23,23 @@ V3 vertex(const Surface& s, uint32_t v) {
   return {s.positions[3 * v], s.positions[3 * v + 1], s.positions[3 * v + 2]};
 }
 
+TriangleFrame make_frame(double a, double bx, double by) {
+  TriangleFrame f{};
+  f.a = static_cast<float>(a);
+  f.bx = static_cast<float>(bx);
+  f.by = static_cast<float>(by);
+  f.inv_a = static_cast<float>(1.0 / a);
+  f.inv_by = static_cast<float>(1.0 / by);
+  const double q[3][2] = {{0, 0}, {a, 0}, {bx, by}};
+  for (int i = 0; i < 3; ++i) {
+    const double* from = q[(i + 1) % 3];
+    const double* to = q[(i + 2) % 3];
+    double dx = to[0] - from[0], dy = to[1] - from[1], n = std::sqrt(dx * dx + dy * dy);
+    f.edge[i] = {static_cast<float>(dx / n), static_cast<float>(dy / n)};
+  }
+  return f;
+}
+
 constexpr uint32_t kMaxTriangles = 1u << 28;  // leaves room for the adjacency packing
 
 void validate(const moldtex_mesh_desc& d) {
@@ -156,13 +173,13 @@ Surface build_surface(const moldtex_mesh_desc& d) {
     if (flat_3d || uv_area <= 1e-14) {
       s.degenerate[t] = 1;
       ++s.degenerate_count;
-      s.frames[t] = {1.f, 0.f, 1.f};  // never walked on; keeps arithmetic finite
+      s.frames[t] = make_frame(1.0, 0.0, 1.0);  // never walked on; keeps arithmetic finite
       s.areas[t] = 0;
       continue;
     }
     double bx = dot(e2, e1) / a;
     double by = 2.0 * area / a;
-    s.frames[t] = {static_cast<float>(a), static_cast<float>(bx), static_cast<float>(by)};
+    s.frames[t] = make_frame(a, bx, by);
     s.areas[t] = static_cast<float>(area);
     s.area += area;
     s.uv_area += uv_area;
@@ -180,13 +197,17 @@ Surface build_surface(const moldtex_mesh_desc& d) {
   };
   std::unordered_map<uint64_t, std::vector<Side>> edges;
   edges.reserve(nt * 2);
-  for (uint32_t t = 0; t < nt; ++t)
+  for (uint32_t t = 0; t < nt; ++t) {
+    const uint32_t* v = &s.triangles[3 * t];
+    // A triangle that repeats a vertex is a collapsed sliver: it borders nothing, and
+    // its neighbours see a wall there.
+    if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0]) continue;
     for (uint8_t i = 0; i < 3; ++i) {
-      uint32_t a = s.triangles[3 * t + (i + 1) % 3], b = s.triangles[3 * t + (i + 2) % 3];
-      if (a == b) continue;  // a collapsed edge borders nothing
+      uint32_t a = v[(i + 1) % 3], b = v[(i + 2) % 3];
       uint64_t key = (static_cast<uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
       edges[key].push_back({t, i});
     }
+  }
   s.adjacency.assign(nt, {kNoNeighbour, kNoNeighbour, kNoNeighbour});
   uint32_t nonmanifold = 0;
   uint64_t example = 0;

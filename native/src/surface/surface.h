@@ -19,8 +19,12 @@ struct Vec2 {
 };
 
 // Local frame of triangle t: q0 = (0,0), q1 = (a,0), q2 = (bx,by) with by > 0.
+// Also cached for the walker's inner loop: 1/a, 1/by, and the unit tangent of each edge
+// i, running counter-clockwise from corner i+1 to corner i+2.
 struct TriangleFrame {
   float a, bx, by;
+  float inv_a, inv_by;
+  Vec2 edge[3];
 };
 
 // Neighbour across edge i (the edge opposite corner i, from corner i+1 to corner i+2).

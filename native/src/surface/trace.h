@@ -55,10 +55,10 @@ inline int walk(const TriangleFrame* frames, const std::array<AdjacencyCode, 3>*
                 Walker& w, float length, OnEvent&& on_event) {
   float remaining = length;
   for (int events = 0;; ++events) {
-    const TriangleFrame f = frames[w.triangle];
+    const TriangleFrame& f = frames[w.triangle];
     // Heading in barycentric rates: Q * (db1, db2) = heading with Q = [[a, bx], [0, by]].
-    float db2 = w.heading.y / f.by;
-    float db1 = (w.heading.x - f.bx * db2) / f.a;
+    float db2 = w.heading.y * f.inv_by;
+    float db1 = (w.heading.x - f.bx * db2) * f.inv_a;
     float db[3] = {-(db1 + db2), db1, db2};
     float travel = remaining;
     int exit = -1;
@@ -80,8 +80,7 @@ inline int walk(const TriangleFrame* frames, const std::array<AdjacencyCode, 3>*
     remaining -= travel;
 
     const int j = (exit + 1) % 3, k = (exit + 2) % 3;
-    const Vec2 e = unit(Vec2{frame_corner(f, k).x - frame_corner(f, j).x,
-                             frame_corner(f, k).y - frame_corner(f, j).y});
+    const Vec2 e = f.edge[exit];
     const Vec2 inward{-e.y, e.x};  // corners are counter-clockwise in every frame
     const float along = w.heading.x * e.x + w.heading.y * e.y;
     const float across = std::fmax(std::fabs(w.heading.x * inward.x + w.heading.y * inward.y),
@@ -102,11 +101,10 @@ inline int walk(const TriangleFrame* frames, const std::array<AdjacencyCode, 3>*
     w.bary[edge] = 0.f;
     w.bary[jn] = bj;
     w.bary[kn] = bk;
-    const TriangleFrame& g = frames[next];
-    const Vec2 en = unit(Vec2{frame_corner(g, kn).x - frame_corner(g, jn).x,
-                              frame_corner(g, kn).y - frame_corner(g, jn).y});
-    const Vec2 ccw = unit(Vec2{frame_corner(g, (edge + 2) % 3).x - frame_corner(g, (edge + 1) % 3).x,
-                               frame_corner(g, (edge + 2) % 3).y - frame_corner(g, (edge + 1) % 3).y});
+    // The shared edge runs j -> k; in `next` that is its counter-clockwise tangent, or
+    // the reverse when `next` is wound the other way round.
+    const Vec2 ccw = frames[next].edge[edge];
+    const Vec2 en = same_direction ? ccw : Vec2{-ccw.x, -ccw.y};
     const Vec2 inward_next{-ccw.y, ccw.x};
     w.heading = unit(Vec2{along * en.x + across * inward_next.x, along * en.y + across * inward_next.y});
     w.triangle = next;

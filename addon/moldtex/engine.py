@@ -1,0 +1,523 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""ctypes binding of libmoldtex (native/include/moldtex.h, ABI 1).
+
+This module never imports bpy: it only knows the C API. Every function's signature is
+declared once, when the library is loaded at import. If the library is missing or does
+not match, LOAD_ERROR holds a plain-language reason and everything else in the add-on
+keeps working (the panel shows the reason); calls then raise EngineError(LOAD_ERROR).
+
+Buffers crossing the boundary are array.array objects (or numpy arrays when a caller
+has them): native code gets their address, and the same object is handed to Blender's
+foreach_set. Never wrap a ctypes array in a memoryview (it crashed Blender 3.4).
+"""
+
+import array
+import ctypes
+import os
+import sys
+
+ABI_VERSION = 1
+
+# moldtex_status values (moldtex.h)
+OK = 0
+ERROR_INVALID_ARGUMENT = 1
+ERROR_INVALID_MESH = 2
+ERROR_MISSING_UVS = 3
+ERROR_TOO_LARGE = 4
+ERROR_OUT_OF_MEMORY = 5
+ERROR_INTERNAL = 6
+
+STATUS_NAMES = {
+    OK: "ok",
+    ERROR_INVALID_ARGUMENT: "invalid argument",
+    ERROR_INVALID_MESH: "invalid mesh",
+    ERROR_MISSING_UVS: "missing UVs",
+    ERROR_TOO_LARGE: "too large",
+    ERROR_OUT_OF_MEMORY: "out of memory",
+    ERROR_INTERNAL: "internal error",
+}
+
+TEXEL_OUTSIDE = 0
+TEXEL_INSIDE = 1
+TEXEL_GUTTER = 2
+
+
+class EngineError(Exception):
+    """A failed core call; str(error) is the core's message (moldtex_last_error)."""
+
+    def __init__(self, message, status=None):
+        super().__init__(message)
+        self.message = message
+        self.status = status
+
+
+# ---- struct mirrors (field order and types exactly as in moldtex.h) -------------------
+
+class MeshDesc(ctypes.Structure):
+    _fields_ = [
+        ("struct_size", ctypes.c_uint32),
+        ("positions", ctypes.POINTER(ctypes.c_float)),
+        ("vertex_count", ctypes.c_uint32),
+        ("triangles", ctypes.POINTER(ctypes.c_uint32)),
+        ("triangle_count", ctypes.c_uint32),
+        ("uvs", ctypes.POINTER(ctypes.c_float)),
+        ("uv_count", ctypes.c_uint32),
+        ("triangle_uvs", ctypes.POINTER(ctypes.c_uint32)),
+    ]
+
+
+class SurfaceInfo(ctypes.Structure):
+    _fields_ = [
+        ("struct_size", ctypes.c_uint32),
+        ("vertex_count", ctypes.c_uint32),
+        ("triangle_count", ctypes.c_uint32),
+        ("boundary_edge_count", ctypes.c_uint32),
+        ("seam_edge_count", ctypes.c_uint32),
+        ("degenerate_triangle_count", ctypes.c_uint32),
+        ("area", ctypes.c_double),
+        ("uv_area", ctypes.c_double),
+    ]
+
+
+class SurfacePoint(ctypes.Structure):
+    _fields_ = [
+        ("triangle", ctypes.c_uint32),
+        ("bary", ctypes.c_float * 3),
+    ]
+
+
+class SimConfig(ctypes.Structure):
+    _fields_ = [
+        ("struct_size", ctypes.c_uint32),
+        ("width", ctypes.c_uint32),
+        ("height", ctypes.c_uint32),
+        ("agent_count", ctypes.c_uint32),
+        ("seed", ctypes.c_uint64),
+    ]
+
+
+class SimParams(ctypes.Structure):
+    _fields_ = [
+        ("struct_size", ctypes.c_uint32),
+        ("movement_speed", ctypes.c_float),
+        ("turn_speed", ctypes.c_float),
+        ("vision_distance", ctypes.c_float),
+        ("vision_angle", ctypes.c_float),
+        ("evaporation_rate", ctypes.c_float),
+        ("diffusion_rate", ctypes.c_float),
+        ("deposit", ctypes.c_float),
+        ("time_step", ctypes.c_float),
+        ("substeps", ctypes.c_uint32),
+        ("thread_count", ctypes.c_uint32),
+    ]
+
+
+class SimStats(ctypes.Structure):
+    _fields_ = [
+        ("struct_size", ctypes.c_uint32),
+        ("step_count", ctypes.c_uint64),
+        ("agent_count", ctypes.c_uint32),
+        ("bytes_in_use", ctypes.c_uint64),
+        ("coverage", ctypes.c_double),
+        ("presence", ctypes.c_double),
+    ]
+
+
+CONFIG_FIELDS = ("width", "height", "agent_count", "seed")
+PARAM_FIELDS = tuple(name for name, _ in SimParams._fields_ if name != "struct_size")
+STATS_FIELDS = tuple(name for name, _ in SimStats._fields_ if name != "struct_size")
+SURFACE_INFO_FIELDS = tuple(name for name, _ in SurfaceInfo._fields_ if name != "struct_size")
+
+_Surface = ctypes.c_void_p  # opaque moldtex_surface
+_Sim = ctypes.c_void_p      # opaque moldtex_sim
+_status = ctypes.c_int      # moldtex_status (a C enum is an int)
+_P = ctypes.POINTER
+
+# name: (restype, argtypes) -- every function of moldtex.h, declared once.
+_SIGNATURES = {
+    "moldtex_abi_version": (ctypes.c_uint32, []),
+    "moldtex_version_string": (ctypes.c_char_p, []),
+    "moldtex_last_error": (ctypes.c_char_p, []),
+    "moldtex_mesh_desc_init": (None, [_P(MeshDesc)]),
+    "moldtex_surface_create": (_status, [_P(MeshDesc), _P(_Surface)]),
+    "moldtex_surface_release": (None, [_Surface]),
+    "moldtex_surface_info_init": (None, [_P(SurfaceInfo)]),
+    "moldtex_surface_get_info": (_status, [_Surface, _P(SurfaceInfo)]),
+    "moldtex_surface_get_metric": (_status, [_Surface, ctypes.c_uint32, _P(ctypes.c_float)]),
+    "moldtex_surface_evaluate": (_status, [_Surface, _P(SurfacePoint), _P(ctypes.c_float),
+                                           _P(ctypes.c_float)]),
+    "moldtex_surface_trace": (_status, [_Surface, _P(SurfacePoint), _P(ctypes.c_float),
+                                        ctypes.c_float, _P(SurfacePoint), _P(ctypes.c_float),
+                                        ctypes.c_uint32, _P(ctypes.c_uint32)]),
+    "moldtex_sim_config_init": (None, [_P(SimConfig)]),
+    "moldtex_sim_params_init": (None, [_P(SimParams)]),
+    "moldtex_sim_create": (_status, [_Surface, _P(SimConfig), _P(SimParams), _P(_Sim)]),
+    "moldtex_sim_release": (None, [_Sim]),
+    "moldtex_sim_set_params": (_status, [_Sim, _P(SimParams)]),
+    "moldtex_sim_get_params": (_status, [_Sim, _P(SimParams)]),
+    "moldtex_sim_get_config": (_status, [_Sim, _P(SimConfig)]),
+    "moldtex_sim_reset": (_status, [_Sim]),
+    "moldtex_sim_step": (_status, [_Sim, ctypes.c_uint32]),
+    "moldtex_sim_read_rgba": (_status, [_Sim, ctypes.c_void_p, ctypes.c_size_t]),
+    "moldtex_sim_read_texel_classes": (_status, [_Sim, ctypes.c_void_p, ctypes.c_size_t]),
+    "moldtex_sim_read_agents": (_status, [_Sim, _P(SurfacePoint), ctypes.c_uint32]),
+    "moldtex_sim_stats_init": (None, [_P(SimStats)]),
+    "moldtex_sim_get_stats": (_status, [_Sim, _P(SimStats)]),
+}
+
+# Structs whose *_init function must report the same struct_size as our mirror.
+_STRUCT_INITS = (
+    ("moldtex_mesh_desc_init", MeshDesc),
+    ("moldtex_surface_info_init", SurfaceInfo),
+    ("moldtex_sim_config_init", SimConfig),
+    ("moldtex_sim_params_init", SimParams),
+    ("moldtex_sim_stats_init", SimStats),
+)
+
+ADDON_DIR = os.path.dirname(os.path.abspath(__file__))
+
+if sys.platform == "win32":
+    LIBRARY_NAME = "moldtex.dll"
+elif sys.platform == "darwin":
+    LIBRARY_NAME = "libmoldtex.dylib"
+else:
+    LIBRARY_NAME = "libmoldtex.so"
+
+_REBUILD_HINT = ("build it with the README's command (cmake -S . -B build && "
+                 "cmake --build build) or reinstall the add-on zip")
+
+_lib = None
+LOAD_ERROR = None     # plain-language reason when the core is unusable, else None
+LIBRARY_PATH = None   # the file that was loaded (or tried)
+VERSION = None        # moldtex_version_string() of the loaded core
+
+
+def _load():
+    """Loads the core next to this file (or $MOLDTEX_LIBRARY) and checks it fits."""
+    global _lib, LOAD_ERROR, LIBRARY_PATH, VERSION
+    _lib, LOAD_ERROR, VERSION = None, None, None
+    override = os.environ.get("MOLDTEX_LIBRARY")
+    path = override or os.path.join(ADDON_DIR, LIBRARY_NAME)
+    LIBRARY_PATH = path
+    if not os.path.isfile(path):
+        if override:
+            LOAD_ERROR = (f"MOLDTEX_LIBRARY is set to {override}, which does not exist; "
+                          f"unset it to use the library next to the add-on.")
+        else:
+            LOAD_ERROR = (f"{LIBRARY_NAME} was not found next to the add-on in "
+                          f"{ADDON_DIR}; {_REBUILD_HINT}.")
+        return
+    try:
+        lib = ctypes.CDLL(path)
+    except OSError as error:
+        LOAD_ERROR = (f"{path} could not be loaded ({error}); it may be built for another "
+                      f"system or be missing a dependency: {_REBUILD_HINT}.")
+        return
+    for name, (restype, argtypes) in _SIGNATURES.items():
+        try:
+            function = getattr(lib, name)
+        except AttributeError:
+            LOAD_ERROR = (f"{path} has no function {name}: it is from another version "
+                          f"of Moldtex; {_REBUILD_HINT}.")
+            return
+        function.restype = restype
+        function.argtypes = argtypes
+    abi = lib.moldtex_abi_version()
+    if abi != ABI_VERSION:
+        LOAD_ERROR = (f"{path} speaks ABI version {abi} but this add-on needs version "
+                      f"{ABI_VERSION}: install the add-on zip and the library from the "
+                      f"same build.")
+        return
+    for init_name, struct in _STRUCT_INITS:
+        probe = struct()
+        getattr(lib, init_name)(ctypes.byref(probe))
+        if probe.struct_size != ctypes.sizeof(struct):
+            LOAD_ERROR = (f"{path} reports {struct.__name__} as {probe.struct_size} bytes "
+                          f"but the add-on expects {ctypes.sizeof(struct)}: the library and "
+                          f"the add-on come from different builds; {_REBUILD_HINT}.")
+            return
+    raw_version = lib.moldtex_version_string()
+    VERSION = raw_version.decode("utf-8", "replace") if raw_version else "?"
+    _lib = lib
+
+
+_load()
+
+
+def available():
+    return _lib is not None
+
+
+def status_text():
+    """One line for the panel: which core is loaded, or why none is."""
+    if _lib is None:
+        return "Engine unavailable: " + (LOAD_ERROR or "unknown reason")
+    return f"Moldtex core {VERSION} (ABI {ABI_VERSION})"
+
+
+def _require():
+    if _lib is None:
+        raise EngineError(LOAD_ERROR or "The Moldtex core is not loaded.")
+    return _lib
+
+
+def _last_error():
+    message = _lib.moldtex_last_error() if _lib is not None else None
+    return message.decode("utf-8", "replace") if message else ""
+
+
+def _check(status, what):
+    if status != OK:
+        message = _last_error() or f"{what} failed ({STATUS_NAMES.get(status, status)})."
+        raise EngineError(message, status)
+
+
+def _buffer_address(buffer, typecodes, writable):
+    """Address and element count of an array.array (or C-contiguous numpy array)."""
+    if isinstance(buffer, array.array):
+        expected_size = 1 if buffer.typecode == "B" else 4
+        if buffer.typecode not in typecodes or buffer.itemsize != expected_size:
+            raise TypeError(f"expected array.array of type {'/'.join(typecodes)}, "
+                            f"got '{buffer.typecode}'")
+        address, count = buffer.buffer_info()
+        return address, count
+    interface = getattr(buffer, "__array_interface__", None)
+    if interface is not None:
+        typestr = interface["typestr"]
+        kinds = {"f": ("<f4",), "i": ("<i4",), "I": ("<u4",), "B": ("|u1", "<u1")}
+        accepted = sum((kinds.get(code, ()) for code in typecodes), ())
+        if typestr not in accepted:
+            raise TypeError(f"expected a numpy array of {accepted}, got {typestr}")
+        if interface.get("strides") is not None:
+            raise TypeError("the numpy array must be C-contiguous")
+        address, readonly = interface["data"]
+        if writable and readonly:
+            raise TypeError("the numpy array is read-only")
+        count = 1
+        for extent in interface["shape"]:
+            count *= extent
+        return address, count
+    raise TypeError(f"expected array.array or a numpy array, got {type(buffer).__name__}")
+
+
+def _float_ptr(buffer):
+    address, count = _buffer_address(buffer, ("f",), writable=False)
+    return ctypes.cast(ctypes.c_void_p(address), _P(ctypes.c_float)), count
+
+
+def _uint_ptr(buffer):
+    # Blender's foreach_get fills 'i' (int32); the bits are the same for valid indices.
+    address, count = _buffer_address(buffer, ("I", "i"), writable=False)
+    return ctypes.cast(ctypes.c_void_p(address), _P(ctypes.c_uint32)), count
+
+
+def _struct_to_dict(struct, fields):
+    return {name: getattr(struct, name) for name in fields}
+
+
+def default_params():
+    """The core's default parameters (moldtex_sim_params_init) as a dict."""
+    params = SimParams()
+    _require().moldtex_sim_params_init(ctypes.byref(params))
+    return _struct_to_dict(params, PARAM_FIELDS)
+
+
+def default_config():
+    config = SimConfig()
+    _require().moldtex_sim_config_init(ctypes.byref(config))
+    return _struct_to_dict(config, CONFIG_FIELDS)
+
+
+def _fill(struct, values, fields, what):
+    for name, value in values.items():
+        if name not in fields:
+            raise KeyError(f"unknown {what} field '{name}'")
+        setattr(struct, name, value)
+
+
+class Surface:
+    """A triangle mesh with a UV layout (moldtex_surface)."""
+
+    def __init__(self, positions, triangles, uvs, triangle_uvs=None):
+        """positions: array('f') of x,y,z; triangles: array('I'/'i') of vertex indices,
+        3 per triangle; uvs: array('f') of u,v; triangle_uvs: array('I'/'i') of 3 uv
+        indices per triangle (Blender loop indices), or None for per-corner uvs."""
+        lib = _require()
+        self._handle = None
+        desc = MeshDesc()
+        lib.moldtex_mesh_desc_init(ctypes.byref(desc))
+        desc.positions, n_pos = _float_ptr(positions)
+        desc.triangles, n_tri = _uint_ptr(triangles)
+        desc.uvs, n_uv = _float_ptr(uvs)
+        if n_pos % 3 or n_tri % 3 or n_uv % 2:
+            raise EngineError("Mesh arrays have the wrong length (positions need 3 floats "
+                              "a vertex, triangles 3 indices, uvs 2 floats).",
+                              ERROR_INVALID_ARGUMENT)
+        desc.vertex_count = n_pos // 3
+        desc.triangle_count = n_tri // 3
+        desc.uv_count = n_uv // 2
+        if triangle_uvs is not None:
+            desc.triangle_uvs, n_tuv = _uint_ptr(triangle_uvs)
+            if n_tuv != n_tri:
+                raise EngineError("triangle_uvs needs 3 indices per triangle.",
+                                  ERROR_INVALID_ARGUMENT)
+        handle = _Surface()
+        # The arrays stay referenced by the caller for the duration of this call.
+        _check(lib.moldtex_surface_create(ctypes.byref(desc), ctypes.byref(handle)),
+               "Building the surface")
+        self._handle = handle
+
+    @property
+    def handle(self):
+        if self._handle is None:
+            raise EngineError("This surface was released.", ERROR_INVALID_ARGUMENT)
+        return self._handle
+
+    def info(self):
+        info = SurfaceInfo()
+        _lib.moldtex_surface_info_init(ctypes.byref(info))
+        _check(_lib.moldtex_surface_get_info(self.handle, ctypes.byref(info)),
+               "Reading surface info")
+        return _struct_to_dict(info, SURFACE_INFO_FIELDS)
+
+    def metric(self, triangle):
+        g = (ctypes.c_float * 4)()
+        _check(_lib.moldtex_surface_get_metric(self.handle, triangle, g), "Reading metric")
+        return tuple(g)
+
+    def evaluate(self, triangle, bary):
+        point = SurfacePoint(triangle, (ctypes.c_float * 3)(*bary))
+        position = (ctypes.c_float * 3)()
+        uv = (ctypes.c_float * 2)()
+        _check(_lib.moldtex_surface_evaluate(self.handle, ctypes.byref(point), position, uv),
+               "Evaluating a surface point")
+        return tuple(position), tuple(uv)
+
+    def trace(self, triangle, bary, direction, length, path_capacity=0):
+        start = SurfacePoint(triangle, (ctypes.c_float * 3)(*bary))
+        end = SurfacePoint()
+        path = (ctypes.c_float * (3 * path_capacity))() if path_capacity else None
+        count = ctypes.c_uint32(0)
+        _check(_lib.moldtex_surface_trace(self.handle, ctypes.byref(start),
+                                          (ctypes.c_float * 3)(*direction), length,
+                                          ctypes.byref(end), path, path_capacity,
+                                          ctypes.byref(count)),
+               "Tracing a path")
+        points = []
+        if path is not None:
+            n = min(count.value, path_capacity)
+            points = [tuple(path[3 * i:3 * i + 3]) for i in range(n)]
+        return (end.triangle, tuple(end.bary)), points, count.value
+
+    def release(self):
+        if self._handle is not None and _lib is not None:
+            _lib.moldtex_surface_release(self._handle)
+        self._handle = None
+
+    def __del__(self):
+        try:
+            self.release()
+        except Exception:
+            pass
+
+
+class Simulation:
+    """A MoMaS simulation on a surface's UV layout (moldtex_sim)."""
+
+    def __init__(self, surface, config=None, params=None):
+        """config: dict with width, height, agent_count, seed (missing = core default);
+        params: dict with any of PARAM_FIELDS (missing = core default)."""
+        lib = _require()
+        self._handle = None
+        c = SimConfig()
+        lib.moldtex_sim_config_init(ctypes.byref(c))
+        _fill(c, config or {}, CONFIG_FIELDS, "config")
+        p = SimParams()
+        lib.moldtex_sim_params_init(ctypes.byref(p))
+        _fill(p, params or {}, PARAM_FIELDS, "params")
+        handle = _Sim()
+        _check(lib.moldtex_sim_create(surface.handle, ctypes.byref(c), ctypes.byref(p),
+                                      ctypes.byref(handle)),
+               "Creating the simulation")
+        self._handle = handle
+        self.width = c.width
+        self.height = c.height
+
+    @property
+    def handle(self):
+        if self._handle is None:
+            raise EngineError("This simulation was released.", ERROR_INVALID_ARGUMENT)
+        return self._handle
+
+    def set_params(self, params):
+        """Changes parameters between steps; fields not given keep their current value."""
+        p = SimParams()
+        _lib.moldtex_sim_params_init(ctypes.byref(p))
+        _check(_lib.moldtex_sim_get_params(self.handle, ctypes.byref(p)), "Reading parameters")
+        _fill(p, params, PARAM_FIELDS, "params")
+        _check(_lib.moldtex_sim_set_params(self.handle, ctypes.byref(p)), "Setting parameters")
+
+    def get_params(self):
+        p = SimParams()
+        _lib.moldtex_sim_params_init(ctypes.byref(p))
+        _check(_lib.moldtex_sim_get_params(self.handle, ctypes.byref(p)), "Reading parameters")
+        return _struct_to_dict(p, PARAM_FIELDS)
+
+    def get_config(self):
+        c = SimConfig()
+        _lib.moldtex_sim_config_init(ctypes.byref(c))
+        _check(_lib.moldtex_sim_get_config(self.handle, ctypes.byref(c)), "Reading config")
+        return _struct_to_dict(c, CONFIG_FIELDS)
+
+    def reset(self):
+        _check(_lib.moldtex_sim_reset(self.handle), "Resetting the simulation")
+
+    def step(self, steps=1):
+        _check(_lib.moldtex_sim_step(self.handle, int(steps)), "Stepping the simulation")
+
+    def new_rgba_buffer(self):
+        """A zeroed array('f') of width*height*4 floats for read_rgba / foreach_set."""
+        return array.array("f", bytes(4 * 4 * self.width * self.height))
+
+    def read_rgba(self, buffer=None):
+        """Copies the pheromone as RGBA floats (Blender's pixel order) into `buffer`
+        (array('f') or numpy float32, >= width*height*4 floats) and returns it."""
+        if buffer is None:
+            buffer = self.new_rgba_buffer()
+        address, count = _buffer_address(buffer, ("f",), writable=True)
+        _check(_lib.moldtex_sim_read_rgba(self.handle, ctypes.c_void_p(address), count),
+               "Reading the pheromone")
+        return buffer
+
+    def read_texel_classes(self, buffer=None):
+        """Texel classes (TEXEL_OUTSIDE/INSIDE/GUTTER) as array('B'), pheromone order."""
+        if buffer is None:
+            buffer = array.array("B", bytes(self.width * self.height))
+        address, count = _buffer_address(buffer, ("B",), writable=True)
+        _check(_lib.moldtex_sim_read_texel_classes(self.handle, ctypes.c_void_p(address),
+                                                   count),
+               "Reading texel classes")
+        return buffer
+
+    def read_agents(self, capacity):
+        """Up to `capacity` agent positions as (triangle, (b0, b1, b2)) tuples."""
+        points = (SurfacePoint * capacity)()
+        _check(_lib.moldtex_sim_read_agents(self.handle, points, capacity), "Reading agents")
+        return [(pt.triangle, tuple(pt.bary)) for pt in points]
+
+    def get_stats(self):
+        s = SimStats()
+        _lib.moldtex_sim_stats_init(ctypes.byref(s))
+        _check(_lib.moldtex_sim_get_stats(self.handle, ctypes.byref(s)), "Reading statistics")
+        return _struct_to_dict(s, STATS_FIELDS)
+
+    def release(self):
+        if self._handle is not None and _lib is not None:
+            _lib.moldtex_sim_release(self._handle)
+        self._handle = None
+
+    def __del__(self):
+        try:
+            self.release()
+        except Exception:
+            pass

@@ -1,0 +1,77 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Application handlers that keep the live simulations in step with Blender's data."""
+
+import bpy
+from bpy.app.handlers import persistent
+
+from . import image_io, live
+
+
+@persistent
+def on_load_pre(*_args):
+    # Another file replaces every object: nothing live survives.
+    live.free_all()
+
+
+@persistent
+def on_depsgraph_update_post(scene, depsgraph=None):
+    names = live.names()
+    if not names:
+        return
+    objects = bpy.data.objects
+    for name in names:
+        if objects.get(name) is None:  # deleted (or renamed)
+            live.free(name)
+    if depsgraph is None:
+        return
+    for update in depsgraph.updates:
+        if update.is_updated_geometry and isinstance(update.id, bpy.types.Object):
+            live.mark_dirty(update.id.name)
+
+
+@persistent
+def on_undo_redo_post(*_args):
+    # Undo makes new object wrappers and may restore another mesh: check before the
+    # next step (live.ensure compares the mesh and rebuilds only if it differs).
+    for name in live.names():
+        if bpy.data.objects.get(name) is None:
+            live.free(name)
+    live.mark_dirty()
+
+
+@persistent
+def on_save_pre(*_args):
+    # Generated images lose their pixels on reload unless packed.
+    for obj in bpy.data.objects:
+        settings = getattr(obj, "moldtex", None)
+        if settings is not None and settings.image is not None:
+            try:
+                image_io.pack_for_save(settings.image)
+            except RuntimeError as error:
+                print(f"Moldtex: could not pack '{settings.image.name}': {error}")
+
+
+_HANDLERS = (
+    ("load_pre", on_load_pre),
+    ("depsgraph_update_post", on_depsgraph_update_post),
+    ("undo_post", on_undo_redo_post),
+    ("redo_post", on_undo_redo_post),
+    ("save_pre", on_save_pre),
+)
+
+
+def register():
+    for attribute, function in _HANDLERS:
+        handlers = getattr(bpy.app.handlers, attribute)
+        if function not in handlers:
+            handlers.append(function)
+
+
+def unregister():
+    for attribute, function in _HANDLERS:
+        handlers = getattr(bpy.app.handlers, attribute)
+        # Compare by name too: a reloaded module has new function objects.
+        for existing in list(handlers):
+            if existing is function or (getattr(existing, "__module__", None) == __name__
+                                        and existing.__name__ == function.__name__):
+                handlers.remove(existing)

@@ -1,0 +1,52 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The Blender image that shows the pheromone, and the fast pixel upload.
+
+Fast path: the core copies RGBA floats into a persistent array.array('f') and the same
+array goes to Image.pixels.foreach_set (buffer protocol, no per-element Python work).
+"""
+
+import bpy
+
+
+def image_name(obj):
+    return f"Moldtex {obj.name}"
+
+
+def ensure_image(obj, width, height):
+    """The object's pheromone image, created (float, Non-Color) or resized as needed."""
+    settings = obj.moldtex
+    image = settings.image
+    if image is None:
+        image = bpy.data.images.get(image_name(obj))
+    if image is None:
+        image = bpy.data.images.new(image_name(obj), width, height, alpha=True,
+                                    float_buffer=True)
+        image.colorspace_settings.name = 'Non-Color'
+    elif tuple(image.size) != (width, height):
+        if image.source == 'GENERATED':
+            image.use_generated_float = True
+            image.generated_width = width
+            image.generated_height = height
+        else:
+            image.scale(width, height)
+    if settings.image != image:
+        settings.image = image
+    return image
+
+
+def upload(image, pixels):
+    """Copies an RGBA float buffer of exactly the image's size into the image."""
+    image.pixels.foreach_set(pixels)
+    image.update()
+
+
+def pack_for_save(image):
+    """Packs a generated pheromone image so its pixels are saved in the .blend."""
+    if image is None or image.source not in {'GENERATED', 'FILE'}:
+        return
+    if image.packed_file is not None and not image.is_dirty:
+        return
+    if image.source == 'FILE' and not image.is_dirty:
+        return
+    image.file_format = 'OPEN_EXR'
+    image.pack()

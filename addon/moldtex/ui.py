@@ -1,0 +1,158 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The "Moldtex" tab of the 3D Viewport sidebar. Draws only; never calls the engine's
+C functions (it reads cached stats from live.py)."""
+
+import textwrap
+
+import bpy
+
+from . import engine, live
+
+
+def _wrapped(layout, text, icon='NONE', width=40):
+    lines = textwrap.wrap(text, width) or [""]
+    column = layout.column(align=True)
+    for index, line in enumerate(lines):
+        column.label(text=line, icon=icon if index == 0 else 'BLANK1')
+
+
+def _mesh_object(context):
+    obj = context.active_object
+    return obj if obj is not None and obj.type == 'MESH' else None
+
+
+class MOLDTEX_PT_main(bpy.types.Panel):
+    bl_label = "Moldtex"
+    bl_idname = "MOLDTEX_PT_main"
+    bl_space_type = 'VIEW_3D'
+    bl_region_type = 'UI'
+    bl_category = "Moldtex"
+
+    def draw(self, context):
+        layout = self.layout
+        if engine.available():
+            layout.label(text=engine.status_text(), icon='CHECKMARK')
+        else:
+            box = layout.box()
+            _wrapped(box, engine.status_text(), icon='ERROR')
+
+        obj = _mesh_object(context)
+        if obj is None:
+            layout.label(text="Select a mesh object", icon='INFO')
+            return
+        settings = obj.moldtex
+        entry = live.get(obj.name)
+
+        layout.label(text=obj.name, icon='OBJECT_DATA')
+        if len(obj.data.uv_layers) == 0:
+            _wrapped(layout.box(), "No UV map: add one (UV ▸ Smart UV Project in Edit "
+                                   "Mode).", icon='ERROR')
+        else:
+            layout.prop_search(settings, "uv_map", obj.data, "uv_layers", text="UV Map",
+                               icon='GROUP_UVS')
+
+        column = layout.column(align=True)
+        running = entry is not None and entry.running
+        row = column.row(align=True)
+        row.scale_y = 1.4
+        row.operator("moldtex.start", text="Pause" if running else "Start",
+                     icon='PAUSE' if running else 'PLAY')
+        row = column.row(align=True)
+        row.operator("moldtex.step", icon='FRAME_NEXT')
+        row.operator("moldtex.reset", icon='FILE_REFRESH')
+        column.operator("moldtex.setup_material", icon='MATERIAL')
+
+        if live.needs_reset(obj):
+            _wrapped(layout, "Resolution, agents, seed or UV map changed: press Reset "
+                             "(or Start) to apply.", icon='INFO')
+        if entry is not None and entry.notice:
+            _wrapped(layout, entry.notice, icon='INFO')
+
+        box = layout.box()
+        stats = entry.stats if entry is not None and entry.sim is not None else None
+        if not stats:
+            box.label(text="Not running yet", icon='TIME')
+        else:
+            grid = box.grid_flow(columns=2, even_columns=True, align=True)
+            grid.label(text="Steps")
+            grid.label(text=f"{stats['step_count']:,}")
+            grid.label(text="Agents")
+            grid.label(text=f"{stats['agent_count']:,}")
+            grid.label(text="Coverage")
+            grid.label(text=f"{100.0 * stats['coverage']:.1f} %")
+            grid.label(text="Presence")
+            grid.label(text=f"{100.0 * stats['presence']:.1f} %")
+            grid.label(text="Memory")
+            grid.label(text=f"{stats['bytes_in_use'] / 2**20:.1f} MiB")
+
+
+class _SubPanel:
+    bl_space_type = 'VIEW_3D'
+    bl_region_type = 'UI'
+    bl_category = "Moldtex"
+    bl_parent_id = "MOLDTEX_PT_main"
+
+    @classmethod
+    def poll(cls, context):
+        return _mesh_object(context) is not None
+
+
+class MOLDTEX_PT_agents(_SubPanel, bpy.types.Panel):
+    bl_label = "Agents"
+    bl_idname = "MOLDTEX_PT_agents"
+
+    def draw(self, context):
+        settings = context.active_object.moldtex
+        column = self.layout.column(align=True)
+        column.use_property_split = True
+        column.prop(settings, "movement_speed")
+        column.prop(settings, "turn_speed")
+        column.prop(settings, "vision_distance")
+        column.prop(settings, "vision_angle")
+
+
+class MOLDTEX_PT_pheromone(_SubPanel, bpy.types.Panel):
+    bl_label = "Pheromone"
+    bl_idname = "MOLDTEX_PT_pheromone"
+
+    def draw(self, context):
+        settings = context.active_object.moldtex
+        column = self.layout.column(align=True)
+        column.use_property_split = True
+        column.prop(settings, "evaporation_rate")
+        column.prop(settings, "diffusion_rate")
+        column.prop(settings, "deposit")
+        column.prop(settings, "substeps")
+
+
+class MOLDTEX_PT_setup(_SubPanel, bpy.types.Panel):
+    bl_label = "Simulation"
+    bl_idname = "MOLDTEX_PT_setup"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        settings = context.active_object.moldtex
+        layout = self.layout
+        layout.use_property_split = True
+        column = layout.column(align=True)
+        column.label(text="Applied on Reset", icon='FILE_REFRESH')
+        column.prop(settings, "resolution")
+        column.prop(settings, "agent_count")
+        column.prop(settings, "seed")
+        column = layout.column(align=True)
+        column.prop(settings, "steps_per_update")
+        column.prop(settings, "thread_count")
+        layout.prop(settings, "image")
+
+
+CLASSES = (MOLDTEX_PT_main, MOLDTEX_PT_agents, MOLDTEX_PT_pheromone, MOLDTEX_PT_setup)
+
+
+def register():
+    for cls in CLASSES:
+        bpy.utils.register_class(cls)
+
+
+def unregister():
+    for cls in reversed(CLASSES):
+        bpy.utils.unregister_class(cls)

@@ -1,0 +1,131 @@
+"""Scene helpers shared by the Blender tests (no test cases here)."""
+
+import array
+import math
+
+import bpy
+
+# Small and quick, yet large enough for a network pattern to form (about 0.4 agents a
+# texel inside the islands at 256², as in the paper's dense regime).
+RESOLUTION = "256"
+AGENTS = 20000
+SEED = 7
+
+
+def live():
+    from moldtex import live as live_module
+    return live_module
+
+
+def engine():
+    from moldtex import engine as engine_module
+    return engine_module
+
+
+def clear_scene():
+    """Removes every object and the data they used, and frees live simulations."""
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj, do_unlink=True)
+    for collection in (bpy.data.meshes, bpy.data.materials, bpy.data.images,
+                       bpy.data.curves, bpy.data.cameras, bpy.data.lights):
+        for block in list(collection):
+            if block.users == 0:
+                collection.remove(block)
+    live().free_all()
+
+
+def activate(obj):
+    view_layer = bpy.context.view_layer
+    for other in view_layer.objects:
+        if other is not None:  # the bpy module can list just-removed objects as None
+            other.select_set(False)
+    view_layer.objects.active = obj
+    obj.select_set(True)
+    return obj
+
+
+def add_primitive(kind):
+    """Adds 'monkey', 'sphere' or 'torus' with generated UVs and makes it active."""
+    if kind == "monkey":
+        bpy.ops.mesh.primitive_monkey_add(calc_uvs=True)
+    elif kind == "sphere":
+        bpy.ops.mesh.primitive_uv_sphere_add(calc_uvs=True)
+    elif kind == "torus":
+        bpy.ops.mesh.primitive_torus_add(generate_uvs=True)
+    else:
+        raise ValueError(kind)
+    obj = bpy.context.active_object
+    if len(obj.data.uv_layers) == 0:
+        bpy.ops.object.mode_set(mode='EDIT')
+        bpy.ops.mesh.select_all(action='SELECT')
+        bpy.ops.uv.smart_project()
+        bpy.ops.object.mode_set(mode='OBJECT')
+    return activate(obj)
+
+
+def mesh_object(name, vertices, faces, with_uvs=True):
+    """A mesh object from raw data, linked to the scene and active."""
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(vertices, [], faces)
+    mesh.update()
+    if with_uvs and faces:
+        layer = mesh.uv_layers.new(name="UVMap")
+        for loop in mesh.loops:
+            co = mesh.vertices[loop.vertex_index].co
+            layer.data[loop.index].uv = (0.5 + 0.4 * co.x, 0.5 + 0.4 * co.y + 0.1 * co.z)
+    obj = bpy.data.objects.new(name, mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    return activate(obj)
+
+
+def configure(obj, resolution=RESOLUTION, agents=AGENTS, seed=SEED, **params):
+    settings = obj.moldtex
+    settings.resolution = resolution
+    settings.agent_count = agents
+    settings.seed = seed
+    for name, value in params.items():
+        setattr(settings, name, value)
+
+
+def run(obj, steps):
+    """Reset + steps through the operators, as a farm script would."""
+    activate(obj)
+    assert bpy.ops.moldtex.reset() == {'FINISHED'}
+    assert bpy.ops.moldtex.step(steps=steps) == {'FINISHED'}
+    return live().get(obj.name)
+
+
+def image_pixels(obj):
+    image = obj.moldtex.image
+    width, height = image.size
+    pixels = array.array("f", bytes(4 * 4 * width * height))
+    image.pixels.foreach_get(pixels)
+    return pixels
+
+
+def texel_classes(obj):
+    return live().get(obj.name).sim.read_texel_classes()
+
+
+def pattern_metrics(pixels, classes, width):
+    """Statistics of the red channel over INSIDE texels."""
+    inside = [pixels[4 * i] for i, c in enumerate(classes) if c == 1]
+    n = len(inside)
+    mean = sum(inside) / n
+    std = math.sqrt(sum((v - mean) ** 2 for v in inside) / n)
+    dark = sum(1 for v in inside if v < 0.05) / n
+    bright = sum(1 for v in inside if v > 0.5) / n
+    # Correlation of horizontally adjacent INSIDE texels: trails are continuous lines
+    # (high), scattered dots would be about 0.
+    a, b = [], []
+    for i, c in enumerate(classes):
+        if c == 1 and (i + 1) % width and classes[i + 1] == 1:
+            a.append(pixels[4 * i])
+            b.append(pixels[4 * (i + 1)])
+    ma, mb = sum(a) / len(a), sum(b) / len(b)
+    cov = sum((x - ma) * (y - mb) for x, y in zip(a, b))
+    va = sum((x - ma) ** 2 for x in a)
+    vb = sum((y - mb) ** 2 for y in b)
+    neighbour_corr = cov / math.sqrt(va * vb) if va > 0 and vb > 0 else 0.0
+    return {"inside": n, "mean": mean, "cv": std / mean if mean else 0.0,
+            "dark": dark, "bright": bright, "neighbour_corr": neighbour_corr}

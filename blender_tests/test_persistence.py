@@ -1,0 +1,77 @@
+"""Settings (and the grown texture) survive saving and reopening the .blend."""
+
+import os
+import shutil
+import tempfile
+import unittest
+
+import bpy
+
+import helpers as h
+
+NON_DEFAULTS = {
+    "movement_speed": 1.75, "turn_speed": 33.0, "vision_distance": 1.6,
+    "vision_angle": 41.5, "evaporation_rate": 0.3, "diffusion_rate": 25.0,
+    "deposit": 0.8, "substeps": 5, "agent_count": 12345, "resolution": "512",
+    "seed": 987654, "steps_per_update": 7, "uv_map": "UVMap", "thread_count": 1,
+}
+
+
+class PersistenceTests(unittest.TestCase):
+    def setUp(self):
+        h.clear_scene()
+        self.folder = tempfile.mkdtemp(prefix="moldtex_test_")
+
+    def tearDown(self):
+        shutil.rmtree(self.folder, ignore_errors=True)
+
+    def test_settings_survive_save_and_reload(self):
+        obj = h.add_primitive("sphere")
+        name = obj.name
+        settings = obj.moldtex
+        # Every property of the group, so a newly added one is not forgotten here.
+        names = [p.identifier for p in settings.bl_rna.properties
+                 if p.identifier not in {"rna_type", "name", "image"}]
+        self.assertEqual(sorted(names), sorted(NON_DEFAULTS))
+        for key, value in NON_DEFAULTS.items():
+            self.assertNotEqual(getattr(settings, key), value, f"{key} default")
+            setattr(settings, key, value)
+        settings.resolution = "256"  # keep the run small; 512 is checked below
+        self.assertEqual(bpy.ops.moldtex.setup_material(), {'FINISHED'})
+        h.run(obj, 60)
+        before = h.image_pixels(obj)
+        settings.resolution = "512"
+
+        path = os.path.join(self.folder, "moldtex_settings.blend")
+        bpy.ops.wm.save_as_mainfile(filepath=path)
+        bpy.ops.wm.open_mainfile(filepath=path)
+
+        # Loading a file frees every live simulation (load_pre handler).
+        self.assertEqual(h.live().names(), [])
+        obj = bpy.data.objects[name]  # old Python objects are invalid after a load
+        for key, value in NON_DEFAULTS.items():
+            got = getattr(obj.moldtex, key)
+            if isinstance(value, float):
+                self.assertAlmostEqual(got, value, places=5, msg=key)
+            else:
+                self.assertEqual(got, value, key)
+        image = obj.moldtex.image
+        self.assertIsNotNone(image)
+        self.assertEqual(image.name, f"Moldtex {name}")
+        node = obj.active_material.node_tree.nodes.get("Moldtex Texture")
+        self.assertEqual(node.image, image)
+        # The texture was packed on save (float EXR): the pattern is still there.
+        after = h.image_pixels(obj)
+        self.assertEqual(len(after), len(before))
+        self.assertLess(max(abs(a - b) for a, b in zip(before, after)), 1e-3)
+
+        # And the reopened file simulates again (a fresh sim from the saved settings).
+        obj.moldtex.resolution = "256"
+        obj.moldtex.agent_count = 2000
+        h.activate(obj)
+        self.assertEqual(bpy.ops.moldtex.step(steps=3), {'FINISHED'})
+        self.assertEqual(h.live().get(name).stats["step_count"], 3)
+
+
+if __name__ == "__main__":
+    unittest.main()

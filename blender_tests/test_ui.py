@@ -1,0 +1,149 @@
+"""The sidebar panels draw without errors in every state, and only reference
+properties, operators and icons that exist (panels cannot be drawn in background
+mode, so draw() runs against a recording layout)."""
+
+import types
+import unittest
+
+import bpy
+
+import helpers as h
+
+ICONS = set(bpy.types.UILayout.bl_rna.functions["label"].parameters["icon"]
+            .enum_items.keys())
+
+
+class RecordingLayout:
+    """Stands in for bpy.types.UILayout and checks what it is asked to show."""
+
+    def __init__(self, test, log):
+        self.test = test
+        self.log = log
+        self.use_property_split = False
+        self.scale_y = 1.0
+
+    def _child(self, *args, **kwargs):
+        return RecordingLayout(self.test, self.log)
+
+    row = column = box = split = grid_flow = _child
+
+    def _icon(self, kwargs):
+        icon = kwargs.get("icon", "NONE")
+        self.test.assertIn(icon, ICONS, f"unknown icon {icon}")
+
+    def label(self, text="", icon="NONE", **kwargs):
+        self._icon({"icon": icon})
+        self.log.append(("label", text))
+
+    def prop(self, data, name, **kwargs):
+        self._icon(kwargs)
+        self.test.assertIn(name, data.bl_rna.properties.keys(), f"no property {name}")
+        self.log.append(("prop", name))
+
+    def prop_search(self, data, name, search_data, search_name, **kwargs):
+        self._icon(kwargs)
+        self.test.assertIn(name, data.bl_rna.properties.keys())
+        self.test.assertIn(search_name, search_data.bl_rna.properties.keys())
+        self.log.append(("prop_search", name))
+
+    def operator(self, idname, text="", **kwargs):
+        self._icon(kwargs)
+        category, name = idname.split(".")
+        getattr(getattr(bpy.ops, category), name).get_rna_type()  # raises if missing
+        self.log.append(("operator", text or idname))
+
+
+def draw_all(test, obj):
+    from moldtex import ui
+    log = []
+    context = types.SimpleNamespace(active_object=obj)
+    for panel in ui.CLASSES:
+        if hasattr(panel, "poll") and not panel.poll(context):
+            continue
+        panel.draw(types.SimpleNamespace(layout=RecordingLayout(test, log)), context)
+    return log
+
+
+def labels(log):
+    return " | ".join(text for kind, text in log if kind == "label")
+
+
+class PanelTests(unittest.TestCase):
+    def setUp(self):
+        h.clear_scene()
+
+    def test_no_object(self):
+        log = draw_all(self, None)
+        self.assertIn("Select a mesh object", labels(log))
+        self.assertIn("Moldtex core", labels(log))
+
+    def test_mesh_without_uvs(self):
+        obj = h.mesh_object("NoUV", [(0, 0, 0), (1, 0, 0), (0, 1, 0)], [(0, 1, 2)],
+                            with_uvs=False)
+        self.assertIn("No UV map", labels(draw_all(self, obj)))
+
+    def test_idle_then_running_then_needs_reset(self):
+        obj = h.add_primitive("torus")
+        h.configure(obj, agents=2000)
+        log = draw_all(self, obj)
+        shown = {name for kind, name in log if kind == "prop"}
+        self.assertEqual(shown, {"movement_speed", "turn_speed", "vision_distance",
+                                 "vision_angle", "evaporation_rate", "diffusion_rate",
+                                 "deposit", "substeps", "resolution", "agent_count",
+                                 "seed", "steps_per_update", "thread_count", "image"})
+        self.assertIn(("prop_search", "uv_map"), log)
+        buttons = [name for kind, name in log if kind == "operator"]
+        self.assertEqual(buttons[0], "Start")
+        self.assertIn("Not running yet", labels(log))
+
+        h.run(obj, 3)
+        h.live().get(obj.name).running = True  # as the modal Start sets it
+        log = draw_all(self, obj)
+        self.assertEqual([n for k, n in log if k == "operator"][0], "Pause")
+        text = labels(log)
+        self.assertIn("Coverage", text)
+        self.assertIn("2,000", text)  # agents
+        h.live().get(obj.name).running = False
+
+        obj.moldtex.seed += 1
+        self.assertIn("press Reset", labels(draw_all(self, obj)))
+
+    def test_engine_load_error_is_shown(self):
+        engine = h.engine()
+        saved = engine._lib, engine.LOAD_ERROR
+        try:
+            engine._lib = None
+            engine.LOAD_ERROR = "libmoldtex.so was not found next to the add-on"
+            text = labels(draw_all(self, None))
+        finally:
+            engine._lib, engine.LOAD_ERROR = saved
+        self.assertIn("Engine unavailable", text)
+        self.assertIn("not found", text)
+
+
+if __name__ == "__main__":
+    unittest.main()
+
+
+class LoaderTests(unittest.TestCase):
+    def test_missing_library_is_reported_not_raised(self):
+        import os
+        engine = h.engine()
+        h.clear_scene()
+        obj = h.add_primitive("torus")
+        h.configure(obj, agents=1000)
+        os.environ["MOLDTEX_LIBRARY"] = "/nonexistent/libmoldtex.so"
+        try:
+            engine._load()
+            self.assertFalse(engine.available())
+            self.assertIn("/nonexistent/libmoldtex.so", engine.status_text())
+            with self.assertRaises(RuntimeError) as caught:  # CANCELLED + report
+                bpy.ops.moldtex.step()
+            self.assertIn("does not exist", str(caught.exception))
+            # Set Up Material needs no engine.
+            self.assertEqual(bpy.ops.moldtex.setup_material(), {'FINISHED'})
+        finally:
+            del os.environ["MOLDTEX_LIBRARY"]
+            engine._load()
+        self.assertTrue(engine.available(), engine.status_text())
+        self.assertEqual(bpy.ops.moldtex.step(), {'FINISHED'})
