@@ -198,7 +198,8 @@ MOLDTEX_API moldtex_status moldtex_sim_read_rgba(moldtex_sim sim, float* rgba,
 MOLDTEX_API moldtex_status moldtex_sim_read_texel_classes(moldtex_sim sim, uint8_t* classes,
                                                           size_t count);
 
-/* Current agent positions: writes min(capacity, agent_count) points. */
+/* Current agent positions: writes min(capacity, agent_count) points. The order is not
+ * stable across steps (backends regroup agents in memory for speed). */
 MOLDTEX_API moldtex_status moldtex_sim_read_agents(moldtex_sim sim,
                                                    moldtex_surface_point* points,
                                                    uint32_t capacity);

@@ -23,7 +23,7 @@ Agents spawn_uniform(const Surface& s, uint32_t count, uint64_t seed, ThreadPool
   a.hy.resize(count);
   pool.parallel_for(count, 4096, [&](size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) {
-      CounterRng rng(seed, RngPurpose::Spawn, i, 0);
+      CounterRng rng(seed, MTX_RNG_SPAWN, i, 0);
       double target = rng.next_double() * total;
       auto it = std::upper_bound(cdf.begin(), cdf.end(), target);
       uint32_t t = static_cast<uint32_t>(std::min<size_t>(it - cdf.begin(), cdf.size() - 1));

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "backends/cpu/thread_pool.h"
-#include "surface/trace.h"
+#include "surface/surface.h"
 
 namespace moldtex {
 

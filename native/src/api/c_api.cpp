@@ -5,12 +5,13 @@
 #include <memory>
 #include <new>
 #include <string>
+#include <vector>
+#include <algorithm>
 
 #include "common/error.h"
 #include "moldtex.h"
 #include "sim.h"
 #include "surface/surface.h"
-#include "surface/trace.h"
 
 struct moldtex_surface_t {
   std::shared_ptr<const moldtex::Surface> surface;
@@ -170,16 +171,19 @@ moldtex_status moldtex_surface_trace(moldtex_surface surface, const moldtex_surf
     require(n > 1e-12, "The direction is perpendicular to the surface at the start point");
     moldtex::Walker w{t, {start->bary[0], start->bary[1], start->bary[2]},
                       {static_cast<float>(dx / n), static_cast<float>(dy / n)}};
-    moldtex::clamp_bary(w.bary);
-    uint32_t count = 0;
-    auto record = [&](const moldtex::Walker& at) {
-      if (path_xyz && count < path_capacity) s.evaluate(at.triangle, at.bary, path_xyz + 3 * count, nullptr);
-      ++count;
-    };
-    record(w);
-    moldtex::walk(s.frames.data(), s.adjacency.data(), w, length,
-                  [&](const moldtex::Walker& at, bool) { record(at); });
-    record(w);
+    moldtex::mtx_clamp_bary(w.bary);
+    // Path: the start, every crossing or bounce, the end.
+    std::vector<moldtex::Walker> events(path_xyz ? path_capacity : 0);
+    const moldtex::Walker start_walker = w;
+    const int crossings = moldtex::mtx_walk(s.frames.data(), s.adjacency.data(), &w, length,
+                                            events.data(), static_cast<int>(events.size()));
+    const uint32_t count = static_cast<uint32_t>(crossings) + 2;
+    if (path_xyz) {
+      for (uint32_t i = 0; i < std::min(count, path_capacity); ++i) {
+        const moldtex::Walker& at = i == 0 ? start_walker : (i + 1 == count ? w : events[i - 1]);
+        s.evaluate(at.triangle, at.bary, path_xyz + 3 * i, nullptr);
+      }
+    }
     end->triangle = w.triangle;
     std::copy(w.bary, w.bary + 3, end->bary);
     if (path_count) *path_count = count;

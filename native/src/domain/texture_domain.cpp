@@ -3,7 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "surface/trace.h"
+#include "shared/field.h"
+#include "shared/walk.h"
 
 namespace moldtex {
 
@@ -70,7 +71,7 @@ bool uv_bary(const Surface& s, uint32_t t, float u, float v, float b[3]) {
 // unfolded into the neighbour across that edge; returns false if it cannot say.
 bool across_seam(const Surface& s, const TextureDomain& d, uint32_t t, const float b[3], int edge,
                  uint32_t& texel) {
-  AdjacencyCode code = s.adjacency[t][edge];
+  AdjacencyCode code = s.adjacency[3 * t + edge];
   if (code == kNoNeighbour) return false;
   uint32_t n = code >> 3;
   int ne = static_cast<int>((code >> 1) & 3u);
@@ -87,16 +88,31 @@ bool across_seam(const Surface& s, const TextureDomain& d, uint32_t t, const flo
   float along = ((p.x - qj.x) * e.x + (p.y - qj.y) * e.y) / len2;
   float out = -((p.x - qj.x) * -e.y + (p.y - qj.y) * e.x) / std::sqrt(len2);  // > 0 beyond
   Vec2 rj = frame_corner(g, jn), rk = frame_corner(g, kn);
-  Vec2 ccw = unit(Vec2{frame_corner(g, (ne + 2) % 3).x - frame_corner(g, (ne + 1) % 3).x,
-                       frame_corner(g, (ne + 2) % 3).y - frame_corner(g, (ne + 1) % 3).y});
+  Vec2 ccw = g.edge[ne];
   Vec2 q{rj.x + along * (rk.x - rj.x) - out * ccw.y, rj.y + along * (rk.y - rj.y) + out * ccw.x};
   float c2 = q.y / g.by, c1 = (q.x - g.bx * c2) / g.a;
   float c[3] = {1.f - c1 - c2, c1, c2};
-  clamp_bary(c);
+  mtx_clamp_bary(c);
   float uv[2];
   s.evaluate(n, c, nullptr, uv);
-  texel = d.texel_of_uv(uv[0], uv[1]);
-  return d.classes[texel] == MOLDTEX_TEXEL_INSIDE;
+  // The landing point is within a texel of the island border, so its texel centre may
+  // lie just outside: take the nearest island texel of the neighbour's island around it.
+  const float x = uv[0] * d.width, y = uv[1] * d.height;
+  const int cx = static_cast<int>(x), cy = static_cast<int>(y);
+  float best = 1e30f;
+  for (int dy = -kGutterWidth; dy <= kGutterWidth; ++dy)
+    for (int dx = -kGutterWidth; dx <= kGutterWidth; ++dx) {
+      int nx = cx + dx, ny = cy + dy;
+      if (nx < 0 || ny < 0 || nx >= static_cast<int>(d.width) || ny >= static_cast<int>(d.height)) continue;
+      size_t i = static_cast<size_t>(ny) * d.width + nx;
+      if (d.classes[i] != MOLDTEX_TEXEL_INSIDE || s.island[d.texel_triangle[i]] != s.island[n]) continue;
+      float ex = nx + 0.5f - x, ey = ny + 0.5f - y, d2 = ex * ex + ey * ey;
+      if (d2 < best) {
+        best = d2;
+        texel = static_cast<uint32_t>(i);
+      }
+    }
+  return best < 1e30f;
 }
 
 void build_gutter(const Surface& s, TextureDomain& d, ThreadPool& pool) {
@@ -181,42 +197,14 @@ void fill_gutter(const TextureDomain& d, float* p, ThreadPool& pool) {
 void diffuse_and_evaporate(const TextureDomain& d, const float* in, float* out, float mix,
                            float evaporation, ThreadPool& pool) {
   const int W = static_cast<int>(d.width), H = static_cast<int>(d.height);
-  static constexpr float kWeights[3] = {1.f, 2.f, 1.f};  // 3x3 Gaussian = outer product
   pool.parallel_for(H, 4, [&](size_t begin, size_t end) {
-    for (int y = static_cast<int>(begin); y < static_cast<int>(end); ++y) {
-      const bool inner_row = y > 0 && y < H - 1;
+    for (int y = static_cast<int>(begin); y < static_cast<int>(end); ++y)
       for (int x = 0; x < W; ++x) {
         size_t i = static_cast<size_t>(y) * W + x;
-        if (d.classes[i] != MOLDTEX_TEXEL_INSIDE) {
-          out[i] = 0.f;
-          continue;
-        }
-        float sum = 0.f, weight = 0.f;
-        if (inner_row && x > 0 && x < W - 1) {
-          for (int dy = -1; dy <= 1; ++dy) {
-            const size_t row = static_cast<size_t>(y + dy) * W;
-            for (int dx = -1; dx <= 1; ++dx) {
-              float w = kWeights[dy + 1] * kWeights[dx + 1];
-              size_t ni = row + x + dx;
-              sum += w * in[ni];  // outside texels hold 0
-              weight += d.classes[ni] != MOLDTEX_TEXEL_OUTSIDE ? w : 0.f;
-            }
-          }
-        } else {
-          for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-              int nx = x + dx, ny = y + dy;
-              if (nx < 0 || ny < 0 || nx >= W || ny >= H) continue;
-              size_t ni = static_cast<size_t>(ny) * W + nx;
-              float w = kWeights[dy + 1] * kWeights[dx + 1];
-              sum += w * in[ni];
-              weight += d.classes[ni] != MOLDTEX_TEXEL_OUTSIDE ? w : 0.f;
-            }
-        }
-        float v = in[i] + mix * (sum / weight - in[i]) - evaporation;
-        out[i] = v < 0.f ? 0.f : (v > 1.f ? 1.f : v);
+        out[i] = d.classes[i] == MOLDTEX_TEXEL_INSIDE
+                     ? mtx_diffuse_evaporate_texel(in, d.classes.data(), x, y, W, H, mix, evaporation)
+                     : 0.f;
       }
-    }
   });
 }
 

@@ -40,6 +40,33 @@ TriangleFrame make_frame(double a, double bx, double by) {
   return f;
 }
 
+// UV islands: triangles joined by shared edges that are not seams (union-find).
+void label_islands(Surface& s) {
+  const uint32_t nt = s.triangle_count();
+  std::vector<uint32_t> parent(nt);
+  for (uint32_t t = 0; t < nt; ++t) parent[t] = t;
+  auto find = [&](uint32_t t) {
+    while (parent[t] != t) t = parent[t] = parent[parent[t]];
+    return t;
+  };
+  for (uint32_t t = 0; t < nt; ++t)
+    for (int i = 0; i < 3; ++i) {
+      AdjacencyCode code = s.adjacency[3 * t + i];
+      if (code == kNoNeighbour) continue;
+      uint32_t n = code >> 3;
+      int ne = static_cast<int>((code >> 1) & 3u);
+      bool same_direction = code & 1u;
+      // Same UVs on both sides of the edge: the two triangles are in one island.
+      auto uv = [&](uint32_t tri, int corner) {
+        return std::array<float, 2>{s.corner_uvs[6 * tri + 2 * corner], s.corner_uvs[6 * tri + 2 * corner + 1]};
+      };
+      int jn = (ne + (same_direction ? 1 : 2)) % 3, kn = (ne + (same_direction ? 2 : 1)) % 3;
+      if (uv(t, (i + 1) % 3) == uv(n, jn) && uv(t, (i + 2) % 3) == uv(n, kn)) parent[find(t)] = find(n);
+    }
+  s.island.resize(nt);
+  for (uint32_t t = 0; t < nt; ++t) s.island[t] = find(t);
+}
+
 constexpr uint32_t kMaxTriangles = 1u << 28;  // leaves room for the adjacency packing
 
 void validate(const moldtex_mesh_desc& d) {
@@ -95,8 +122,8 @@ void validate(const moldtex_mesh_desc& d) {
 size_t Surface::bytes() const {
   return positions.capacity() * sizeof(float) + triangles.capacity() * sizeof(uint32_t) +
          corner_uvs.capacity() * sizeof(float) + frames.capacity() * sizeof(TriangleFrame) +
-         adjacency.capacity() * sizeof(adjacency[0]) + areas.capacity() * sizeof(float) +
-         degenerate.capacity();
+         adjacency.capacity() * sizeof(AdjacencyCode) + areas.capacity() * sizeof(float) +
+         degenerate.capacity() + island.capacity() * sizeof(uint32_t);
 }
 
 std::array<double, 4> Surface::metric(uint32_t t) const {
@@ -208,7 +235,7 @@ Surface build_surface(const moldtex_mesh_desc& d) {
       edges[key].push_back({t, i});
     }
   }
-  s.adjacency.assign(nt, {kNoNeighbour, kNoNeighbour, kNoNeighbour});
+  s.adjacency.assign(3ull * nt, kNoNeighbour);
   uint32_t nonmanifold = 0;
   uint64_t example = 0;
   for (auto& [key, sides] : edges) {
@@ -239,9 +266,10 @@ Surface build_surface(const moldtex_mesh_desc& d) {
     auto y1 = uv_of(y, same_direction ? 1 : 2), y2 = uv_of(y, same_direction ? 2 : 1);
     if (x1 != y1 || x2 != y2) ++s.seam_edges;
     if (s.degenerate[x.t] || s.degenerate[y.t]) continue;  // walls around zero-area triangles
-    s.adjacency[x.t][x.edge] = (y.t << 3) | (static_cast<uint32_t>(y.edge) << 1) | same_direction;
-    s.adjacency[y.t][y.edge] = (x.t << 3) | (static_cast<uint32_t>(x.edge) << 1) | same_direction;
+    s.adjacency[3 * x.t + x.edge] = (y.t << 3) | (static_cast<uint32_t>(y.edge) << 1) | same_direction;
+    s.adjacency[3 * y.t + y.edge] = (x.t << 3) | (static_cast<uint32_t>(x.edge) << 1) | same_direction;
   }
+  label_islands(s);
   if (nonmanifold) {
     std::ostringstream m;
     m << "The mesh has " << nonmanifold << " non-manifold edge" << (nonmanifold > 1 ? "s" : "")

@@ -11,28 +11,23 @@
 #include <vector>
 
 #include "moldtex.h"
+#include "shared/walk.h"
 
 namespace moldtex {
 
-struct Vec2 {
-  float x, y;
-};
+using Vec2 = mtx_vec2;
+using TriangleFrame = mtx_frame;  // see shared/walk.h
+using Walker = mtx_walker;
 
-// Local frame of triangle t: q0 = (0,0), q1 = (a,0), q2 = (bx,by) with by > 0.
-// Also cached for the walker's inner loop: 1/a, 1/by, and the unit tangent of each edge
-// i, running counter-clockwise from corner i+1 to corner i+2.
-struct TriangleFrame {
-  float a, bx, by;
-  float inv_a, inv_by;
-  Vec2 edge[3];
-};
-
-// Neighbour across edge i (the edge opposite corner i, from corner i+1 to corner i+2).
-// Packed as (triangle << 3) | (edge_in_neighbour << 1) | same_direction
-// (same_direction = 1 when the neighbour is wound the other way round); kNoNeighbour at
-// open boundaries and next to zero-area triangles.
+// Neighbour across edge i (the edge opposite corner i, from corner i+1 to corner i+2),
+// packed as shared/walk.h describes; kNoNeighbour at open boundaries and next to
+// zero-area triangles.
 using AdjacencyCode = uint32_t;
-constexpr AdjacencyCode kNoNeighbour = 0xffffffffu;
+constexpr AdjacencyCode kNoNeighbour = MTX_NO_NEIGHBOUR;
+
+inline Vec2 frame_corner(const TriangleFrame& f, int c) {
+  return c == 0 ? Vec2{0.f, 0.f} : (c == 1 ? Vec2{f.a, 0.f} : Vec2{f.bx, f.by});
+}
 
 struct Surface {
   // Input, kept for queries.
@@ -41,9 +36,10 @@ struct Surface {
   std::vector<float> corner_uvs;           // 6 per triangle
   // Derived.
   std::vector<TriangleFrame> frames;
-  std::vector<std::array<AdjacencyCode, 3>> adjacency;
+  std::vector<AdjacencyCode> adjacency;    // 3 per triangle
   std::vector<float> areas;                // 3D area per triangle
   std::vector<uint8_t> degenerate;         // 1 where the 3D or UV area is ~zero
+  std::vector<uint32_t> island;            // UV island id: joined across non-seam edges
   double area = 0, uv_area = 0;
   uint32_t boundary_edges = 0, seam_edges = 0, degenerate_count = 0;
 
@@ -51,13 +47,6 @@ struct Surface {
   uint32_t vertex_count() const { return static_cast<uint32_t>(positions.size() / 3); }
   size_t bytes() const;
 
-  // Corner position in the triangle's local frame.
-  Vec2 local_corner(uint32_t t, int corner) const {
-    const TriangleFrame& f = frames[t];
-    if (corner == 0) return {0.f, 0.f};
-    if (corner == 1) return {f.a, 0.f};
-    return {f.bx, f.by};
-  }
   // Metric tensor g(t) = J^T J for the UV -> 3D Jacobian J; row-major 2x2.
   std::array<double, 4> metric(uint32_t t) const;
   // 3D area covered by a unit of UV area in triangle t (sqrt det g).

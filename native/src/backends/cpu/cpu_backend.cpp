@@ -40,8 +40,9 @@ void CpuBackend::step(const moldtex_sim_params& p, uint64_t seed, uint64_t step_
   if (step_index % kSortInterval == 0) sort_by_tile(*surface_, d.width, d.height, agents_);
   // 1. Agents sense the field as it was at the start of the step (read-only) and mark
   //    where they deposit: no thread reads what another is writing.
+  const mtx_surface_tables tables = surface_tables(*surface_, d);
   pool_->parallel_for(agents_.size(), 1024, [&](size_t begin, size_t end) {
-    momas_update_agents(*surface_, d, c, pheromone_.data(), marks_.data(), agents_, begin, end);
+    momas_update_agents(tables, c, pheromone_.data(), marks_.data(), agents_, begin, end);
   });
   // 2. Deposit, make the gutter hold the texels across each seam, then blur (which then
   //    mixes across seams) and evaporate.

@@ -1,0 +1,42 @@
+/* constants.h — numbers both backends must agree on. */
+#ifndef MOLDTEX_SHARED_CONSTANTS_H
+#define MOLDTEX_SHARED_CONSTANTS_H
+
+#ifndef __OPENCL_C_VERSION__
+#include "shared/portable.h"
+#endif
+
+/* Texel classes; equal to MOLDTEX_TEXEL_* of the public header. */
+#define MTX_TEXEL_OUTSIDE 0
+#define MTX_TEXEL_INSIDE 1
+#define MTX_TEXEL_GUTTER 2
+
+/* Enough crossings for any sane step; stops a walker caught in a degenerate vertex fan. */
+#define MTX_MAX_CROSSINGS_PER_WALK 4096
+/* Minimum sine between heading and edge after a crossing, so a walker grazing an edge
+ * always enters the next triangle instead of bouncing between two forever. */
+#define MTX_MIN_CROSSING_SINE 1e-4f
+/* The paper's vision distance is in units of this many texels: Table 1's 0.4-2 becomes
+ * 4-20 texels, around the classic 9-texel sensor offset. */
+#define MTX_VISION_UNIT_TEXELS 10.0f
+/* No neighbour across an edge: an open boundary, or a wall next to a zero-area face. */
+#define MTX_NO_NEIGHBOUR 0xffffffffu
+
+MTX_BEGIN_NAMESPACE
+
+/* Per-step constants of the MoMaS rules, derived from the parameters on the host.
+ * Laid out with the 64-bit fields first so C++ and OpenCL C agree on the layout. */
+typedef struct mtx_momas_constants {
+  mtx_u64 seed;
+  mtx_u64 step;
+  float move_length;   /* 3D length of one move */
+  float sensor_length; /* 3D distance to the sensors */
+  float sensor_cos, sensor_sin;
+  float max_turn;      /* radians */
+  mtx_u32 substeps;
+  mtx_u32 width, height;
+} mtx_momas_constants;
+
+MTX_END_NAMESPACE
+
+#endif

@@ -1,0 +1,87 @@
+/* momas.h — MoMaS agent behaviour (momas-paper.md Algorithm 1, lines 9-23) for one
+ * agent: sense at three sensors traced over the surface, steer toward the strongest,
+ * move in substeps, mark deposits. Reads the pheromone only; the marks are written with
+ * the same value by every writer, so the order of writers cannot change the result. */
+#ifndef MOLDTEX_SHARED_MOMAS_H
+#define MOLDTEX_SHARED_MOMAS_H
+
+#ifndef __OPENCL_C_VERSION__
+#include "shared/constants.h"
+#include "shared/portable.h"
+#include "shared/rng.h"
+#include "shared/walk.h"
+#endif
+
+MTX_BEGIN_NAMESPACE
+
+/* Read-only surface and layout tables, as both backends hold them. */
+typedef struct mtx_surface_tables {
+  MTX_GLOBAL const mtx_frame* frames;
+  MTX_GLOBAL const mtx_u32* adjacency;
+  MTX_GLOBAL const float* corner_uvs; /* 6 per triangle */
+  MTX_GLOBAL const mtx_u8* classes;   /* per texel */
+} mtx_surface_tables;
+
+MTX_FN mtx_u32 mtx_texel_of_uv(float u, float v, mtx_u32 width, mtx_u32 height) {
+  int ix = MTX_CAST(int, u * MTX_CAST(float, width));
+  int iy = MTX_CAST(int, v * MTX_CAST(float, height));
+  ix = ix < 0 ? 0 : (ix >= MTX_CAST(int, width) ? MTX_CAST(int, width) - 1 : ix);
+  iy = iy < 0 ? 0 : (iy >= MTX_CAST(int, height) ? MTX_CAST(int, height) - 1 : iy);
+  return MTX_CAST(mtx_u32, iy) * width + MTX_CAST(mtx_u32, ix);
+}
+
+MTX_FN mtx_u32 mtx_walker_texel(MTX_GLOBAL const float* corner_uvs, const mtx_walker* w,
+                                mtx_u32 width, mtx_u32 height) {
+  MTX_GLOBAL const float* uv = corner_uvs + 6 * w->triangle;
+  float u = w->bary[0] * uv[0] + w->bary[1] * uv[2] + w->bary[2] * uv[4];
+  float v = w->bary[0] * uv[1] + w->bary[1] * uv[3] + w->bary[2] * uv[5];
+  return mtx_texel_of_uv(u, v, width, height);
+}
+
+MTX_FN float mtx_sense(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
+                       const mtx_walker* from, float c, float sn,
+                       const mtx_momas_constants* k) {
+  mtx_walker probe = *from;
+  probe.heading = mtx_rotate(probe.heading, c, sn);
+  mtx_walk(s.frames, s.adjacency, &probe, k->sensor_length, 0, 0);
+  return pheromone[mtx_walker_texel(s.corner_uvs, &probe, k->width, k->height)];
+}
+
+/* Updates walker w (agent number `agent`) by one step. */
+MTX_FN void mtx_momas_agent_step(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
+                                 MTX_GLOBAL mtx_u8* marks, mtx_walker* w, mtx_u64 agent,
+                                 const mtx_momas_constants* k) {
+  const float left = mtx_sense(s, pheromone, w, k->sensor_cos, k->sensor_sin, k);
+  const float front = mtx_sense(s, pheromone, w, 1.0f, 0.0f, k);
+  const float right = mtx_sense(s, pheromone, w, k->sensor_cos, -k->sensor_sin, k);
+
+  /* Steering: keep going only while the front is strictly strongest, else turn toward
+   * the stronger side, or to a random side on a tie (so agents on bare ground wander
+   * instead of running straight). The turn is scaled by r ~ U[0,1), the paper's jitter. */
+  mtx_u64 rng = mtx_rng_init(k->seed, MTX_RNG_STEER, agent, k->step);
+  const float r = mtx_rng_float(&rng);
+  if (!(front > left && front > right)) {
+    float side;
+    if (left > right)
+      side = 1.0f;
+    else if (right > left)
+      side = -1.0f;
+    else
+      side = mtx_rng_float(&rng) < 0.5f ? 1.0f : -1.0f;
+    const float turn = side * r * k->max_turn;
+    w->heading = mtx_unit(mtx_rotate(w->heading, cos(turn), sin(turn)));
+  }
+
+  /* Move in equal substeps, leaving a deposit after each: a line-integrated trail whose
+   * total length does not depend on the substep count. */
+  const float sub_length = k->move_length / MTX_CAST(float, k->substeps);
+  for (mtx_u32 i = 0; i < k->substeps; ++i) {
+    mtx_walk(s.frames, s.adjacency, w, sub_length, 0, 0);
+    const mtx_u32 texel = mtx_walker_texel(s.corner_uvs, w, k->width, k->height);
+    if (s.classes[texel] == MTX_TEXEL_INSIDE) MTX_MARK(marks, texel);
+  }
+}
+
+MTX_END_NAMESPACE
+
+#endif

@@ -1,0 +1,44 @@
+/* portable.h — the dialect shared by the C++ core and the OpenCL kernels.
+ *
+ * Files in shared/ are compiled twice: as C++ (the CPU backend) and as OpenCL C 1.2
+ * (embedded into the OpenCL backend's program). They use only what both languages
+ * have: plain structs, fixed-size integer typedefs, float math, and these macros. This
+ * keeps one source of truth for the geometry, the agent rules and the constants. */
+#ifndef MOLDTEX_SHARED_PORTABLE_H
+#define MOLDTEX_SHARED_PORTABLE_H
+
+#ifdef __OPENCL_C_VERSION__
+typedef uchar mtx_u8;
+typedef uint mtx_u32;
+typedef int mtx_i32;
+typedef ulong mtx_u64;
+#define MTX_GLOBAL __global
+#define MTX_FN static inline
+#define MTX_CAST(type, value) ((type)(value))
+/* Every writer stores the same value 1, so plain byte stores are enough. */
+#define MTX_MARK(marks, index) ((marks)[index] = (mtx_u8)1)
+#define MTX_BEGIN_NAMESPACE
+#define MTX_END_NAMESPACE
+#else
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+typedef uint8_t mtx_u8;
+typedef uint32_t mtx_u32;
+typedef int32_t mtx_i32;
+typedef uint64_t mtx_u64;
+#define MTX_GLOBAL
+#define MTX_FN inline
+#define MTX_CAST(type, value) static_cast<type>(value)
+#define MTX_MARK(marks, index) \
+  std::atomic_ref<mtx_u8>((marks)[index]).store(1, std::memory_order_relaxed)
+#define MTX_BEGIN_NAMESPACE namespace moldtex {
+#define MTX_END_NAMESPACE }
+using std::cos;
+using std::fabs;
+using std::fmax;
+using std::sin;
+using std::sqrt;
+#endif
+
+#endif

@@ -1,0 +1,36 @@
+/* rng.h — counter-based random numbers: a value is a pure function of (seed, purpose,
+ * stream, counter), so every agent draws the same numbers whichever thread or work-item
+ * runs it, on any backend. */
+#ifndef MOLDTEX_SHARED_RNG_H
+#define MOLDTEX_SHARED_RNG_H
+
+#ifndef __OPENCL_C_VERSION__
+#include "shared/portable.h"
+#endif
+
+MTX_BEGIN_NAMESPACE
+
+#define MTX_RNG_SPAWN 1
+#define MTX_RNG_STEER 2
+
+/* SplitMix64 finaliser: a well-tested 64-bit mixing function. */
+MTX_FN mtx_u64 mtx_mix64(mtx_u64 x) {
+  x += 0x9e3779b97f4a7c15UL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9UL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebUL;
+  return x ^ (x >> 31);
+}
+
+MTX_FN mtx_u64 mtx_rng_init(mtx_u64 seed, mtx_u64 purpose, mtx_u64 stream, mtx_u64 counter) {
+  return mtx_mix64(mtx_mix64(mtx_mix64(seed ^ (purpose << 56)) ^ stream) ^ counter);
+}
+
+/* Uniform in [0, 1) with 24 bits, exactly representable as a float. */
+MTX_FN float mtx_rng_float(mtx_u64* state) {
+  *state = mtx_mix64(*state);
+  return MTX_CAST(float, *state >> 40) * (1.0f / 16777216.0f);
+}
+
+MTX_END_NAMESPACE
+
+#endif

@@ -1,0 +1,144 @@
+/* walk.h — the tangent step: walk a straightest path over the surface (MoMaS
+ * supplementary Alg. 1, done by unfolding instead of projecting).
+ *
+ * Every triangle has an isometric local 2D frame (corner 0 at the origin, corner 1 on
+ * +x, corner 2 above), so lengths and angles in a frame are true 3D lengths and angles.
+ * A walker keeps its position as barycentric weights and its heading as a unit vector
+ * in the frame of its triangle. At an edge it unfolds the heading about that edge into
+ * the neighbour's frame (keeping the angle to the edge, hence a geodesic), or mirrors it
+ * at an open boundary (a bounce). Any number of edges may be crossed in one walk. */
+#ifndef MOLDTEX_SHARED_WALK_H
+#define MOLDTEX_SHARED_WALK_H
+
+#ifndef __OPENCL_C_VERSION__
+#include "shared/constants.h"
+#include "shared/portable.h"
+#endif
+
+MTX_BEGIN_NAMESPACE
+
+typedef struct mtx_vec2 {
+  float x, y;
+} mtx_vec2;
+
+/* Local frame of a triangle: q0 = (0,0), q1 = (a,0), q2 = (bx,by) with by > 0; cached
+ * 1/a, 1/by and the unit tangent of each edge i, running counter-clockwise from corner
+ * i+1 to corner i+2. */
+typedef struct mtx_frame {
+  float a, bx, by;
+  float inv_a, inv_by;
+  mtx_vec2 edge[3];
+} mtx_frame;
+
+/* Neighbour across edge i of triangle t is adjacency[3t+i], packed as
+ * (triangle << 3) | (edge_in_neighbour << 1) | same_direction, where same_direction = 1
+ * when the neighbour is wound the other way round; MTX_NO_NEIGHBOUR at walls. */
+
+typedef struct mtx_walker {
+  mtx_u32 triangle;
+  float bary[3];
+  mtx_vec2 heading; /* unit vector in the frame of `triangle` */
+} mtx_walker;
+
+MTX_FN mtx_vec2 mtx_unit(mtx_vec2 v) {
+  float n = sqrt(v.x * v.x + v.y * v.y);
+  mtx_vec2 r;
+  r.x = n > 0.0f ? v.x / n : 1.0f;
+  r.y = n > 0.0f ? v.y / n : 0.0f;
+  return r;
+}
+
+MTX_FN mtx_vec2 mtx_rotate(mtx_vec2 v, float c, float s) {
+  mtx_vec2 r;
+  r.x = c * v.x - s * v.y;
+  r.y = s * v.x + c * v.y;
+  return r;
+}
+
+/* Keeps barycentrics on the simplex despite rounding. */
+MTX_FN void mtx_clamp_bary(float* b) {
+  for (int i = 0; i < 3; ++i) b[i] = b[i] < 0.0f ? 0.0f : b[i];
+  float s = b[0] + b[1] + b[2];
+  if (s > 0.0f) {
+    float inv = 1.0f / s;
+    b[0] *= inv;
+    b[1] *= inv;
+    b[2] *= inv;
+  } else {
+    b[0] = b[1] = b[2] = 1.0f / 3.0f;
+  }
+}
+
+/* Walks `length` 3D units. If `events` is not null, the walker's state after each edge
+ * crossing or bounce is stored there, up to `capacity` of them. Returns the number of
+ * crossings and bounces. */
+MTX_FN int mtx_walk(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const mtx_u32* adjacency,
+                    mtx_walker* w, float length, mtx_walker* events, int capacity) {
+  float remaining = length;
+  for (int count = 0;; ++count) {
+    const mtx_frame f = frames[w->triangle];
+    /* Heading in barycentric rates: Q (db1, db2) = heading, Q = [[a, bx], [0, by]]. */
+    const float db2 = w->heading.y * f.inv_by;
+    const float db1 = (w->heading.x - f.bx * db2) * f.inv_a;
+    float db[3];
+    db[0] = -(db1 + db2);
+    db[1] = db1;
+    db[2] = db2;
+    float travel = remaining;
+    int exit = -1;
+    for (int i = 0; i < 3; ++i)
+      if (db[i] < 0.0f) {
+        float tau = w->bary[i] > 0.0f ? -w->bary[i] / db[i] : 0.0f;
+        if (tau < travel) {
+          travel = tau;
+          exit = i;
+        }
+      }
+    for (int i = 0; i < 3; ++i) w->bary[i] += travel * db[i];
+    if (exit < 0 || count >= MTX_MAX_CROSSINGS_PER_WALK) {
+      mtx_clamp_bary(w->bary);
+      return count;
+    }
+    w->bary[exit] = 0.0f;
+    mtx_clamp_bary(w->bary);
+    remaining -= travel;
+
+    const int j = (exit + 1) % 3, k = (exit + 2) % 3;
+    const mtx_vec2 e = f.edge[exit];
+    /* Corners are counter-clockwise in every frame, so this normal points inward. */
+    const float along = w->heading.x * e.x + w->heading.y * e.y;
+    const float across = fmax(fabs(w->heading.x * -e.y + w->heading.y * e.x), MTX_MIN_CROSSING_SINE);
+    const mtx_u32 code = adjacency[3 * w->triangle + MTX_CAST(mtx_u32, exit)];
+    if (code == MTX_NO_NEIGHBOUR) {
+      /* Bounce: mirror the heading about the boundary edge. */
+      mtx_vec2 h;
+      h.x = along * e.x - across * e.y;
+      h.y = along * e.y + across * e.x;
+      w->heading = mtx_unit(h);
+    } else {
+      const mtx_u32 next = code >> 3;
+      const int edge = MTX_CAST(int, (code >> 1) & 3u);
+      const int same_direction = MTX_CAST(int, code & 1u);
+      const int jn = (edge + (same_direction ? 1 : 2)) % 3; /* corner of `next` equal to j */
+      const int kn = (edge + (same_direction ? 2 : 1)) % 3; /* corner of `next` equal to k */
+      const float bj = w->bary[j], bk = w->bary[k];
+      w->bary[edge] = 0.0f;
+      w->bary[jn] = bj;
+      w->bary[kn] = bk;
+      /* The shared edge runs j -> k: in `next` that is its counter-clockwise tangent, or
+       * the reverse when `next` is wound the other way round. */
+      const mtx_vec2 ccw = frames[next].edge[edge];
+      const float sign = same_direction ? 1.0f : -1.0f;
+      mtx_vec2 h;
+      h.x = along * sign * ccw.x - across * ccw.y;
+      h.y = along * sign * ccw.y + across * ccw.x;
+      w->heading = mtx_unit(h);
+      w->triangle = next;
+    }
+    if (events && count < capacity) events[count] = *w;
+  }
+}
+
+MTX_END_NAMESPACE
+
+#endif
