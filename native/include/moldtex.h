@@ -43,7 +43,8 @@ typedef enum moldtex_status {
   MOLDTEX_ERROR_MISSING_UVS = 3,      /* no UVs, or a UV layout with zero area */
   MOLDTEX_ERROR_TOO_LARGE = 4,        /* the request would need absurd memory or sizes */
   MOLDTEX_ERROR_OUT_OF_MEMORY = 5,    /* an allocation failed */
-  MOLDTEX_ERROR_INTERNAL = 6          /* a bug: please report the message */
+  MOLDTEX_ERROR_INTERNAL = 6,         /* a bug: please report the message */
+  MOLDTEX_ERROR_UNAVAILABLE = 7       /* the requested backend or device cannot be used */
 } moldtex_status;
 
 typedef struct moldtex_surface_t* moldtex_surface;
@@ -132,12 +133,26 @@ MOLDTEX_API moldtex_status moldtex_surface_trace(moldtex_surface surface,
 
 /* ---- simulation (MoMaS, momas-paper.md Algorithm 1) ------------------------------- */
 
+/* Where the simulation runs. */
+typedef enum moldtex_backend {
+  MOLDTEX_BACKEND_AUTO = 0,   /* OpenCL on the first GPU device if there is one and it
+                                 works, otherwise the CPU; moldtex_sim_get_backend_name
+                                 says which and why */
+  MOLDTEX_BACKEND_CPU = 1,    /* all cores of this machine */
+  MOLDTEX_BACKEND_OPENCL = 2  /* the OpenCL device (opencl_platform, opencl_device) */
+} moldtex_backend;
+
 /* Choices that need a reset to change. */
 typedef struct moldtex_sim_config {
   uint32_t struct_size;
   uint32_t width, height;  /* pheromone texture size in texels, 8 .. 16384 each */
   uint32_t agent_count;    /* 1 .. 67108864 */
-  uint64_t seed;           /* same seed => bit-identical results for any thread count */
+  uint64_t seed;           /* same seed => bit-identical results for any thread count
+                              (CPU) or for a given device (OpenCL) */
+  /* Added after ABI 1's first release; older callers get the defaults. */
+  uint32_t backend;          /* a moldtex_backend */
+  uint32_t opencl_platform;  /* indices as listed by moldtex_opencl_get_device */
+  uint32_t opencl_device;
 } moldtex_sim_config;
 
 /* Parameters that may change between steps without a reset. Ranges in brackets are
@@ -175,6 +190,12 @@ MOLDTEX_API moldtex_status moldtex_sim_set_params(moldtex_sim sim,
                                                   const moldtex_sim_params* params);
 MOLDTEX_API moldtex_status moldtex_sim_get_params(moldtex_sim sim, moldtex_sim_params* params);
 MOLDTEX_API moldtex_status moldtex_sim_get_config(moldtex_sim sim, moldtex_sim_config* config);
+
+/* What the simulation runs on, e.g. "CPU (2 threads)" or "OpenCL: <device>
+ * (<platform>)", followed for Auto by why OpenCL was not used. Copies at most
+ * capacity - 1 bytes and a terminating NUL. */
+MOLDTEX_API moldtex_status moldtex_sim_get_backend_name(moldtex_sim sim, char* buffer,
+                                                        size_t capacity);
 
 /* Clears the pheromone and respawns the agents from the config's seed. */
 MOLDTEX_API moldtex_status moldtex_sim_reset(moldtex_sim sim);
@@ -216,6 +237,26 @@ typedef struct moldtex_sim_stats {
 
 MOLDTEX_API void moldtex_sim_stats_init(moldtex_sim_stats* stats);
 MOLDTEX_API moldtex_status moldtex_sim_get_stats(moldtex_sim sim, moldtex_sim_stats* stats);
+
+/* ---- OpenCL devices ------------------------------------------------------------- */
+
+typedef struct moldtex_opencl_device_info {
+  uint32_t struct_size;
+  uint32_t platform_index, device_index; /* for moldtex_sim_config */
+  uint32_t is_gpu;
+  uint64_t global_memory_bytes;
+  char name[256];
+  char platform_name[256];
+} moldtex_opencl_device_info;
+
+MOLDTEX_API void moldtex_opencl_device_info_init(moldtex_opencl_device_info* info);
+/* Number of OpenCL devices on all platforms. Without a usable OpenCL runtime this
+ * returns MOLDTEX_ERROR_UNAVAILABLE, sets *count to 0, and moldtex_last_error() says
+ * why (e.g. which package to install). */
+MOLDTEX_API moldtex_status moldtex_opencl_device_count(uint32_t* count);
+/* Device number `index` (0 .. count-1) of that list. */
+MOLDTEX_API moldtex_status moldtex_opencl_get_device(uint32_t index,
+                                                     moldtex_opencl_device_info* info);
 
 #ifdef __cplusplus
 }

@@ -6,6 +6,9 @@
 #include <vector>
 
 #include "backends/cpu/cpu_backend.h"
+#ifdef MOLDTEX_HAVE_OPENCL
+#include "backends/opencl/opencl_backend.h"
+#endif
 #include "common/error.h"
 
 namespace moldtex {
@@ -51,6 +54,8 @@ void validate_config(const moldtex_sim_config& c, const Surface&) {
                                                                   : MOLDTEX_ERROR_INVALID_ARGUMENT,
          m.str());
   }
+  if (c.backend > MOLDTEX_BACKEND_OPENCL)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Unknown backend: use 0 (auto), 1 (CPU) or 2 (OpenCL)");
   if (c.agent_count == 0)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The number of agents must be at least 1");
   if (c.agent_count > kMaxAgents) {
@@ -86,6 +91,42 @@ void validate_params(const moldtex_sim_params& p) {
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Thread count must be between 0 (all cores) and 256");
 }
 
+namespace {
+
+#ifdef MOLDTEX_HAVE_OPENCL
+std::unique_ptr<Backend> make_opencl(std::shared_ptr<const Surface> surface,
+                                     std::shared_ptr<const TextureDomain> domain,
+                                     const moldtex_sim_config& c) {
+  const std::vector<cl::Device> devices = cl::list_devices();
+  for (const cl::Device& d : devices)
+    if (d.platform_index == c.opencl_platform && d.device_index == c.opencl_device)
+      return std::make_unique<OpenClBackend>(surface, domain, c.agent_count, d);
+  std::ostringstream m;
+  m << "There is no OpenCL device " << c.opencl_device << " on platform " << c.opencl_platform
+    << "; this machine has:";
+  for (const cl::Device& d : devices)
+    m << " [" << d.platform_index << "." << d.device_index << "] " << d.name << ";";
+  fail(MOLDTEX_ERROR_UNAVAILABLE, m.str());
+}
+
+// Auto uses OpenCL only on a GPU: on a CPU device (PoCL) the native threads are as fast
+// or faster and need no kernel compilation (docs/PERFORMANCE.md has the numbers).
+std::unique_ptr<Backend> make_auto_opencl(std::shared_ptr<const Surface> surface,
+                                          std::shared_ptr<const TextureDomain> domain,
+                                          const moldtex_sim_config& c, std::string& why_not) {
+  try {
+    for (const cl::Device& d : cl::list_devices())
+      if (d.is_gpu) return std::make_unique<OpenClBackend>(surface, domain, c.agent_count, d);
+    why_not = "no OpenCL GPU device";
+  } catch (const Error& e) {
+    why_not = e.what();
+  }
+  return nullptr;
+}
+#endif
+
+}  // namespace
+
 Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim_config& config,
                        const moldtex_sim_params& params)
     : surface_(std::move(surface)), config_(config), params_(params) {
@@ -96,7 +137,29 @@ Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim
     domain_ = std::make_shared<const TextureDomain>(
         build_texture_domain(*surface_, config.width, config.height, pool));
   }
-  backend_ = std::make_unique<CpuBackend>(surface_, domain_, config.agent_count, params.thread_count);
+  std::string why_not;
+  switch (config.backend) {
+    case MOLDTEX_BACKEND_OPENCL:
+#ifdef MOLDTEX_HAVE_OPENCL
+      backend_ = make_opencl(surface_, domain_, config);
+#else
+      fail(MOLDTEX_ERROR_UNAVAILABLE, "This build of Moldtex has no OpenCL support");
+#endif
+      break;
+    case MOLDTEX_BACKEND_AUTO:
+#ifdef MOLDTEX_HAVE_OPENCL
+      backend_ = make_auto_opencl(surface_, domain_, config, why_not);
+#else
+      why_not = "this build has no OpenCL support";
+#endif
+      break;
+    default:
+      break;
+  }
+  if (!backend_)
+    backend_ = std::make_unique<CpuBackend>(surface_, domain_, config.agent_count, params.thread_count);
+  backend_name_ = backend_->name();
+  if (!why_not.empty()) backend_name_ += "; OpenCL not used: " + why_not;
   reset();
 }
 
@@ -113,6 +176,7 @@ void Simulation::reset() {
 
 void Simulation::step(uint32_t steps) {
   for (uint32_t i = 0; i < steps; ++i) backend_->step(params_, config_.seed, step_count_++);
+  backend_->finish();
 }
 
 void Simulation::read_rgba(float* rgba) const {

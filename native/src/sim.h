@@ -2,6 +2,7 @@
 // the evolving state.
 #pragma once
 #include <memory>
+#include <string>
 
 #include "backends/backend.h"
 #include "domain/texture_domain.h"
@@ -26,6 +27,7 @@ class Simulation {
   void read_rgba(float* rgba) const;
   void read_agents(moldtex_surface_point* out, size_t count) const { backend_->read_agents(out, count); }
   moldtex_sim_stats stats() const;
+  const std::string& backend_name() const { return backend_name_; }
 
  private:
   std::shared_ptr<const Surface> surface_;
@@ -33,6 +35,7 @@ class Simulation {
   moldtex_sim_config config_;
   moldtex_sim_params params_;
   std::unique_ptr<Backend> backend_;
+  std::string backend_name_;
   uint64_t step_count_ = 0;
 };
 

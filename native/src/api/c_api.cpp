@@ -8,7 +8,13 @@
 #include <vector>
 #include <algorithm>
 
+#include <cstddef>
+#include <cstdio>
+
 #include "common/error.h"
+#ifdef MOLDTEX_HAVE_OPENCL
+#include "backends/opencl/devices.h"
+#endif
 #include "moldtex.h"
 #include "sim.h"
 #include "surface/surface.h"
@@ -66,15 +72,24 @@ void require_point(const moldtex::Surface& s, const moldtex_surface_point* p) {
   require(std::fabs(sum - 1.f) < 1e-3f, "Barycentric weights must sum to 1");
 }
 
-// Copies the caller's struct into a zeroed one of our size (older callers pass less).
+// Reads a caller's struct of struct_size bytes: fields an older caller does not know
+// keep the defaults of `init`; a size below the first release's is refused.
 template <class T>
-T read_struct(const T* in, const char* name) {
+T read_struct(const T* in, const char* name, void (*init)(T*) = nullptr,
+              size_t first_release_size = sizeof(T)) {
   if (in == nullptr) moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT, std::string(name) + " is NULL");
-  if (in->struct_size < sizeof(T))
+  if (in->struct_size < first_release_size)
     moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
                   std::string(name) + ".struct_size is too small: initialise it with its _init function");
-  return *in;
+  T out{};
+  if (init) init(&out);
+  std::memcpy(&out, in, std::min<size_t>(in->struct_size, sizeof(T)));
+  out.struct_size = sizeof(T);
+  return out;
 }
+
+// moldtex_sim_config as first released, before the backend fields.
+constexpr size_t kSimConfigV1Size = offsetof(moldtex_sim_config, backend);
 
 }  // namespace
 
@@ -198,6 +213,9 @@ void moldtex_sim_config_init(moldtex_sim_config* c) {
   c->height = 1024;
   c->agent_count = 200000;
   c->seed = 1;
+  c->backend = MOLDTEX_BACKEND_AUTO;
+  c->opencl_platform = 0;
+  c->opencl_device = 0;
 }
 
 void moldtex_sim_params_init(moldtex_sim_params* p) {
@@ -222,7 +240,8 @@ moldtex_status moldtex_sim_create(moldtex_surface surface, const moldtex_sim_con
     require(out != nullptr, "out_sim is NULL");
     *out = nullptr;
     require(surface != nullptr, "The surface handle is NULL");
-    moldtex_sim_config c = read_struct(config, "moldtex_sim_config");
+    moldtex_sim_config c =
+        read_struct(config, "moldtex_sim_config", moldtex_sim_config_init, kSimConfigV1Size);
     moldtex_sim_params p = read_struct(params, "moldtex_sim_params");
     auto sim = std::make_unique<moldtex::Simulation>(surface->surface, c, p);
     *out = new moldtex_sim_t{std::move(sim)};
@@ -249,8 +268,22 @@ moldtex_status moldtex_sim_get_params(moldtex_sim sim, moldtex_sim_params* param
 moldtex_status moldtex_sim_get_config(moldtex_sim sim, moldtex_sim_config* config) {
   return guarded([&] {
     require(sim != nullptr, "The simulation handle is NULL");
-    read_struct(config, "moldtex_sim_config");
-    *config = sim->sim->config();
+    read_struct(config, "moldtex_sim_config", moldtex_sim_config_init, kSimConfigV1Size);
+    // Write back only as much as the caller's struct holds.
+    moldtex_sim_config out = sim->sim->config();
+    const uint32_t caller_size = config->struct_size;
+    std::memcpy(config, &out, std::min<size_t>(caller_size, sizeof(out)));
+    config->struct_size = caller_size;
+  });
+}
+
+moldtex_status moldtex_sim_get_backend_name(moldtex_sim sim, char* buffer, size_t capacity) {
+  return guarded([&] {
+    require(sim != nullptr && buffer != nullptr && capacity > 0, "NULL argument or zero capacity");
+    const std::string& name = sim->sim->backend_name();
+    size_t n = std::min(name.size(), capacity - 1);
+    std::memcpy(buffer, name.data(), n);
+    buffer[n] = '\0';
   });
 }
 
@@ -309,6 +342,46 @@ moldtex_status moldtex_sim_get_stats(moldtex_sim sim, moldtex_sim_stats* stats) 
     require(sim != nullptr, "The simulation handle is NULL");
     read_struct(stats, "moldtex_sim_stats");
     *stats = sim->sim->stats();
+  });
+}
+
+void moldtex_opencl_device_info_init(moldtex_opencl_device_info* info) {
+  if (!info) return;
+  std::memset(info, 0, sizeof(*info));
+  info->struct_size = sizeof(*info);
+}
+
+moldtex_status moldtex_opencl_device_count(uint32_t* count) {
+  if (count) *count = 0;
+  return guarded([&] {
+    require(count != nullptr, "count is NULL");
+#ifdef MOLDTEX_HAVE_OPENCL
+    *count = static_cast<uint32_t>(moldtex::cl::list_devices().size());
+#else
+    moldtex::fail(MOLDTEX_ERROR_UNAVAILABLE, "This build of Moldtex has no OpenCL support");
+#endif
+  });
+}
+
+moldtex_status moldtex_opencl_get_device(uint32_t index, moldtex_opencl_device_info* info) {
+  return guarded([&] {
+    moldtex_opencl_device_info out = read_struct(info, "moldtex_opencl_device_info");
+#ifdef MOLDTEX_HAVE_OPENCL
+    const auto devices = moldtex::cl::list_devices();
+    require(index < devices.size(), "OpenCL device index out of range");
+    const auto& d = devices[index];
+    out.platform_index = d.platform_index;
+    out.device_index = d.device_index;
+    out.is_gpu = d.is_gpu ? 1u : 0u;
+    out.global_memory_bytes = d.global_memory;
+    std::snprintf(out.name, sizeof(out.name), "%s", d.name.c_str());
+    std::snprintf(out.platform_name, sizeof(out.platform_name), "%s", d.platform_name.c_str());
+    *info = out;
+#else
+    (void)index;
+    (void)out;
+    moldtex::fail(MOLDTEX_ERROR_UNAVAILABLE, "This build of Moldtex has no OpenCL support");
+#endif
   });
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 #include "moldtex.h"
 
@@ -13,13 +14,16 @@ class Backend {
  public:
   virtual ~Backend() = default;
   virtual void reset(uint64_t seed) = 0;
+  // May return before the device is done; finish() waits.
   virtual void step(const moldtex_sim_params& params, uint64_t seed, uint64_t step_index) = 0;
+  virtual void finish() {}
   virtual void set_thread_count(unsigned threads) = 0;
   // Pheromone of the single species, width * height floats, gutter filled.
   virtual void read_pheromone(float* out) const = 0;
   virtual void read_agents(moldtex_surface_point* out, size_t count) const = 0;
   virtual size_t agent_count() const = 0;
   virtual size_t bytes() const = 0;
+  virtual std::string name() const = 0;  // e.g. "CPU (2 threads)"
 };
 
 }  // namespace moldtex

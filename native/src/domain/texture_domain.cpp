@@ -144,7 +144,7 @@ void build_gutter(const Surface& s, TextureDomain& d, ThreadPool& pool) {
         float u = (x + 0.5f) / W, v = (y + 0.5f) / H;
         if (uv_bary(s, t, u, v, b)) {
           int edge = static_cast<int>(std::min_element(b, b + 3) - b);
-          uint32_t across;
+          uint32_t across = 0;
           if (b[edge] < 0 && across_seam(s, d, t, b, edge, across)) source = across;
         }
         rows[y].push_back({static_cast<uint32_t>(i), source});

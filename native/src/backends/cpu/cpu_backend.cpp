@@ -67,6 +67,11 @@ void CpuBackend::read_agents(moldtex_surface_point* out, size_t count) const {
   }
 }
 
+std::string CpuBackend::name() const {
+  const unsigned n = pool_->size();
+  return "CPU (" + std::to_string(n) + (n == 1 ? " thread)" : " threads)");
+}
+
 size_t CpuBackend::bytes() const {
   return agents_.bytes() + (pheromone_.capacity() + scratch_.capacity()) * sizeof(float) +
          marks_.capacity();

@@ -21,6 +21,7 @@ class CpuBackend final : public Backend {
   void read_agents(moldtex_surface_point* out, size_t count) const override;
   size_t agent_count() const override { return agent_count_; }
   size_t bytes() const override;
+  std::string name() const override;
 
  private:
   std::shared_ptr<const Surface> surface_;

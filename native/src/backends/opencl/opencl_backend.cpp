@@ -1,0 +1,255 @@
+#include "backends/opencl/opencl_backend.h"
+
+#include <algorithm>
+#include <cstring>
+#include <vector>
+
+#include "agents/agents.h"
+#include "agents/momas_rules.h"
+#include "common/error.h"
+
+namespace moldtex {
+
+namespace cl {
+const std::string& program_source();  // generated from shared/*.h and kernels.cl
+}
+
+namespace {
+
+void check(cl_int err, const char* what) {
+  if (err == CL_SUCCESS) return;
+  const bool memory = err == CL_MEM_OBJECT_ALLOCATION_FAILURE || err == CL_OUT_OF_RESOURCES ||
+                      err == CL_OUT_OF_HOST_MEMORY || err == CL_INVALID_BUFFER_SIZE;
+  if (memory)
+    fail(MOLDTEX_ERROR_OUT_OF_MEMORY,
+         std::string("The OpenCL device ran out of memory while ") + what + " (" +
+             cl::error_name(err) +
+             "): lower the texture resolution or the number of agents, or use the CPU backend");
+  fail(MOLDTEX_ERROR_UNAVAILABLE, std::string("OpenCL failed while ") + what + ": " + cl::error_name(err));
+}
+
+}  // namespace
+
+struct OpenClBackend::State {
+  const cl::Runtime& r = cl::runtime();
+  cl_context context = nullptr;
+  cl_command_queue queue = nullptr;
+  cl_program program = nullptr;
+  cl_kernel agents_kernel = nullptr, deposit_kernel = nullptr, gutter_kernel = nullptr,
+            diffuse_kernel = nullptr;
+  // Surface and layout tables (read-only).
+  cl_mem frames = nullptr, adjacency = nullptr, corner_uvs = nullptr, classes = nullptr,
+         gutter_texel = nullptr, gutter_source = nullptr;
+  // State.
+  cl_mem triangle = nullptr, b1 = nullptr, b2 = nullptr, hx = nullptr, hy = nullptr;
+  cl_mem pheromone = nullptr, scratch = nullptr, marks = nullptr;
+
+  ~State() {
+    for (cl_mem m : {frames, adjacency, corner_uvs, classes, gutter_texel, gutter_source, triangle,
+                     b1, b2, hx, hy, pheromone, scratch, marks})
+      if (m) r.clReleaseMemObject(m);
+    for (cl_kernel k : {agents_kernel, deposit_kernel, gutter_kernel, diffuse_kernel})
+      if (k) r.clReleaseKernel(k);
+    if (program) r.clReleaseProgram(program);
+    if (queue) r.clReleaseCommandQueue(queue);
+    if (context) r.clReleaseContext(context);
+  }
+
+  cl_mem buffer(size_t bytes, const void* data, size_t& total) {
+    cl_int err = CL_SUCCESS;
+    bytes = std::max<size_t>(bytes, 4);  // zero-sized buffers are invalid
+    cl_mem m = r.clCreateBuffer(context, CL_MEM_READ_WRITE | (data ? CL_MEM_COPY_HOST_PTR : 0),
+                                bytes, const_cast<void*>(data), &err);
+    check(err, "allocating device memory");
+    total += bytes;
+    return m;
+  }
+
+  template <class T>
+  void arg(cl_kernel k, cl_uint index, const T& value) {
+    check(r.clSetKernelArg(k, index, sizeof(T), &value), "setting a kernel argument");
+  }
+
+  void run(cl_kernel k, size_t global0, size_t global1 = 0) {
+    if (global0 == 0) return;
+    size_t global[2] = {global0, global1};
+    check(r.clEnqueueNDRangeKernel(queue, k, global1 ? 2 : 1, nullptr, global, nullptr, 0, nullptr,
+                                   nullptr),
+          "launching a kernel");
+  }
+};
+
+OpenClBackend::OpenClBackend(std::shared_ptr<const Surface> surface,
+                             std::shared_ptr<const TextureDomain> domain, uint32_t agent_count,
+                             const cl::Device& device)
+    : surface_(std::move(surface)),
+      domain_(std::move(domain)),
+      agent_count_(agent_count),
+      device_(device),
+      state_(std::make_unique<State>()) {
+  State& s = *state_;
+  const cl::Runtime& r = s.r;
+  if (!r.loaded) fail(MOLDTEX_ERROR_UNAVAILABLE, r.error);
+  cl_int err = CL_SUCCESS;
+  cl_context_properties props[] = {CL_CONTEXT_PLATFORM,
+                                   reinterpret_cast<cl_context_properties>(device.platform), 0};
+  s.context = r.clCreateContext(props, 1, &device_.device, nullptr, nullptr, &err);
+  check(err, "creating a context");
+  s.queue = r.clCreateCommandQueue(s.context, device_.device, 0, &err);
+  check(err, "creating a command queue");
+
+  const char* source = cl::program_source().c_str();
+  s.program = r.clCreateProgramWithSource(s.context, 1, &source, nullptr, &err);
+  check(err, "loading the kernels");
+  err = r.clBuildProgram(s.program, 1, &device_.device, "-cl-std=CL1.2", nullptr, nullptr);
+  if (err != CL_SUCCESS) {
+    size_t size = 0;
+    r.clGetProgramBuildInfo(s.program, device_.device, CL_PROGRAM_BUILD_LOG, 0, nullptr, &size);
+    std::string log(size, '\0');
+    r.clGetProgramBuildInfo(s.program, device_.device, CL_PROGRAM_BUILD_LOG, size, log.data(), nullptr);
+    if (log.size() > 2000) log.resize(2000);
+    fail(MOLDTEX_ERROR_UNAVAILABLE, "The OpenCL kernels did not build on " + device_.name + " (" +
+                                        cl::error_name(err) + "): " + log);
+  }
+  s.agents_kernel = r.clCreateKernel(s.program, "momas_agents", &err);
+  check(err, "creating the agent kernel");
+  s.deposit_kernel = r.clCreateKernel(s.program, "apply_deposits", &err);
+  check(err, "creating the deposit kernel");
+  s.gutter_kernel = r.clCreateKernel(s.program, "fill_gutter", &err);
+  check(err, "creating the gutter kernel");
+  s.diffuse_kernel = r.clCreateKernel(s.program, "diffuse_evaporate", &err);
+  check(err, "creating the diffusion kernel");
+
+  // Refuse up front what cannot fit, with the numbers, rather than failing mid-step.
+  const Surface& sf = *surface_;
+  const TextureDomain& d = *domain_;
+  const size_t texels = d.texel_count();
+  const double need = agent_count_ * 20.0 + texels * 10.0 + sf.frames.size() * sizeof(mtx_frame) +
+                      sf.adjacency.size() * 4.0 + sf.corner_uvs.size() * 4.0 + d.gutter_texel.size() * 8.0;
+  if (device_.global_memory && need > 0.9 * static_cast<double>(device_.global_memory))
+    fail(MOLDTEX_ERROR_OUT_OF_MEMORY,
+         "The simulation needs about " + std::to_string(static_cast<long long>(need / (1 << 20))) +
+             " MiB but " + device_.name + " has " +
+             std::to_string(static_cast<long long>(device_.global_memory >> 20)) +
+             " MiB: lower the texture resolution or the number of agents, or use the CPU backend");
+
+  s.frames = s.buffer(sf.frames.size() * sizeof(mtx_frame), sf.frames.data(), device_bytes_);
+  s.adjacency = s.buffer(sf.adjacency.size() * 4, sf.adjacency.data(), device_bytes_);
+  s.corner_uvs = s.buffer(sf.corner_uvs.size() * 4, sf.corner_uvs.data(), device_bytes_);
+  s.classes = s.buffer(texels, d.classes.data(), device_bytes_);
+  s.gutter_texel = s.buffer(d.gutter_texel.size() * 4, d.gutter_texel.data(), device_bytes_);
+  s.gutter_source = s.buffer(d.gutter_source.size() * 4, d.gutter_source.data(), device_bytes_);
+  s.triangle = s.buffer(agent_count_ * 4ull, nullptr, device_bytes_);
+  s.b1 = s.buffer(agent_count_ * 4ull, nullptr, device_bytes_);
+  s.b2 = s.buffer(agent_count_ * 4ull, nullptr, device_bytes_);
+  s.hx = s.buffer(agent_count_ * 4ull, nullptr, device_bytes_);
+  s.hy = s.buffer(agent_count_ * 4ull, nullptr, device_bytes_);
+  s.pheromone = s.buffer(texels * 4, nullptr, device_bytes_);
+  s.scratch = s.buffer(texels * 4, nullptr, device_bytes_);
+  s.marks = s.buffer(texels, nullptr, device_bytes_);
+}
+
+OpenClBackend::~OpenClBackend() = default;
+
+std::string OpenClBackend::name() const {
+  return "OpenCL: " + device_.name + " (" + device_.platform_name + ")";
+}
+
+void OpenClBackend::reset(uint64_t seed) {
+  State& s = *state_;
+  // Spawning is a one-off: done on the host with the CPU backend's code, then uploaded.
+  ThreadPool pool(0);
+  Agents a = spawn_uniform(*surface_, agent_count_, seed, pool);
+  auto write = [&](cl_mem m, const void* data, size_t bytes) {
+    check(s.r.clEnqueueWriteBuffer(s.queue, m, CL_TRUE, 0, bytes, data, 0, nullptr, nullptr),
+          "uploading the agents");
+  };
+  write(s.triangle, a.triangle.data(), agent_count_ * 4ull);
+  write(s.b1, a.b1.data(), agent_count_ * 4ull);
+  write(s.b2, a.b2.data(), agent_count_ * 4ull);
+  write(s.hx, a.hx.data(), agent_count_ * 4ull);
+  write(s.hy, a.hy.data(), agent_count_ * 4ull);
+  const size_t texels = domain_->texel_count();
+  const float zero = 0.f;
+  const cl_uchar zero8 = 0;
+  check(s.r.clEnqueueFillBuffer(s.queue, s.pheromone, &zero, 4, 0, texels * 4, 0, nullptr, nullptr),
+        "clearing the pheromone");
+  check(s.r.clEnqueueFillBuffer(s.queue, s.scratch, &zero, 4, 0, texels * 4, 0, nullptr, nullptr),
+        "clearing the pheromone");
+  check(s.r.clEnqueueFillBuffer(s.queue, s.marks, &zero8, 1, 0, texels, 0, nullptr, nullptr),
+        "clearing the deposits");
+  finish();
+}
+
+void OpenClBackend::step(const moldtex_sim_params& p, uint64_t seed, uint64_t step_index) {
+  State& s = *state_;
+  const TextureDomain& d = *domain_;
+  const mtx_momas_constants c = momas_constants(p, d, seed, step_index);
+  const cl_uint texels = static_cast<cl_uint>(d.texel_count());
+  const cl_uint gutter = static_cast<cl_uint>(d.gutter_texel.size());
+
+  cl_kernel k = s.agents_kernel;
+  cl_mem agent_args[] = {s.frames, s.adjacency, s.corner_uvs, s.classes, s.pheromone, s.marks,
+                         s.triangle, s.b1, s.b2, s.hx, s.hy};
+  for (cl_uint i = 0; i < 11; ++i) s.arg(k, i, agent_args[i]);
+  s.arg(k, 11, c);
+  s.arg(k, 12, static_cast<cl_uint>(agent_count_));
+  s.run(k, agent_count_);
+
+  s.arg(s.deposit_kernel, 0, s.pheromone);
+  s.arg(s.deposit_kernel, 1, s.marks);
+  s.arg(s.deposit_kernel, 2, p.deposit);
+  s.arg(s.deposit_kernel, 3, texels);
+  s.run(s.deposit_kernel, texels);
+
+  auto gutter_pass = [&] {
+    s.arg(s.gutter_kernel, 0, s.pheromone);
+    s.arg(s.gutter_kernel, 1, s.gutter_texel);
+    s.arg(s.gutter_kernel, 2, s.gutter_source);
+    s.arg(s.gutter_kernel, 3, gutter);
+    s.run(s.gutter_kernel, gutter);
+  };
+  gutter_pass();
+
+  const float mix = std::min(1.f, p.diffusion_rate * p.time_step);
+  s.arg(s.diffuse_kernel, 0, s.pheromone);
+  s.arg(s.diffuse_kernel, 1, s.scratch);
+  s.arg(s.diffuse_kernel, 2, s.classes);
+  s.arg(s.diffuse_kernel, 3, static_cast<cl_int>(d.width));
+  s.arg(s.diffuse_kernel, 4, static_cast<cl_int>(d.height));
+  s.arg(s.diffuse_kernel, 5, mix);
+  s.arg(s.diffuse_kernel, 6, p.evaporation_rate * p.time_step);
+  s.run(s.diffuse_kernel, d.width, d.height);
+  std::swap(s.pheromone, s.scratch);
+  gutter_pass();
+}
+
+void OpenClBackend::finish() { check(state_->r.clFinish(state_->queue), "finishing the step"); }
+
+void OpenClBackend::read_pheromone(float* out) const {
+  check(state_->r.clEnqueueReadBuffer(state_->queue, state_->pheromone, CL_TRUE, 0,
+                                      domain_->texel_count() * 4, out, 0, nullptr, nullptr),
+        "reading the pheromone");
+}
+
+void OpenClBackend::read_agents(moldtex_surface_point* out, size_t count) const {
+  count = std::min<size_t>(count, agent_count_);
+  std::vector<uint32_t> tri(count);
+  std::vector<float> b1(count), b2(count);
+  auto read = [&](cl_mem m, void* data) {
+    if (count == 0) return;
+    check(state_->r.clEnqueueReadBuffer(state_->queue, m, CL_TRUE, 0, count * 4, data, 0, nullptr, nullptr),
+          "reading the agents");
+  };
+  read(state_->triangle, tri.data());
+  read(state_->b1, b1.data());
+  read(state_->b2, b2.data());
+  for (size_t i = 0; i < count; ++i) {
+    out[i].triangle = tri[i];
+    out[i].bary[0] = 1.f - b1[i] - b2[i];
+    out[i].bary[1] = b1[i];
+    out[i].bary[2] = b2[i];
+  }
+}
+
+}  // namespace moldtex

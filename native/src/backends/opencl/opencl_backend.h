@@ -1,0 +1,41 @@
+// The OpenCL backend: agents, surface tables and pheromone live on the device between
+// steps; data crosses to the host only when the pheromone or the agents are read. The
+// kernels compile the same shared sources as the CPU backend (shared/*.h).
+#pragma once
+#include <memory>
+#include <string>
+
+#include "backends/backend.h"
+#include "backends/opencl/devices.h"
+#include "domain/texture_domain.h"
+
+namespace moldtex {
+
+class OpenClBackend final : public Backend {
+ public:
+  // Throws moldtex::Error with a message a user can act on if the device cannot be used
+  // (no runtime, kernel build failure, not enough device memory).
+  OpenClBackend(std::shared_ptr<const Surface> surface, std::shared_ptr<const TextureDomain> domain,
+                uint32_t agent_count, const cl::Device& device);
+  ~OpenClBackend() override;
+  void reset(uint64_t seed) override;
+  void step(const moldtex_sim_params& params, uint64_t seed, uint64_t step_index) override;
+  void finish() override;
+  void set_thread_count(unsigned) override {}
+  void read_pheromone(float* out) const override;
+  void read_agents(moldtex_surface_point* out, size_t count) const override;
+  size_t agent_count() const override { return agent_count_; }
+  size_t bytes() const override { return device_bytes_; }
+  std::string name() const override;
+
+ private:
+  struct State;
+  std::shared_ptr<const Surface> surface_;
+  std::shared_ptr<const TextureDomain> domain_;
+  uint32_t agent_count_;
+  cl::Device device_;
+  size_t device_bytes_ = 0;
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace moldtex
