@@ -4,6 +4,8 @@
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 moldtex_install_packages
 moldtex_build
+# PoCL is installed above, so the OpenCL tests must run, not skip.
+export MOLDTEX_REQUIRE_OPENCL=1
 
 echo "== CTest (native core)"
 ctest --test-dir "$MOLDTEX_BUILD" --output-on-failure -j"$(nproc)"
