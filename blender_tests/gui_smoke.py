@@ -90,6 +90,12 @@ def _tick():
         obj.name = "Torus"
         obj.moldtex.resolution = "512"
         obj.moldtex.agent_count = 50000
+        # Run on the first OpenCL device when there is one (the panel then shows
+        # "Backend: OpenCL: <device>"), else on Auto.
+        from moldtex import engine, properties
+        devices, _reason = engine.opencl_devices()
+        if devices:
+            obj.moldtex.backend = properties.device_identifier(devices[0])
         check(call(bpy.ops.moldtex.setup_material) == {'FINISHED'}, "set up material")
         override = view3d_override()
         space = override["area"].spaces.active
@@ -110,6 +116,9 @@ def _tick():
         check(entry is not None and entry.running, "simulation is running")
         steps = entry.stats["step_count"] if entry else 0
         check(steps > 0, f"the timer stepped it ({steps} steps in 2 s)")
+        wanted = "OpenCL:" if obj.moldtex.backend_type == 'OPENCL' else ""
+        check(entry is not None and entry.backend_name.startswith(wanted),
+              f"runs on the chosen backend ({entry.backend_name if entry else None})")
         obj.moldtex.turn_speed = 45.0  # change a parameter while it runs
         check(abs(entry.sim.get_params()["turn_speed"] - 45.0) < 1e-4,
               "parameter change reached the running simulation")

@@ -129,3 +129,42 @@ def pattern_metrics(pixels, classes, width):
     neighbour_corr = cov / math.sqrt(va * vb) if va > 0 and vb > 0 else 0.0
     return {"inside": n, "mean": mean, "cv": std / mean if mean else 0.0,
             "dark": dark, "bright": bright, "neighbour_corr": neighbour_corr}
+
+
+def check_pattern(test, obj, entry, what, steps):
+    """Asserts that obj's image holds a structured slime-mold pattern after `steps`
+    steps at RESOLUTION with AGENTS agents (shared by test_pattern and test_opencl)."""
+    test.assertEqual(entry.stats["step_count"], steps)
+    test.assertEqual(entry.stats["agent_count"], AGENTS)
+    pixels = image_pixels(obj)
+    classes = texel_classes(obj)
+    width = int(RESOLUTION)
+    test.assertEqual(len(classes), width * width)
+    test.assertEqual(len(pixels), 4 * width * width)
+
+    # Coverage (momas Eq. 1): agents have laid trails (not empty) but a network
+    # leaves dark cells between them (not saturated). Seen: 0.35 .. 0.50 after 300
+    # steps; 0.38 .. 0.45 after 200 on the UV sphere (CPU and OpenCL, 6 seeds).
+    coverage = entry.stats["coverage"]
+    test.assertGreater(coverage, 0.15, f"{what}: almost no pheromone")
+    test.assertLess(coverage, 0.85, f"{what}: pheromone everywhere, no pattern")
+
+    m = pattern_metrics(pixels, classes, width)
+    detail = f"{what}: coverage {coverage:.3f}, metrics {m}"
+    # Clearly non-uniform: a trail network is bright lines on a dark background.
+    # Seen: std/mean 0.9 .. 1.3, dark 35 .. 55 %, bright 31 .. 48 %; a uniform
+    # haze would have std/mean near 0 and neither dark nor bright texels.
+    test.assertGreater(m["cv"], 0.5, detail)
+    test.assertGreater(m["dark"], 0.15, detail)
+    test.assertGreater(m["bright"], 0.15, detail)
+    # Structured, not salt-and-pepper: trails are continuous, so neighbouring
+    # texels agree (seen 0.90 .. 0.97; independent dots would give about 0).
+    test.assertGreater(m["neighbour_corr"], 0.8, detail)
+
+    # Texels outside every UV island (and its gutter) stay exactly black.
+    leaks = [i for i, c in enumerate(classes)
+             if c == 0 and (pixels[4 * i] or pixels[4 * i + 1] or pixels[4 * i + 2])]
+    test.assertEqual(leaks, [], f"{what}: {len(leaks)} outside texels are not 0")
+    # Sanity of the layout itself: most of these UV layouts are islands.
+    test.assertGreater(m["inside"], 0.4 * width * width, detail)
+    return m

@@ -21,38 +21,7 @@ class PatternTests(unittest.TestCase):
         h.configure(obj)
         self.assertEqual(bpy.ops.moldtex.setup_material(), {'FINISHED'})
         entry = h.run(obj, STEPS)
-        self.assertEqual(entry.stats["step_count"], STEPS)
-        self.assertEqual(entry.stats["agent_count"], h.AGENTS)
-        pixels = h.image_pixels(obj)
-        classes = h.texel_classes(obj)
-        width = int(h.RESOLUTION)
-        self.assertEqual(len(classes), width * width)
-        self.assertEqual(len(pixels), 4 * width * width)
-
-        # Coverage (momas Eq. 1): agents have laid trails (not empty) but a network
-        # leaves dark cells between them (not saturated). Seen: 0.35 .. 0.50 here.
-        coverage = entry.stats["coverage"]
-        self.assertGreater(coverage, 0.15, f"{kind}: almost no pheromone")
-        self.assertLess(coverage, 0.85, f"{kind}: pheromone everywhere, no pattern")
-
-        m = h.pattern_metrics(pixels, classes, width)
-        detail = f"{kind}: coverage {coverage:.3f}, metrics {m}"
-        # Clearly non-uniform: a trail network is bright lines on a dark background.
-        # Seen: std/mean 0.9 .. 1.3, dark 35 .. 55 %, bright 31 .. 48 %; a uniform
-        # haze would have std/mean near 0 and neither dark nor bright texels.
-        self.assertGreater(m["cv"], 0.5, detail)
-        self.assertGreater(m["dark"], 0.15, detail)
-        self.assertGreater(m["bright"], 0.15, detail)
-        # Structured, not salt-and-pepper: trails are continuous, so neighbouring
-        # texels agree (seen 0.90 .. 0.97; independent dots would give about 0).
-        self.assertGreater(m["neighbour_corr"], 0.8, detail)
-
-        # Texels outside every UV island (and its gutter) stay exactly black.
-        leaks = [i for i, c in enumerate(classes)
-                 if c == 0 and (pixels[4 * i] or pixels[4 * i + 1] or pixels[4 * i + 2])]
-        self.assertEqual(leaks, [], f"{kind}: {len(leaks)} outside texels are not 0")
-        # Sanity of the layout itself: most of these UV layouts are islands.
-        self.assertGreater(m["inside"], 0.4 * width * width, detail)
+        h.check_pattern(self, obj, entry, kind, STEPS)
 
         # The image the material shows is this one.
         image = obj.moldtex.image

@@ -14,7 +14,12 @@ NON_DEFAULTS = {
     "vision_angle": 41.5, "evaporation_rate": 0.3, "diffusion_rate": 25.0,
     "deposit": 0.8, "substeps": 5, "agent_count": 12345, "resolution": "512",
     "seed": 987654, "steps_per_update": 7, "uv_map": "UVMap", "thread_count": 1,
+    # What the Backend chooser stores (test_opencl checks the chooser itself).
+    "backend_type": "CPU", "opencl_platform": 1, "opencl_device": 2,
+    "opencl_device_name": "Imaginary GPU", "opencl_platform_name": "Imaginary Platform",
 }
+# Not stored: shown by get/set from backend_type and the opencl_* properties.
+DERIVED = {"backend"}
 
 
 class PersistenceTests(unittest.TestCase):
@@ -31,7 +36,7 @@ class PersistenceTests(unittest.TestCase):
         settings = obj.moldtex
         # Every property of the group, so a newly added one is not forgotten here.
         names = [p.identifier for p in settings.bl_rna.properties
-                 if p.identifier not in {"rna_type", "name", "image"}]
+                 if p.identifier not in {"rna_type", "name", "image"} | DERIVED]
         self.assertEqual(sorted(names), sorted(NON_DEFAULTS))
         for key, value in NON_DEFAULTS.items():
             self.assertNotEqual(getattr(settings, key), value, f"{key} default")

@@ -65,7 +65,8 @@ def draw_all(test, obj):
 
 
 def labels(log):
-    return " | ".join(text for kind, text in log if kind == "label")
+    # Joined by spaces: the panel wraps long messages over several labels.
+    return " ".join(text for kind, text in log if kind == "label")
 
 
 class PanelTests(unittest.TestCase):
@@ -90,7 +91,8 @@ class PanelTests(unittest.TestCase):
         self.assertEqual(shown, {"movement_speed", "turn_speed", "vision_distance",
                                  "vision_angle", "evaporation_rate", "diffusion_rate",
                                  "deposit", "substeps", "resolution", "agent_count",
-                                 "seed", "steps_per_update", "thread_count", "image"})
+                                 "seed", "backend", "steps_per_update", "thread_count",
+                                 "image"})
         self.assertIn(("prop_search", "uv_map"), log)
         buttons = [name for kind, name in log if kind == "operator"]
         self.assertEqual(buttons[0], "Start")

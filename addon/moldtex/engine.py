@@ -26,6 +26,7 @@ ERROR_MISSING_UVS = 3
 ERROR_TOO_LARGE = 4
 ERROR_OUT_OF_MEMORY = 5
 ERROR_INTERNAL = 6
+ERROR_UNAVAILABLE = 7
 
 STATUS_NAMES = {
     OK: "ok",
@@ -35,7 +36,13 @@ STATUS_NAMES = {
     ERROR_TOO_LARGE: "too large",
     ERROR_OUT_OF_MEMORY: "out of memory",
     ERROR_INTERNAL: "internal error",
+    ERROR_UNAVAILABLE: "unavailable",
 }
+
+# moldtex_backend values (moldtex.h)
+BACKEND_AUTO = 0    # OpenCL on the first GPU if there is one and it works, else the CPU
+BACKEND_CPU = 1
+BACKEND_OPENCL = 2  # the device (opencl_platform, opencl_device)
 
 TEXEL_OUTSIDE = 0
 TEXEL_INSIDE = 1
@@ -93,6 +100,10 @@ class SimConfig(ctypes.Structure):
         ("height", ctypes.c_uint32),
         ("agent_count", ctypes.c_uint32),
         ("seed", ctypes.c_uint64),
+        # appended after ABI 1's first release
+        ("backend", ctypes.c_uint32),
+        ("opencl_platform", ctypes.c_uint32),
+        ("opencl_device", ctypes.c_uint32),
     ]
 
 
@@ -123,7 +134,19 @@ class SimStats(ctypes.Structure):
     ]
 
 
-CONFIG_FIELDS = ("width", "height", "agent_count", "seed")
+class OpenCLDeviceInfo(ctypes.Structure):
+    _fields_ = [
+        ("struct_size", ctypes.c_uint32),
+        ("platform_index", ctypes.c_uint32),
+        ("device_index", ctypes.c_uint32),
+        ("is_gpu", ctypes.c_uint32),
+        ("global_memory_bytes", ctypes.c_uint64),
+        ("name", ctypes.c_char * 256),
+        ("platform_name", ctypes.c_char * 256),
+    ]
+
+
+CONFIG_FIELDS = tuple(name for name, _ in SimConfig._fields_ if name != "struct_size")
 PARAM_FIELDS = tuple(name for name, _ in SimParams._fields_ if name != "struct_size")
 STATS_FIELDS = tuple(name for name, _ in SimStats._fields_ if name != "struct_size")
 SURFACE_INFO_FIELDS = tuple(name for name, _ in SurfaceInfo._fields_ if name != "struct_size")
@@ -163,6 +186,10 @@ _SIGNATURES = {
     "moldtex_sim_read_agents": (_status, [_Sim, _P(SurfacePoint), ctypes.c_uint32]),
     "moldtex_sim_stats_init": (None, [_P(SimStats)]),
     "moldtex_sim_get_stats": (_status, [_Sim, _P(SimStats)]),
+    "moldtex_sim_get_backend_name": (_status, [_Sim, _P(ctypes.c_char), ctypes.c_size_t]),
+    "moldtex_opencl_device_info_init": (None, [_P(OpenCLDeviceInfo)]),
+    "moldtex_opencl_device_count": (_status, [_P(ctypes.c_uint32)]),
+    "moldtex_opencl_get_device": (_status, [ctypes.c_uint32, _P(OpenCLDeviceInfo)]),
 }
 
 # Structs whose *_init function must report the same struct_size as our mirror.
@@ -172,6 +199,7 @@ _STRUCT_INITS = (
     ("moldtex_sim_config_init", SimConfig),
     ("moldtex_sim_params_init", SimParams),
     ("moldtex_sim_stats_init", SimStats),
+    ("moldtex_opencl_device_info_init", OpenCLDeviceInfo),
 )
 
 ADDON_DIR = os.path.dirname(os.path.abspath(__file__))
@@ -187,6 +215,7 @@ _REBUILD_HINT = ("build it with the README's command (cmake -S . -B build && "
                  "cmake --build build) or reinstall the add-on zip")
 
 _lib = None
+_opencl_cache = None  # (devices, reason) from the first opencl_devices() call
 LOAD_ERROR = None     # plain-language reason when the core is unusable, else None
 LIBRARY_PATH = None   # the file that was loaded (or tried)
 VERSION = None        # moldtex_version_string() of the loaded core
@@ -194,8 +223,9 @@ VERSION = None        # moldtex_version_string() of the loaded core
 
 def _load():
     """Loads the core next to this file (or $MOLDTEX_LIBRARY) and checks it fits."""
-    global _lib, LOAD_ERROR, LIBRARY_PATH, VERSION
+    global _lib, LOAD_ERROR, LIBRARY_PATH, VERSION, _opencl_cache
     _lib, LOAD_ERROR, VERSION = None, None, None
+    _opencl_cache = None
     override = os.environ.get("MOLDTEX_LIBRARY")
     path = override or os.path.join(ADDON_DIR, LIBRARY_NAME)
     LIBRARY_PATH = path
@@ -328,6 +358,55 @@ def default_config():
     return _struct_to_dict(config, CONFIG_FIELDS)
 
 
+def _decode(raw):
+    return raw.decode("utf-8", "replace")
+
+
+def opencl_devices(refresh=False):
+    """The OpenCL devices the core can run on, and why there are none.
+
+    Returns (devices, reason). devices is a list of dicts (index: position in the
+    core's list; platform_index, device_index: for the config; name, platform_name,
+    is_gpu, global_memory_bytes); reason is "" when there are devices, else a
+    plain-language sentence (no OpenCL runtime, no platform, a build without OpenCL,
+    or the core not loaded). Never raises. The list is read once (the first call
+    starts the OpenCL runtime) and cached; refresh=True reads it again.
+    """
+    global _opencl_cache
+    if _opencl_cache is not None and not refresh:
+        return list(_opencl_cache[0]), _opencl_cache[1]
+    if _lib is None:
+        return [], LOAD_ERROR or "The Moldtex core is not loaded."
+    devices, reason = [], ""
+    count = ctypes.c_uint32(0)
+    status = _lib.moldtex_opencl_device_count(ctypes.byref(count))
+    if status != OK:
+        reason = _last_error() or f"OpenCL is {STATUS_NAMES.get(status, status)}."
+    else:
+        for index in range(count.value):
+            info = OpenCLDeviceInfo()
+            _lib.moldtex_opencl_device_info_init(ctypes.byref(info))
+            status = _lib.moldtex_opencl_get_device(index, ctypes.byref(info))
+            if status != OK:
+                reason = _last_error() or f"Reading OpenCL device {index} failed."
+                continue
+            devices.append({
+                "index": index,
+                "platform_index": info.platform_index,
+                "device_index": info.device_index,
+                "is_gpu": bool(info.is_gpu),
+                "global_memory_bytes": info.global_memory_bytes,
+                "name": _decode(info.name).strip() or f"OpenCL device {index}",
+                "platform_name": _decode(info.platform_name).strip(),
+            })
+        if not devices and not reason:
+            reason = "The OpenCL runtime lists no devices."
+    if devices:
+        reason = ""
+    _opencl_cache = (devices, reason)
+    return list(devices), reason
+
+
 def _fill(struct, values, fields, what):
     for name, value in values.items():
         if name not in fields:
@@ -425,7 +504,8 @@ class Simulation:
     """A MoMaS simulation on a surface's UV layout (moldtex_sim)."""
 
     def __init__(self, surface, config=None, params=None):
-        """config: dict with width, height, agent_count, seed (missing = core default);
+        """config: dict with any of CONFIG_FIELDS (width, height, agent_count, seed,
+        backend, opencl_platform, opencl_device; missing = core default);
         params: dict with any of PARAM_FIELDS (missing = core default)."""
         lib = _require()
         self._handle = None
@@ -468,6 +548,18 @@ class Simulation:
         _lib.moldtex_sim_config_init(ctypes.byref(c))
         _check(_lib.moldtex_sim_get_config(self.handle, ctypes.byref(c)), "Reading config")
         return _struct_to_dict(c, CONFIG_FIELDS)
+
+    def backend_name(self):
+        """What the simulation runs on, e.g. "CPU (2 threads)" or "OpenCL: <device>
+        (<platform>)"; for Auto followed by why OpenCL was not used."""
+        capacity = 1024
+        while True:
+            buffer = ctypes.create_string_buffer(capacity)
+            _check(_lib.moldtex_sim_get_backend_name(self.handle, buffer, capacity),
+                   "Reading the backend name")
+            if len(buffer.value) < capacity - 1 or capacity >= 1 << 16:
+                return _decode(buffer.value)
+            capacity *= 4
 
     def reset(self):
         _check(_lib.moldtex_sim_reset(self.handle), "Resetting the simulation")

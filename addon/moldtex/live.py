@@ -19,7 +19,9 @@ _registry = {}
 PARAM_PROPERTIES = ("movement_speed", "turn_speed", "vision_distance", "vision_angle",
                     "evaporation_rate", "diffusion_rate", "deposit", "substeps",
                     "thread_count")
-CONFIG_PROPERTIES = ("resolution", "agent_count", "seed", "uv_map")
+CONFIG_PROPERTIES = ("resolution", "agent_count", "seed", "uv_map", "backend_type",
+                     "opencl_platform", "opencl_device", "opencl_device_name",
+                     "opencl_platform_name")
 
 
 class LiveSim:
@@ -39,6 +41,9 @@ class LiveSim:
         self.running = False      # a moldtex.start modal drives it
         self.stop_requested = False
         self.notice = ""          # last thing worth telling the user (panel)
+        self.warning = ""         # same, but reported as a warning
+        self.backend_name = ""    # moldtex_sim_get_backend_name of the running sim
+        self.backend_note = ""    # why the sim does not run on the chosen backend
 
     def release(self):
         if self.sim is not None:
@@ -74,10 +79,74 @@ def mark_dirty(name=None):
             entry.dirty = True
 
 
+def opencl_devices():
+    """engine.opencl_devices(): (devices, reason), read once and cached."""
+    return engine.opencl_devices()
+
+
+def find_opencl_device(settings):
+    """The engine's device (dict) that the settings' stored OpenCL choice means, or
+    None, and a note for the user when the choice cannot be honoured here ("" if it
+    can, or if the stored indices are to be used as they are)."""
+    devices, reason = engine.opencl_devices()
+    name = settings.opencl_device_name
+    platform, index = settings.opencl_platform, settings.opencl_device
+    if not name:
+        # Set by a script through the indices: use them as they are (the core reports
+        # a device that does not exist when the simulation is created).
+        for device in devices:
+            if (device["platform_index"], device["device_index"]) == (platform, index):
+                return device, ""
+        return None, ""
+    # Chosen in the panel: find the device by name, so that a file still finds its
+    # device when the platforms are listed in another order.
+    same_name = [d for d in devices if d["name"] == name and (
+        not settings.opencl_platform_name
+        or d["platform_name"] == settings.opencl_platform_name)]
+    for device in same_name:
+        if (device["platform_index"], device["device_index"]) == (platform, index):
+            return device, ""
+    if same_name:
+        return same_name[0], ""
+    where = (f"OpenCL is unavailable here ({reason.rstrip('.')})" if not devices
+             else "this machine does not have it")
+    return None, (f"The OpenCL device '{name}' chosen in this file cannot be used: "
+                  f"{where}. Auto is used instead. Pick a Backend to change it.")
+
+
+def backend_from_settings(settings):
+    """(config fields for the backend, note): note says why the choice is not used."""
+    fields = {"backend": engine.BACKEND_AUTO, "opencl_platform": 0, "opencl_device": 0}
+    if settings.backend_type == 'CPU':
+        fields["backend"] = engine.BACKEND_CPU
+    elif settings.backend_type == 'OPENCL':
+        device, note = find_opencl_device(settings)
+        if device is not None:
+            fields.update(backend=engine.BACKEND_OPENCL,
+                          opencl_platform=device["platform_index"],
+                          opencl_device=device["device_index"])
+        elif not note:
+            fields.update(backend=engine.BACKEND_OPENCL,
+                          opencl_platform=int(settings.opencl_platform),
+                          opencl_device=int(settings.opencl_device))
+        else:
+            return fields, note
+    return fields, ""
+
+
+def backend_note(settings):
+    """Why the settings' backend choice cannot be used on this machine, or ""."""
+    if settings.backend_type != 'OPENCL':
+        return ""
+    return find_opencl_device(settings)[1]
+
+
 def config_from_settings(settings):
     size = int(settings.resolution)
-    return {"width": size, "height": size, "agent_count": int(settings.agent_count),
-            "seed": int(settings.seed)}
+    config = {"width": size, "height": size, "agent_count": int(settings.agent_count),
+              "seed": int(settings.seed)}
+    config.update(backend_from_settings(settings)[0])
+    return config
 
 
 def params_from_settings(settings):
@@ -97,10 +166,20 @@ def needs_reset(obj):
 def _build(entry, obj, mesh):
     settings = obj.moldtex
     config = config_from_settings(settings)
+    note = backend_note(settings)
     surface = engine.Surface(mesh.positions, mesh.triangles, mesh.uvs, mesh.triangle_uvs)
     try:
         surface_info = surface.info()
         sim = engine.Simulation(surface, config, params_from_settings(settings))
+    except engine.EngineError as error:
+        # The core's message says what failed (out of memory already suggests what to
+        # lower); for an unusable device, say where to choose another one.
+        if (config["backend"] == engine.BACKEND_OPENCL
+                and error.status == engine.ERROR_UNAVAILABLE):
+            raise engine.EngineError(
+                f"{str(error).rstrip(' ;.')}. Pick Auto or CPU as Backend (Moldtex ▸ "
+                f"Simulation) to run without this device.", error.status) from None
+        raise
     finally:
         surface.release()  # the simulation holds its own reference
     if entry.sim is not None:
@@ -114,6 +193,9 @@ def _build(entry, obj, mesh):
     entry.pixels = sim.new_rgba_buffer()
     entry.dirty = False
     entry.stats = sim.get_stats()
+    entry.backend_name = sim.backend_name()
+    entry.backend_note = note
+    entry.warning = note
 
 
 def ensure(obj, depsgraph, rebuild=False):

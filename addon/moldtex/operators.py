@@ -44,6 +44,9 @@ def _tag_redraw(context):
 
 
 def _report_notice(operator, entry):
+    if entry.warning:  # e.g. the chosen OpenCL device is not on this machine
+        operator.report({'WARNING'}, entry.warning)
+        entry.warning = ""
     if entry.notice:
         operator.report({'INFO'}, entry.notice)
         entry.notice = ""
@@ -88,7 +91,7 @@ class MOLDTEX_OT_step(bpy.types.Operator):
 
 class MOLDTEX_OT_reset(bpy.types.Operator):
     """Restart the simulation from the current settings (applies resolution, agents, \
-seed and UV map)"""
+seed, backend and UV map)"""
     bl_idname = "moldtex.reset"
     bl_label = "Reset"
     bl_options = {'REGISTER'}
@@ -98,6 +101,7 @@ seed and UV map)"""
             obj = _active_object(context)
             entry = live.ensure(obj, context.evaluated_depsgraph_get(), rebuild=True)
             material.sync_uv_map(obj, entry.uv_map)
+            _report_notice(self, entry)
             _show(entry, obj)
         except USER_ERRORS as error:
             self.report({'ERROR'}, str(error))

@@ -2,8 +2,14 @@
 """Per-object settings (bpy.types.Object.moldtex), saved in the .blend.
 
 Parameters (speeds, vision, evaporation, ...) go to a running simulation at once
-through their update callbacks. Config settings (resolution, agent count, seed, UV map)
-shape the simulation itself and take effect on Reset or Start.
+through their update callbacks. Config settings (resolution, agent count, seed, UV map,
+backend) shape the simulation itself and take effect on Reset or Start.
+
+The Backend chooser lists this machine's OpenCL devices, which differ between machines,
+so it stores nothing itself: its get/set map it onto plain saved properties
+(backend_type and the device's indices and names). A file saved with a device this
+machine lacks then reads as Auto, and live.backend_note() says why, instead of Blender
+showing an invalid enum value.
 """
 
 import bpy
@@ -38,6 +44,84 @@ def _push_params(self, context):
 def _config_changed(self, context):
     # Nothing to push: the panel shows that a Reset is needed.
     pass
+
+
+# ---- Backend chooser ------------------------------------------------------------------
+
+BACKEND_AUTO_VALUE = 0
+BACKEND_CPU_VALUE = 1
+_DEVICE_VALUE_BASE = 2  # item number of OpenCL device i (engine list index) is 2 + i
+
+BACKEND_TYPE_ITEMS = [
+    ("AUTO", "Auto", "OpenCL on a GPU if there is one, otherwise the CPU"),
+    ("CPU", "CPU", "All cores of this machine"),
+    ("OPENCL", "OpenCL", "The OpenCL device given by opencl_platform/opencl_device"),
+]
+
+# Blender keeps only pointers to the strings of dynamic enum items: the list must stay
+# referenced from Python (or Blender shows garbage and can crash), so it lives here and
+# is rebuilt only when the device list changes.
+_backend_items = []
+_backend_items_key = None
+
+
+def device_identifier(device):
+    return f"OPENCL_{device['platform_index']}_{device['device_index']}"
+
+
+def backend_items(self, context):
+    global _backend_items, _backend_items_key
+    devices, _reason = engine.opencl_devices()
+    key = tuple((d["index"], d["platform_index"], d["device_index"], d["name"],
+                 d["platform_name"]) for d in devices)
+    if key != _backend_items_key or not _backend_items:
+        items = [
+            ("AUTO", "Auto", "OpenCL on the first GPU if this machine has one and it "
+                             "works, otherwise the CPU (a CPU OpenCL device is not used: "
+                             "the native CPU code is as fast there)", BACKEND_AUTO_VALUE),
+            ("CPU", "CPU", "All cores of this machine (see Threads)", BACKEND_CPU_VALUE),
+        ]
+        names = [d["name"] for d in devices]
+        for device in devices:
+            label = device["name"]
+            if names.count(label) > 1:
+                label = f"{label} ({device['platform_name']})"
+            kind = "GPU" if device["is_gpu"] else "CPU device"
+            memory = device["global_memory_bytes"] / 2**30
+            items.append((device_identifier(device), f"OpenCL: {label}",
+                          f"{device['name']} on {device['platform_name']} ({kind}, "
+                          f"{memory:.1f} GiB)",
+                          _DEVICE_VALUE_BASE + device["index"]))
+        _backend_items, _backend_items_key = items, key
+    return _backend_items
+
+
+def _get_backend(self):
+    if self.backend_type == 'CPU':
+        return BACKEND_CPU_VALUE
+    if self.backend_type == 'OPENCL':
+        device, _note = live.find_opencl_device(self)
+        if device is not None:
+            return _DEVICE_VALUE_BASE + device["index"]
+    # Auto, or a device this machine does not have (live.backend_note says so).
+    return BACKEND_AUTO_VALUE
+
+
+def _set_backend(self, value):
+    if value == BACKEND_CPU_VALUE:
+        self.backend_type = 'CPU'
+        return
+    if value >= _DEVICE_VALUE_BASE:
+        devices, _reason = engine.opencl_devices()
+        for device in devices:
+            if _DEVICE_VALUE_BASE + device["index"] == value:
+                self.opencl_platform = device["platform_index"]
+                self.opencl_device = device["device_index"]
+                self.opencl_device_name = device["name"]
+                self.opencl_platform_name = device["platform_name"]
+                self.backend_type = 'OPENCL'
+                return
+    self.backend_type = 'AUTO'
 
 
 class MoldtexSettings(bpy.types.PropertyGroup):
@@ -93,6 +177,37 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         name="Seed", default=0, min=0,
         description="Random seed: the same seed gives the same pattern." + _RESET_NOTE,
         update=_config_changed)
+    backend: EnumProperty(
+        name="Backend", items=backend_items, get=_get_backend, set=_set_backend,
+        description="Where the simulation runs. Auto uses OpenCL only on a GPU (on a "
+                    "CPU OpenCL device the native CPU code is as fast), otherwise the "
+                    "CPU; or pick the CPU or one OpenCL device." + _RESET_NOTE,
+        update=_config_changed)
+    # What the Backend chooser stores (saved; not shown in the panel). Scripts may set
+    # backend_type = 'OPENCL' with opencl_platform/opencl_device and an empty
+    # opencl_device_name: the indices are then used as they are.
+    backend_type: EnumProperty(
+        name="Backend Type", items=BACKEND_TYPE_ITEMS, default="AUTO",
+        description="Kind of backend the Backend chooser stored." + _RESET_NOTE,
+        update=_config_changed)
+    opencl_platform: IntProperty(
+        name="OpenCL Platform", default=0, min=0,
+        description="Index of the chosen OpenCL device's platform." + _RESET_NOTE,
+        update=_config_changed)
+    opencl_device: IntProperty(
+        name="OpenCL Device", default=0, min=0,
+        description="Index of the chosen OpenCL device on its platform." + _RESET_NOTE,
+        update=_config_changed)
+    opencl_device_name: StringProperty(
+        name="OpenCL Device Name", default="",
+        description="Name of the chosen OpenCL device, to find it again on another "
+                    "machine or after drivers change (empty = use the indices as they "
+                    "are)." + _RESET_NOTE,
+        update=_config_changed)
+    opencl_platform_name: StringProperty(
+        name="OpenCL Platform Name", default="",
+        description="Name of the chosen OpenCL device's platform." + _RESET_NOTE,
+        update=_config_changed)
     uv_map: StringProperty(
         name="UV Map", default="",
         description="UV map the mold grows in (empty = the mesh's active render UV map)."
@@ -104,7 +219,8 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         description="Simulation steps between two updates of the image while running")
     thread_count: IntProperty(
         name="Threads", default=0, min=0, max=1024, soft_max=64,
-        description="CPU threads (0 = all cores); the result does not depend on it",
+        description="CPU threads (0 = all cores); the result does not depend on it. "
+                    "Unused when the simulation runs on OpenCL",
         update=_push_params)
     image: PointerProperty(
         name="Image", type=bpy.types.Image,

@@ -9,8 +9,13 @@ import bpy
 from . import engine, live
 
 
-def _wrapped(layout, text, icon='NONE', width=40):
-    lines = textwrap.wrap(text, width) or [""]
+# Characters a line of the sidebar shows at its default width next to an icon (seen in
+# Blender 3.4); longer lines would be cut with an ellipsis.
+WIDTH = 23
+
+
+def _wrapped(layout, text, icon='NONE', width=WIDTH):
+    lines = textwrap.wrap(text, width, break_on_hyphens=False) or [""]
     column = layout.column(align=True)
     for index, line in enumerate(lines):
         column.label(text=line, icon=icon if index == 0 else 'BLANK1')
@@ -63,8 +68,8 @@ class MOLDTEX_PT_main(bpy.types.Panel):
         column.operator("moldtex.setup_material", icon='MATERIAL')
 
         if live.needs_reset(obj):
-            _wrapped(layout, "Resolution, agents, seed or UV map changed: press Reset "
-                             "(or Start) to apply.", icon='INFO')
+            _wrapped(layout, "Resolution, agents, seed, backend or UV map changed: press "
+                             "Reset (or Start) to apply.", icon='INFO')
         if entry is not None and entry.notice:
             _wrapped(layout, entry.notice, icon='INFO')
 
@@ -73,7 +78,10 @@ class MOLDTEX_PT_main(bpy.types.Panel):
         if not stats:
             box.label(text="Not running yet", icon='TIME')
         else:
-            grid = box.grid_flow(columns=2, even_columns=True, align=True)
+            # row_major: label, value, label, value... (the default fills columns first,
+            # which put "Steps" next to the coverage value).
+            grid = box.grid_flow(row_major=True, columns=2, even_columns=True,
+                                 align=True)
             grid.label(text="Steps")
             grid.label(text=f"{stats['step_count']:,}")
             grid.label(text="Agents")
@@ -84,6 +92,11 @@ class MOLDTEX_PT_main(bpy.types.Panel):
             grid.label(text=f"{100.0 * stats['presence']:.1f} %")
             grid.label(text="Memory")
             grid.label(text=f"{stats['bytes_in_use'] / 2**20:.1f} MiB")
+            # e.g. "OpenCL: <device> (<platform>)", or for Auto "CPU (2 threads);
+            # OpenCL not used: <why>".
+            _wrapped(box, f"Backend: {entry.backend_name}", icon='SETTINGS')
+            if entry.backend_note:
+                _wrapped(box, entry.backend_note, icon='ERROR')
 
 
 class _SubPanel:
@@ -139,6 +152,13 @@ class MOLDTEX_PT_setup(_SubPanel, bpy.types.Panel):
         column.prop(settings, "resolution")
         column.prop(settings, "agent_count")
         column.prop(settings, "seed")
+        column.prop(settings, "backend")
+        note = live.backend_note(settings)
+        if note:  # e.g. a file saved on a machine with another GPU
+            _wrapped(layout, note, icon='ERROR')
+        devices, reason = live.opencl_devices()
+        if not devices:
+            _wrapped(layout, f"OpenCL unavailable: {reason}", icon='INFO')
         column = layout.column(align=True)
         column.prop(settings, "steps_per_update")
         column.prop(settings, "thread_count")

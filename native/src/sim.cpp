@@ -104,8 +104,9 @@ std::unique_ptr<Backend> make_opencl(std::shared_ptr<const Surface> surface,
   std::ostringstream m;
   m << "There is no OpenCL device " << c.opencl_device << " on platform " << c.opencl_platform
     << "; this machine has:";
-  for (const cl::Device& d : devices)
-    m << " [" << d.platform_index << "." << d.device_index << "] " << d.name << ";";
+  for (size_t i = 0; i < devices.size(); ++i)
+    m << (i ? ";" : "") << " device " << devices[i].device_index << " on platform "
+      << devices[i].platform_index << " (" << devices[i].name << ")";
   fail(MOLDTEX_ERROR_UNAVAILABLE, m.str());
 }
 
@@ -158,8 +159,7 @@ Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim
   }
   if (!backend_)
     backend_ = std::make_unique<CpuBackend>(surface_, domain_, config.agent_count, params.thread_count);
-  backend_name_ = backend_->name();
-  if (!why_not.empty()) backend_name_ += "; OpenCL not used: " + why_not;
+  why_not_opencl_ = why_not;
   reset();
 }
 

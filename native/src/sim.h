@@ -27,7 +27,10 @@ class Simulation {
   void read_rgba(float* rgba) const;
   void read_agents(moldtex_surface_point* out, size_t count) const { backend_->read_agents(out, count); }
   moldtex_sim_stats stats() const;
-  const std::string& backend_name() const { return backend_name_; }
+  std::string backend_name() const {
+    return why_not_opencl_.empty() ? backend_->name()
+                                   : backend_->name() + "; OpenCL not used: " + why_not_opencl_;
+  }
 
  private:
   std::shared_ptr<const Surface> surface_;
@@ -35,7 +38,7 @@ class Simulation {
   moldtex_sim_config config_;
   moldtex_sim_params params_;
   std::unique_ptr<Backend> backend_;
-  std::string backend_name_;
+  std::string why_not_opencl_;  // why Auto chose the CPU
   uint64_t step_count_ = 0;
 };
 

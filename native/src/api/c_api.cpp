@@ -280,7 +280,7 @@ moldtex_status moldtex_sim_get_config(moldtex_sim sim, moldtex_sim_config* confi
 moldtex_status moldtex_sim_get_backend_name(moldtex_sim sim, char* buffer, size_t capacity) {
   return guarded([&] {
     require(sim != nullptr && buffer != nullptr && capacity > 0, "NULL argument or zero capacity");
-    const std::string& name = sim->sim->backend_name();
+    const std::string name = sim->sim->backend_name();
     size_t n = std::min(name.size(), capacity - 1);
     std::memcpy(buffer, name.data(), n);
     buffer[n] = '\0';

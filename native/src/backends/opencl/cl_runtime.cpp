@@ -56,7 +56,7 @@ std::string error_name(cl_int code) {
     case CL_INVALID_ARG_SIZE: name = "CL_INVALID_ARG_SIZE"; break;
     case CL_INVALID_WORK_GROUP_SIZE: name = "CL_INVALID_WORK_GROUP_SIZE"; break;
     case CL_INVALID_BUFFER_SIZE: name = "CL_INVALID_BUFFER_SIZE"; break;
-    case -1001: name = "CL_PLATFORM_NOT_FOUND_KHR (no OpenCL driver is installed)"; break;
+    case -1001: name = "CL_PLATFORM_NOT_FOUND_KHR, no OpenCL driver is installed"; break;
     default: break;
   }
   return std::string(name) + " (" + std::to_string(code) + ")";
