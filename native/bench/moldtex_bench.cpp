@@ -1,14 +1,18 @@
-// moldtex_bench — throughput of moldtex_sim_step on the CPU backend.
+// moldtex_bench — throughput of moldtex_sim_step on the CPU and OpenCL backends.
 //
 //   moldtex_bench                                   full run
 //   moldtex_bench --benchmark_min_time=0.5          quicker (seconds per case)
-//   moldtex_bench --benchmark_filter=Plane          one case
+//   moldtex_bench --benchmark_filter=Plane          one mesh, both backends
+//   moldtex_bench --benchmark_filter=OpenCL         one backend, both meshes
 //
-// Cases (all cores: thread_count = 0, paper-range default parameters):
-//   Plane/1024x1024/1M   flat quad (2 triangles), 1024^2 texture, 1,000,000 agents
-//   Sphere/2048x2048/1M  lat-long UV sphere 64 x 32 segments, 2048^2, 1,000,000 agents
+// Cases (paper-range default parameters), each on both backends side by side:
+//   Plane{Cpu,OpenCL}/1024x1024/1M   flat quad (2 triangles), 1024^2 texture, 1,000,000 agents
+//   Sphere{Cpu,OpenCL}/2048x2048/1M  lat-long UV sphere 64 x 32 segments, 2048^2, 1,000,000 agents
+// Cpu: all cores (thread_count = 0). OpenCL: the first device moldtex_opencl_get_device
+// lists (the label names it); skipped with the core's reason when there is none.
 // Counters: agent_steps_per_s (agents x steps per wall second) and texel_updates_per_s
 // (texels x steps per wall second: the blur/evaporation pass touches every texel).
+// Every timed step ends with the device finished (moldtex_sim_step waits for it).
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
@@ -25,14 +29,32 @@ struct Case {
   mtx::SurfacePtr surface;
   mtx::SimPtr sim;
   uint32_t width = 0, height = 0, agents = 0;
+  std::string backend_name;
+  std::string error;  // why the case cannot run (then sim is null)
 };
 
 constexpr uint32_t kWarmupSteps = 10;
 
+// The OpenCL device the OpenCL cases run on: the first one listed.
+bool FirstOpenClDevice(moldtex_opencl_device_info* info, std::string* why) {
+  uint32_t count = 0;
+  const moldtex_status st = moldtex_opencl_device_count(&count);
+  if (st != MOLDTEX_OK || count == 0) {
+    *why = std::string("no OpenCL device: ") + moldtex_last_error();
+    return false;
+  }
+  moldtex_opencl_device_info_init(info);
+  if (moldtex_opencl_get_device(0, info) != MOLDTEX_OK) {
+    *why = std::string("moldtex_opencl_get_device failed: ") + moldtex_last_error();
+    return false;
+  }
+  return true;
+}
+
 // Built once per case and kept across the benchmark's repeated calls, so neither
-// mesh setup, spawning nor warm-up is timed.
+// mesh setup, kernel compilation, spawning nor warm-up is timed.
 Case* GetCase(const std::string& name, const mtx::Mesh& mesh, uint32_t w, uint32_t h,
-              uint32_t agents) {
+              uint32_t agents, moldtex_backend backend) {
   static std::map<std::string, std::unique_ptr<Case>> cases;
   auto& c = cases[name];
   if (c) return c.get();
@@ -48,19 +70,37 @@ Case* GetCase(const std::string& name, const mtx::Mesh& mesh, uint32_t w, uint32
   }
   moldtex_sim_params p = mtx::default_params();
   p.thread_count = 0;  // all cores
-  c->sim = mtx::create_sim(c->surface.get(), mtx::make_config(w, h, agents, 1), p, &st);
-  if (!c->sim) {
-    std::fprintf(stderr, "sim_create failed (%d): %s\n", int(st), moldtex_last_error());
-    std::exit(1);
+  moldtex_sim_config config = mtx::make_config(w, h, agents, 1);
+  config.backend = backend;
+  if (backend == MOLDTEX_BACKEND_OPENCL) {
+    moldtex_opencl_device_info device;
+    if (!FirstOpenClDevice(&device, &c->error)) return c.get();
+    config.opencl_platform = device.platform_index;
+    config.opencl_device = device.device_index;
   }
+  c->sim = mtx::create_sim(c->surface.get(), config, p, &st);
+  if (!c->sim) {
+    c->error = "sim_create failed (" + std::to_string(int(st)) + "): " + moldtex_last_error();
+    return c.get();
+  }
+  char buf[512] = {};
+  moldtex_sim_get_backend_name(c->sim.get(), buf, sizeof(buf));
+  c->backend_name = buf;
   if (moldtex_sim_step(c->sim.get(), kWarmupSteps) != MOLDTEX_OK) {
-    std::fprintf(stderr, "warm-up step failed: %s\n", moldtex_last_error());
-    std::exit(1);
+    c->error = std::string("warm-up step failed: ") + moldtex_last_error();
+    c->sim.reset();
   }
   return c.get();
 }
 
 void RunSteps(benchmark::State& state, Case* c) {
+  if (!c->sim) {
+    state.SkipWithError(c->error.c_str());
+    for (auto _ : state) {
+    }
+    return;
+  }
+  state.SetLabel(c->backend_name);
   for (auto _ : state) {
     if (moldtex_sim_step(c->sim.get(), 1) != MOLDTEX_OK) {
       state.SkipWithError(moldtex_last_error());
@@ -80,17 +120,23 @@ void RunSteps(benchmark::State& state, Case* c) {
   }
 }
 
-void BM_Plane(benchmark::State& state) {
-  RunSteps(state, GetCase("plane", mtx::make_quad(), 1024, 1024, 1000000));
+void BM_Plane(benchmark::State& state, moldtex_backend backend, const char* key) {
+  RunSteps(state, GetCase(key, mtx::make_quad(), 1024, 1024, 1000000, backend));
 }
 
-void BM_Sphere(benchmark::State& state) {
-  RunSteps(state, GetCase("sphere", mtx::make_uv_sphere(64, 32, 1.0), 2048, 2048, 1000000));
+void BM_Sphere(benchmark::State& state, moldtex_backend backend, const char* key) {
+  RunSteps(state, GetCase(key, mtx::make_uv_sphere(64, 32, 1.0), 2048, 2048, 1000000, backend));
 }
 
 }  // namespace
 
-BENCHMARK(BM_Plane)->Name("Plane/1024x1024/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Sphere)->Name("Sphere/2048x2048/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Plane, cpu, MOLDTEX_BACKEND_CPU, "plane-cpu")
+    ->Name("PlaneCpu/1024x1024/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Plane, opencl, MOLDTEX_BACKEND_OPENCL, "plane-opencl")
+    ->Name("PlaneOpenCL/1024x1024/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Sphere, cpu, MOLDTEX_BACKEND_CPU, "sphere-cpu")
+    ->Name("SphereCpu/2048x2048/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Sphere, opencl, MOLDTEX_BACKEND_OPENCL, "sphere-opencl")
+    ->Name("SphereOpenCL/2048x2048/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

@@ -416,6 +416,9 @@ moldtex_sim_config make_config(uint32_t width, uint32_t height, uint32_t agents,
   c.height = height;
   c.agent_count = agents;
   c.seed = seed;
+  // The default backend is AUTO (OpenCL on a GPU when there is one): pin the CPU so
+  // that every test built on make_config tests the CPU backend on any machine.
+  c.backend = MOLDTEX_BACKEND_CPU;
   return c;
 }
 

@@ -128,6 +128,8 @@ using SimPtr = std::unique_ptr<moldtex_sim_t, SimDeleter>;
 // nullptr on failure (status in *status when given).
 SurfacePtr create_surface(const Mesh& m, moldtex_status* status = nullptr);
 moldtex_sim_params default_params();
+// Backend: MOLDTEX_BACKEND_CPU (not the AUTO default), so CPU tests stay CPU tests on
+// machines with an OpenCL GPU. Set config.backend yourself to test another backend.
 moldtex_sim_config make_config(uint32_t width, uint32_t height, uint32_t agents, uint64_t seed);
 SimPtr create_sim(moldtex_surface surface, const moldtex_sim_config& config,
                   const moldtex_sim_params& params, moldtex_status* status = nullptr);
