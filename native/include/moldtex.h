@@ -44,11 +44,14 @@ typedef enum moldtex_status {
   MOLDTEX_ERROR_TOO_LARGE = 4,        /* the request would need absurd memory or sizes */
   MOLDTEX_ERROR_OUT_OF_MEMORY = 5,    /* an allocation failed */
   MOLDTEX_ERROR_INTERNAL = 6,         /* a bug: please report the message */
-  MOLDTEX_ERROR_UNAVAILABLE = 7       /* the requested backend or device cannot be used */
+  MOLDTEX_ERROR_UNAVAILABLE = 7,      /* the requested backend or device cannot be used */
+  MOLDTEX_ERROR_IO = 8,               /* a file could not be read or written */
+  MOLDTEX_ERROR_BUSY = 9              /* a bake is running on this simulation */
 } moldtex_status;
 
 typedef struct moldtex_surface_t* moldtex_surface;
 typedef struct moldtex_sim_t* moldtex_sim;
+typedef struct moldtex_bake_t* moldtex_bake;
 
 /* ---- library --------------------------------------------------------------------- */
 
@@ -237,6 +240,80 @@ typedef struct moldtex_sim_stats {
 
 MOLDTEX_API void moldtex_sim_stats_init(moldtex_sim_stats* stats);
 MOLDTEX_API moldtex_status moldtex_sim_get_stats(moldtex_sim sim, moldtex_sim_stats* stats);
+
+/* ---- images, checkpoints and bakes ------------------------------------------------ */
+
+typedef enum moldtex_image_format {
+  MOLDTEX_IMAGE_EXR_HALF = 0,   /* OpenEXR, 16-bit float, zip compressed */
+  MOLDTEX_IMAGE_EXR_FLOAT = 1,  /* OpenEXR, 32-bit float, zip compressed */
+  MOLDTEX_IMAGE_PNG8 = 2,
+  MOLDTEX_IMAGE_PNG16 = 3
+} moldtex_image_format;
+
+/* Writes the current pheromone to `path` through OpenImageIO: one channel per species
+ * (a single species is one luminance channel "Y"), top row first as image files store
+ * it. The file is written as `path`.partial and renamed when complete, so `path` either
+ * does not exist or is whole. */
+MOLDTEX_API moldtex_status moldtex_sim_write_image(moldtex_sim sim, const char* path,
+                                                   uint32_t format);
+
+/* A checkpoint holds the whole state: agents, pheromone, step count, parameters. Loading
+ * it into a simulation made from the same mesh and config restores that state exactly,
+ * so the following steps equal those of an uninterrupted run. Written atomically. */
+MOLDTEX_API moldtex_status moldtex_sim_save_checkpoint(moldtex_sim sim, const char* path);
+MOLDTEX_API moldtex_status moldtex_sim_load_checkpoint(moldtex_sim sim, const char* path);
+
+/* A bake renders frames first_frame..last_frame into `directory` as
+ * <file_prefix><frame, 4 digits>.<exr|png>: it resets the simulation, then before each
+ * frame advances steps_per_frame steps, so frame f shows the state after
+ * (f - first_frame + 1) * steps_per_frame steps. Beside the frames it keeps
+ * <file_prefix>metrics.csv (frame, step, coverage, presence; momas-paper.md Eq. 1) and,
+ * if write_checkpoints, <file_prefix>checkpoint.bin after every frame. With `resume`,
+ * it continues after the last frame of that checkpoint, giving exactly the frames an
+ * uninterrupted bake gives. It runs on its own thread; the simulation answers
+ * MOLDTEX_ERROR_BUSY to other calls until the bake ends. */
+typedef struct moldtex_bake_desc {
+  uint32_t struct_size;
+  const char* directory;    /* must exist */
+  const char* file_prefix;  /* default "moldtex_" */
+  int32_t first_frame, last_frame; /* 0 <= first <= last <= 999999 */
+  uint32_t steps_per_frame; /* 1 .. 100000 */
+  uint32_t format;          /* a moldtex_image_format */
+  uint32_t write_checkpoints;
+  uint32_t resume;
+} moldtex_bake_desc;
+
+typedef enum moldtex_bake_state {
+  MOLDTEX_BAKE_RUNNING = 0,
+  MOLDTEX_BAKE_FINISHED = 1,
+  MOLDTEX_BAKE_CANCELLED = 2,
+  MOLDTEX_BAKE_FAILED = 3
+} moldtex_bake_state;
+
+typedef struct moldtex_bake_progress {
+  uint32_t struct_size;
+  uint32_t state;            /* a moldtex_bake_state */
+  int32_t first_frame, last_frame;
+  int32_t last_frame_written; /* first_frame - 1 before any */
+  uint32_t frames_done;      /* whole frames on disk, from this and resumed runs */
+  uint64_t step_count;
+  double coverage, presence; /* of the last frame written */
+  char message[512];         /* why it failed, if it failed */
+} moldtex_bake_progress;
+
+MOLDTEX_API void moldtex_bake_desc_init(moldtex_bake_desc* desc);
+MOLDTEX_API void moldtex_bake_progress_init(moldtex_bake_progress* progress);
+MOLDTEX_API moldtex_status moldtex_bake_start(moldtex_sim sim, const moldtex_bake_desc* desc,
+                                              moldtex_bake* out_bake);
+/* Thread-safe; returns at once. */
+MOLDTEX_API moldtex_status moldtex_bake_get_progress(moldtex_bake bake,
+                                                     moldtex_bake_progress* progress);
+/* Asks the bake to stop after the current step; no partial frame is left. Returns at once. */
+MOLDTEX_API void moldtex_bake_cancel(moldtex_bake bake);
+/* Blocks until the bake ends; returns its outcome (MOLDTEX_OK if finished or cancelled). */
+MOLDTEX_API moldtex_status moldtex_bake_wait(moldtex_bake bake);
+/* Cancels and waits if still running, then frees the handle. */
+MOLDTEX_API void moldtex_bake_release(moldtex_bake bake);
 
 /* ---- OpenCL devices ------------------------------------------------------------- */
 

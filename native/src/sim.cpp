@@ -10,6 +10,7 @@
 #include "backends/opencl/opencl_backend.h"
 #endif
 #include "common/error.h"
+#include "io/image_writer.h"
 
 namespace moldtex {
 
@@ -190,6 +191,46 @@ void Simulation::read_rgba(float* rgba) const {
     rgba[4 * i + 2] = v;
     rgba[4 * i + 3] = classes[i] == MOLDTEX_TEXEL_OUTSIDE ? 0.f : 1.f;  // alpha = island mask
   }
+}
+
+void Simulation::write_image(const std::string& path, moldtex_image_format format) const {
+  std::vector<float> field(domain_->texel_count());
+  backend_->read_pheromone(field.data());
+  static const char* const kNames[] = {"Y"};
+  write_image_atomically(path, ImageData{domain_->width, domain_->height, 1, field.data(), kNames}, format);
+}
+
+void Simulation::save_checkpoint(const std::string& path, const std::vector<MetricRow>& metrics) const {
+  Checkpoint c;
+  c.config = config_;
+  c.params = params_;
+  c.surface_fingerprint = surface_->fingerprint;
+  c.step_count = step_count_;
+  c.metrics = metrics;
+  backend_->export_state(c.state);
+  moldtex::save_checkpoint(path, c);
+}
+
+std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
+  Checkpoint c = moldtex::load_checkpoint(path);
+  if (c.surface_fingerprint != surface_->fingerprint)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "The checkpoint " + path + " was made on a different mesh or UV map: bake from the start");
+  if (c.config.width != config_.width || c.config.height != config_.height ||
+      c.config.agent_count != config_.agent_count || c.config.seed != config_.seed)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "The checkpoint " + path + " was made with another resolution, agent count or seed: "
+         "bake from the start");
+  if (c.state.triangle.size() != config_.agent_count || c.state.pheromone.size() != domain_->texel_count())
+    fail(MOLDTEX_ERROR_IO, "The checkpoint " + path + " is damaged");
+  for (uint32_t t : c.state.triangle)
+    if (t >= surface_->triangle_count()) fail(MOLDTEX_ERROR_IO, "The checkpoint " + path + " is damaged");
+  c.params.thread_count = params_.thread_count;  // a machine setting, not part of the state
+  validate_params(c.params);
+  backend_->import_state(c.state);
+  params_ = c.params;
+  step_count_ = c.step_count;
+  return c.metrics;
 }
 
 moldtex_sim_stats Simulation::stats() const {

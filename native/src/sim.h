@@ -1,11 +1,13 @@
 // A simulation: a surface, its texture domain, the parameters, and a backend that owns
 // the evolving state.
 #pragma once
+#include <atomic>
 #include <memory>
 #include <string>
 
 #include "backends/backend.h"
 #include "domain/texture_domain.h"
+#include "io/checkpoint.h"
 #include "surface/surface.h"
 
 namespace moldtex {
@@ -31,6 +33,14 @@ class Simulation {
     return why_not_opencl_.empty() ? backend_->name()
                                    : backend_->name() + "; OpenCL not used: " + why_not_opencl_;
   }
+  uint64_t step_count() const { return step_count_; }
+  // Writes the current pheromone as an image file (see moldtex_sim_write_image).
+  void write_image(const std::string& path, moldtex_image_format format) const;
+  void save_checkpoint(const std::string& path, const std::vector<MetricRow>& metrics) const;
+  // Restores state and parameters; returns the metrics stored with them.
+  std::vector<MetricRow> load_checkpoint(const std::string& path);
+  // Set while a bake owns the simulation; the C API refuses other calls meanwhile.
+  std::atomic<bool> busy{false};
 
  private:
   std::shared_ptr<const Surface> surface_;

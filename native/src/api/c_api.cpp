@@ -16,6 +16,7 @@
 #include "backends/opencl/devices.h"
 #endif
 #include "moldtex.h"
+#include "bake/bake.h"
 #include "sim.h"
 #include "surface/surface.h"
 
@@ -23,7 +24,10 @@ struct moldtex_surface_t {
   std::shared_ptr<const moldtex::Surface> surface;
 };
 struct moldtex_sim_t {
-  std::unique_ptr<moldtex::Simulation> sim;
+  std::shared_ptr<moldtex::Simulation> sim;  // shared with a running bake
+};
+struct moldtex_bake_t {
+  std::unique_ptr<moldtex::Bake> bake;
 };
 
 namespace {
@@ -59,6 +63,19 @@ moldtex_status guarded(Body&& body) {
 
 void require(bool ok, const char* message) {
   if (!ok) moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT, message);
+}
+
+// The simulation behind a handle, refused while a bake owns it.
+moldtex::Simulation& use(moldtex_sim sim) {
+  require(sim != nullptr, "The simulation handle is NULL");
+  if (sim->sim->busy)
+    moldtex::fail(MOLDTEX_ERROR_BUSY,
+                  "A bake is running on this simulation: wait for it to finish or cancel it");
+  return *sim->sim;
+}
+
+void require_path(const char* path) {
+  require(path != nullptr && *path != '\0', "The file path is empty");
 }
 
 void require_point(const moldtex::Surface& s, const moldtex_surface_point* p) {
@@ -243,7 +260,7 @@ moldtex_status moldtex_sim_create(moldtex_surface surface, const moldtex_sim_con
     moldtex_sim_config c =
         read_struct(config, "moldtex_sim_config", moldtex_sim_config_init, kSimConfigV1Size);
     moldtex_sim_params p = read_struct(params, "moldtex_sim_params");
-    auto sim = std::make_unique<moldtex::Simulation>(surface->surface, c, p);
+    auto sim = std::make_shared<moldtex::Simulation>(surface->surface, c, p);
     *out = new moldtex_sim_t{std::move(sim)};
   });
 }
@@ -252,14 +269,13 @@ void moldtex_sim_release(moldtex_sim sim) { delete sim; }
 
 moldtex_status moldtex_sim_set_params(moldtex_sim sim, const moldtex_sim_params* params) {
   return guarded([&] {
-    require(sim != nullptr, "The simulation handle is NULL");
-    sim->sim->set_params(read_struct(params, "moldtex_sim_params"));
+    use(sim).set_params(read_struct(params, "moldtex_sim_params"));
   });
 }
 
 moldtex_status moldtex_sim_get_params(moldtex_sim sim, moldtex_sim_params* params) {
   return guarded([&] {
-    require(sim != nullptr, "The simulation handle is NULL");
+    use(sim);
     read_struct(params, "moldtex_sim_params");
     *params = sim->sim->params();
   });
@@ -267,7 +283,7 @@ moldtex_status moldtex_sim_get_params(moldtex_sim sim, moldtex_sim_params* param
 
 moldtex_status moldtex_sim_get_config(moldtex_sim sim, moldtex_sim_config* config) {
   return guarded([&] {
-    require(sim != nullptr, "The simulation handle is NULL");
+    use(sim);
     read_struct(config, "moldtex_sim_config", moldtex_sim_config_init, kSimConfigV1Size);
     // Write back only as much as the caller's struct holds.
     moldtex_sim_config out = sim->sim->config();
@@ -279,8 +295,8 @@ moldtex_status moldtex_sim_get_config(moldtex_sim sim, moldtex_sim_config* confi
 
 moldtex_status moldtex_sim_get_backend_name(moldtex_sim sim, char* buffer, size_t capacity) {
   return guarded([&] {
-    require(sim != nullptr && buffer != nullptr && capacity > 0, "NULL argument or zero capacity");
-    const std::string name = sim->sim->backend_name();
+    require(buffer != nullptr && capacity > 0, "NULL argument or zero capacity");
+    const std::string name = use(sim).backend_name();
     size_t n = std::min(name.size(), capacity - 1);
     std::memcpy(buffer, name.data(), n);
     buffer[n] = '\0';
@@ -289,22 +305,20 @@ moldtex_status moldtex_sim_get_backend_name(moldtex_sim sim, char* buffer, size_
 
 moldtex_status moldtex_sim_reset(moldtex_sim sim) {
   return guarded([&] {
-    require(sim != nullptr, "The simulation handle is NULL");
-    sim->sim->reset();
+    use(sim).reset();
   });
 }
 
 moldtex_status moldtex_sim_step(moldtex_sim sim, uint32_t steps) {
   return guarded([&] {
-    require(sim != nullptr, "The simulation handle is NULL");
-    sim->sim->step(steps);
+    use(sim).step(steps);
   });
 }
 
 moldtex_status moldtex_sim_read_rgba(moldtex_sim sim, float* rgba, size_t float_count) {
   return guarded([&] {
-    require(sim != nullptr && rgba != nullptr, "NULL argument");
-    size_t need = sim->sim->domain().texel_count() * 4;
+    require(rgba != nullptr, "NULL argument");
+    size_t need = use(sim).domain().texel_count() * 4;
     if (float_count < need)
       moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
                     "The RGBA buffer is too small: it needs width * height * 4 floats (" +
@@ -315,8 +329,8 @@ moldtex_status moldtex_sim_read_rgba(moldtex_sim sim, float* rgba, size_t float_
 
 moldtex_status moldtex_sim_read_texel_classes(moldtex_sim sim, uint8_t* classes, size_t count) {
   return guarded([&] {
-    require(sim != nullptr && classes != nullptr, "NULL argument");
-    const auto& d = sim->sim->domain();
+    require(classes != nullptr, "NULL argument");
+    const auto& d = use(sim).domain();
     if (count < d.texel_count())
       moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The class buffer needs width * height bytes");
     std::memcpy(classes, d.classes.data(), d.texel_count());
@@ -326,8 +340,8 @@ moldtex_status moldtex_sim_read_texel_classes(moldtex_sim sim, uint8_t* classes,
 moldtex_status moldtex_sim_read_agents(moldtex_sim sim, moldtex_surface_point* points,
                                        uint32_t capacity) {
   return guarded([&] {
-    require(sim != nullptr && points != nullptr, "NULL argument");
-    sim->sim->read_agents(points, capacity);
+    require(points != nullptr, "NULL argument");
+    use(sim).read_agents(points, capacity);
   });
 }
 
@@ -339,11 +353,83 @@ void moldtex_sim_stats_init(moldtex_sim_stats* stats) {
 
 moldtex_status moldtex_sim_get_stats(moldtex_sim sim, moldtex_sim_stats* stats) {
   return guarded([&] {
-    require(sim != nullptr, "The simulation handle is NULL");
+    use(sim);
     read_struct(stats, "moldtex_sim_stats");
     *stats = sim->sim->stats();
   });
 }
+
+moldtex_status moldtex_sim_write_image(moldtex_sim sim, const char* path, uint32_t format) {
+  return guarded([&] {
+    require_path(path);
+    require(format <= MOLDTEX_IMAGE_PNG16, "Unknown image format");
+    use(sim).write_image(path, static_cast<moldtex_image_format>(format));
+  });
+}
+
+moldtex_status moldtex_sim_save_checkpoint(moldtex_sim sim, const char* path) {
+  return guarded([&] {
+    require_path(path);
+    use(sim).save_checkpoint(path, {});
+  });
+}
+
+moldtex_status moldtex_sim_load_checkpoint(moldtex_sim sim, const char* path) {
+  return guarded([&] {
+    require_path(path);
+    use(sim).load_checkpoint(path);
+  });
+}
+
+void moldtex_bake_desc_init(moldtex_bake_desc* d) {
+  if (!d) return;
+  std::memset(d, 0, sizeof(*d));
+  d->struct_size = sizeof(*d);
+  d->file_prefix = "moldtex_";
+  d->first_frame = 1;
+  d->last_frame = 250;
+  d->steps_per_frame = 2;
+  d->format = MOLDTEX_IMAGE_EXR_HALF;
+  d->write_checkpoints = 1;
+}
+
+void moldtex_bake_progress_init(moldtex_bake_progress* p) {
+  if (!p) return;
+  std::memset(p, 0, sizeof(*p));
+  p->struct_size = sizeof(*p);
+}
+
+moldtex_status moldtex_bake_start(moldtex_sim sim, const moldtex_bake_desc* desc, moldtex_bake* out) {
+  return guarded([&] {
+    require(out != nullptr, "out_bake is NULL");
+    *out = nullptr;
+    use(sim);
+    moldtex::BakeOptions options = moldtex::validate_bake(read_struct(desc, "moldtex_bake_desc"));
+    *out = new moldtex_bake_t{std::make_unique<moldtex::Bake>(sim->sim, std::move(options))};
+  });
+}
+
+moldtex_status moldtex_bake_get_progress(moldtex_bake bake, moldtex_bake_progress* progress) {
+  return guarded([&] {
+    require(bake != nullptr, "The bake handle is NULL");
+    read_struct(progress, "moldtex_bake_progress");
+    *progress = bake->bake->progress();
+  });
+}
+
+void moldtex_bake_cancel(moldtex_bake bake) {
+  if (bake) bake->bake->cancel();
+}
+
+moldtex_status moldtex_bake_wait(moldtex_bake bake) {
+  if (!bake) return set_error(MOLDTEX_ERROR_INVALID_ARGUMENT, "The bake handle is NULL");
+  moldtex_status status = bake->bake->wait();
+  if (status != MOLDTEX_OK) return set_error(status, bake->bake->progress().message);
+  g_last_error.clear();
+  return MOLDTEX_OK;
+}
+
+void moldtex_bake_release(moldtex_bake bake) { delete bake; }
 
 void moldtex_opencl_device_info_init(moldtex_opencl_device_info* info) {
   if (!info) return;

@@ -5,10 +5,18 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "moldtex.h"
 
 namespace moldtex {
+
+// Everything that evolves, in a backend-independent layout (checkpoints).
+struct SimState {
+  std::vector<uint32_t> triangle;
+  std::vector<float> b1, b2, hx, hy;
+  std::vector<float> pheromone;
+};
 
 class Backend {
  public:
@@ -24,6 +32,8 @@ class Backend {
   virtual size_t agent_count() const = 0;
   virtual size_t bytes() const = 0;
   virtual std::string name() const = 0;  // e.g. "CPU (2 threads)"
+  virtual void export_state(SimState& state) const = 0;
+  virtual void import_state(const SimState& state) = 0;
 };
 
 }  // namespace moldtex

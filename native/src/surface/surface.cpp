@@ -270,6 +270,16 @@ Surface build_surface(const moldtex_mesh_desc& d) {
     s.adjacency[3 * y.t + y.edge] = (x.t << 3) | (static_cast<uint32_t>(x.edge) << 1) | same_direction;
   }
   label_islands(s);
+  // FNV-1a over the inputs: checkpoints refuse to load onto a different mesh.
+  uint64_t h = 1469598103934665603ull;
+  auto hash = [&h](const void* data, size_t n) {
+    const unsigned char* p = static_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  };
+  hash(s.positions.data(), s.positions.size() * sizeof(float));
+  hash(s.triangles.data(), s.triangles.size() * sizeof(uint32_t));
+  hash(s.corner_uvs.data(), s.corner_uvs.size() * sizeof(float));
+  s.fingerprint = h;
   if (nonmanifold) {
     std::ostringstream m;
     m << "The mesh has " << nonmanifold << " non-manifold edge" << (nonmanifold > 1 ? "s" : "")

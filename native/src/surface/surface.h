@@ -41,6 +41,7 @@ struct Surface {
   std::vector<uint8_t> degenerate;         // 1 where the 3D or UV area is ~zero
   std::vector<uint32_t> island;            // UV island id: joined across non-seam edges
   double area = 0, uv_area = 0;
+  uint64_t fingerprint = 0;                // hash of positions, triangles and UVs
   uint32_t boundary_edges = 0, seam_edges = 0, degenerate_count = 0;
 
   uint32_t triangle_count() const { return static_cast<uint32_t>(frames.size()); }

@@ -22,6 +22,8 @@ class CpuBackend final : public Backend {
   size_t agent_count() const override { return agent_count_; }
   size_t bytes() const override;
   std::string name() const override;
+  void export_state(SimState& state) const override;
+  void import_state(const SimState& state) override;
 
  private:
   std::shared_ptr<const Surface> surface_;

@@ -232,6 +232,41 @@ void OpenClBackend::read_pheromone(float* out) const {
         "reading the pheromone");
 }
 
+void OpenClBackend::export_state(SimState& out) const {
+  const State& s = *state_;
+  auto read = [&](cl_mem m, auto& v, size_t count) {
+    v.resize(count);
+    if (count)
+      check(s.r.clEnqueueReadBuffer(s.queue, m, CL_TRUE, 0, count * 4, v.data(), 0, nullptr, nullptr),
+            "reading the state");
+  };
+  read(s.triangle, out.triangle, agent_count_);
+  read(s.b1, out.b1, agent_count_);
+  read(s.b2, out.b2, agent_count_);
+  read(s.hx, out.hx, agent_count_);
+  read(s.hy, out.hy, agent_count_);
+  read(s.pheromone, out.pheromone, domain_->texel_count());
+}
+
+void OpenClBackend::import_state(const SimState& in) {
+  State& s = *state_;
+  auto write = [&](cl_mem m, const auto& v) {
+    if (!v.empty())
+      check(s.r.clEnqueueWriteBuffer(s.queue, m, CL_TRUE, 0, v.size() * 4, v.data(), 0, nullptr, nullptr),
+            "restoring the state");
+  };
+  write(s.triangle, in.triangle);
+  write(s.b1, in.b1);
+  write(s.b2, in.b2);
+  write(s.hx, in.hx);
+  write(s.hy, in.hy);
+  write(s.pheromone, in.pheromone);
+  const cl_uchar zero8 = 0;
+  check(s.r.clEnqueueFillBuffer(s.queue, s.marks, &zero8, 1, 0, domain_->texel_count(), 0, nullptr, nullptr),
+        "clearing the deposits");
+  finish();
+}
+
 void OpenClBackend::read_agents(moldtex_surface_point* out, size_t count) const {
   count = std::min<size_t>(count, agent_count_);
   std::vector<uint32_t> tri(count);

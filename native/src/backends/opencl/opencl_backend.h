@@ -27,6 +27,8 @@ class OpenClBackend final : public Backend {
   size_t agent_count() const override { return agent_count_; }
   size_t bytes() const override { return device_bytes_; }
   std::string name() const override;
+  void export_state(SimState& state) const override;
+  void import_state(const SimState& state) override;
 
  private:
   struct State;
