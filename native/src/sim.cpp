@@ -221,9 +221,12 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
          "The checkpoint " + path + " was made with another resolution, agent count or seed: "
          "bake from the start");
-  if (c.state.triangle.size() != config_.agent_count || c.state.pheromone.size() != domain_->texel_count())
+  const Agents& a = c.state.agents;
+  if (a.triangle.size() != config_.agent_count || a.b1.size() != a.triangle.size() ||
+      a.b2.size() != a.triangle.size() || a.hx.size() != a.triangle.size() ||
+      a.hy.size() != a.triangle.size() || c.state.pheromone.size() != domain_->texel_count())
     fail(MOLDTEX_ERROR_IO, "The checkpoint " + path + " is damaged");
-  for (uint32_t t : c.state.triangle)
+  for (uint32_t t : a.triangle)
     if (t >= surface_->triangle_count()) fail(MOLDTEX_ERROR_IO, "The checkpoint " + path + " is damaged");
   c.params.thread_count = params_.thread_count;  // a machine setting, not part of the state
   validate_params(c.params);

@@ -16,11 +16,7 @@ Agents spawn_uniform(const Surface& s, uint32_t count, uint64_t seed, ThreadPool
     cdf[t] = total;
   }
   Agents a;
-  a.triangle.resize(count);
-  a.b1.resize(count);
-  a.b2.resize(count);
-  a.hx.resize(count);
-  a.hy.resize(count);
+  a.resize(count);
   pool.parallel_for(count, 4096, [&](size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) {
       CounterRng rng(seed, MTX_RNG_SPAWN, i, 0);
@@ -56,11 +52,7 @@ void sort_by_tile(const Surface& s, uint32_t width, uint32_t height, Agents& a) 
   }
   for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
   Agents sorted;
-  sorted.triangle.resize(n);
-  sorted.b1.resize(n);
-  sorted.b2.resize(n);
-  sorted.hx.resize(n);
-  sorted.hy.resize(n);
+  sorted.resize(n);
   for (size_t i = 0; i < n; ++i) sorted.store(start[key[i]]++, a.load(i));
   a = std::move(sorted);
 }

@@ -14,6 +14,13 @@ struct Agents {
   std::vector<float> b1, b2, hx, hy;
 
   size_t size() const { return triangle.size(); }
+  void resize(size_t n) {
+    triangle.resize(n);
+    b1.resize(n);
+    b2.resize(n);
+    hx.resize(n);
+    hy.resize(n);
+  }
   size_t bytes() const { return triangle.capacity() * 4 + (b1.capacity() + b2.capacity() + hx.capacity() + hy.capacity()) * 4; }
 
   Walker load(size_t i) const {

@@ -7,14 +7,14 @@
 #include <string>
 #include <vector>
 
+#include "agents/agents.h"
 #include "moldtex.h"
 
 namespace moldtex {
 
 // Everything that evolves, in a backend-independent layout (checkpoints).
 struct SimState {
-  std::vector<uint32_t> triangle;
-  std::vector<float> b1, b2, hx, hy;
+  Agents agents;
   std::vector<float> pheromone;
 };
 

@@ -54,6 +54,17 @@ struct Reader {
   }
 };
 
+// The arrays of a state, in file order.
+template <class State, class F>
+void for_each_array(State& s, F&& f) {
+  f(s.agents.triangle);
+  f(s.agents.b1);
+  f(s.agents.b2);
+  f(s.agents.hx);
+  f(s.agents.hy);
+  f(s.pheromone);
+}
+
 }  // namespace
 
 void save_checkpoint(const std::string& path, const Checkpoint& c) {
@@ -64,12 +75,7 @@ void save_checkpoint(const std::string& path, const Checkpoint& c) {
   w.value(c.surface_fingerprint);
   w.value(c.step_count);
   w.array(c.metrics);
-  w.array(c.state.triangle);
-  w.array(c.state.b1);
-  w.array(c.state.b2);
-  w.array(c.state.hx);
-  w.array(c.state.hy);
-  w.array(c.state.pheromone);
+  for_each_array(c.state, [&](const auto& v) { w.array(v); });
   write_file_atomically(path, w.bytes.data(), w.bytes.size());
 }
 
@@ -88,12 +94,7 @@ Checkpoint load_checkpoint(const std::string& path) {
   c.surface_fingerprint = r.value<uint64_t>();
   c.step_count = r.value<uint64_t>();
   r.array(c.metrics);
-  r.array(c.state.triangle);
-  r.array(c.state.b1);
-  r.array(c.state.b2);
-  r.array(c.state.hx);
-  r.array(c.state.hy);
-  r.array(c.state.pheromone);
+  for_each_array(c.state, [&](auto& v) { r.array(v); });
   return c;
 }
 

@@ -68,20 +68,12 @@ void CpuBackend::read_agents(moldtex_surface_point* out, size_t count) const {
 }
 
 void CpuBackend::export_state(SimState& s) const {
-  s.triangle = agents_.triangle;
-  s.b1 = agents_.b1;
-  s.b2 = agents_.b2;
-  s.hx = agents_.hx;
-  s.hy = agents_.hy;
+  s.agents = agents_;
   s.pheromone = pheromone_;
 }
 
 void CpuBackend::import_state(const SimState& s) {
-  agents_.triangle = s.triangle;
-  agents_.b1 = s.b1;
-  agents_.b2 = s.b2;
-  agents_.hx = s.hx;
-  agents_.hy = s.hy;
+  agents_ = s.agents;
   pheromone_ = s.pheromone;
   std::fill(marks_.begin(), marks_.end(), 0);
 }

@@ -155,20 +155,24 @@ std::string OpenClBackend::name() const {
   return "OpenCL: " + device_.name + " (" + device_.platform_name + ")";
 }
 
+void OpenClBackend::upload_agents(const Agents& a) {
+  State& s = *state_;
+  auto write = [&](cl_mem m, const void* data) {
+    check(s.r.clEnqueueWriteBuffer(s.queue, m, CL_TRUE, 0, agent_count_ * 4ull, data, 0, nullptr, nullptr),
+          "uploading the agents");
+  };
+  write(s.triangle, a.triangle.data());
+  write(s.b1, a.b1.data());
+  write(s.b2, a.b2.data());
+  write(s.hx, a.hx.data());
+  write(s.hy, a.hy.data());
+}
+
 void OpenClBackend::reset(uint64_t seed) {
   State& s = *state_;
   // Spawning is a one-off: done on the host with the CPU backend's code, then uploaded.
   ThreadPool pool(0);
-  Agents a = spawn_uniform(*surface_, agent_count_, seed, pool);
-  auto write = [&](cl_mem m, const void* data, size_t bytes) {
-    check(s.r.clEnqueueWriteBuffer(s.queue, m, CL_TRUE, 0, bytes, data, 0, nullptr, nullptr),
-          "uploading the agents");
-  };
-  write(s.triangle, a.triangle.data(), agent_count_ * 4ull);
-  write(s.b1, a.b1.data(), agent_count_ * 4ull);
-  write(s.b2, a.b2.data(), agent_count_ * 4ull);
-  write(s.hx, a.hx.data(), agent_count_ * 4ull);
-  write(s.hy, a.hy.data(), agent_count_ * 4ull);
+  upload_agents(spawn_uniform(*surface_, agent_count_, seed, pool));
   const size_t texels = domain_->texel_count();
   const float zero = 0.f;
   const cl_uchar zero8 = 0;
@@ -240,27 +244,20 @@ void OpenClBackend::export_state(SimState& out) const {
       check(s.r.clEnqueueReadBuffer(s.queue, m, CL_TRUE, 0, count * 4, v.data(), 0, nullptr, nullptr),
             "reading the state");
   };
-  read(s.triangle, out.triangle, agent_count_);
-  read(s.b1, out.b1, agent_count_);
-  read(s.b2, out.b2, agent_count_);
-  read(s.hx, out.hx, agent_count_);
-  read(s.hy, out.hy, agent_count_);
+  read(s.triangle, out.agents.triangle, agent_count_);
+  read(s.b1, out.agents.b1, agent_count_);
+  read(s.b2, out.agents.b2, agent_count_);
+  read(s.hx, out.agents.hx, agent_count_);
+  read(s.hy, out.agents.hy, agent_count_);
   read(s.pheromone, out.pheromone, domain_->texel_count());
 }
 
 void OpenClBackend::import_state(const SimState& in) {
   State& s = *state_;
-  auto write = [&](cl_mem m, const auto& v) {
-    if (!v.empty())
-      check(s.r.clEnqueueWriteBuffer(s.queue, m, CL_TRUE, 0, v.size() * 4, v.data(), 0, nullptr, nullptr),
-            "restoring the state");
-  };
-  write(s.triangle, in.triangle);
-  write(s.b1, in.b1);
-  write(s.b2, in.b2);
-  write(s.hx, in.hx);
-  write(s.hy, in.hy);
-  write(s.pheromone, in.pheromone);
+  upload_agents(in.agents);
+  check(s.r.clEnqueueWriteBuffer(s.queue, s.pheromone, CL_TRUE, 0, in.pheromone.size() * 4,
+                                 in.pheromone.data(), 0, nullptr, nullptr),
+        "restoring the pheromone");
   const cl_uchar zero8 = 0;
   check(s.r.clEnqueueFillBuffer(s.queue, s.marks, &zero8, 1, 0, domain_->texel_count(), 0, nullptr, nullptr),
         "clearing the deposits");

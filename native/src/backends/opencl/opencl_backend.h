@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include "agents/agents.h"
 #include "backends/backend.h"
 #include "backends/opencl/devices.h"
 #include "domain/texture_domain.h"
@@ -31,6 +32,8 @@ class OpenClBackend final : public Backend {
   void import_state(const SimState& state) override;
 
  private:
+  void upload_agents(const Agents& agents);
+
   struct State;
   std::shared_ptr<const Surface> surface_;
   std::shared_ptr<const TextureDomain> domain_;
