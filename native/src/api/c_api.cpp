@@ -454,7 +454,10 @@ moldtex_status moldtex_opencl_get_device(uint32_t index, moldtex_opencl_device_i
     moldtex_opencl_device_info out = read_struct(info, "moldtex_opencl_device_info");
 #ifdef MOLDTEX_HAVE_OPENCL
     const auto devices = moldtex::cl::list_devices();
-    require(index < devices.size(), "OpenCL device index out of range");
+    if (index >= devices.size())
+      moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+                    "OpenCL device index " + std::to_string(index) + " is out of range: this machine has " +
+                        std::to_string(devices.size()) + " OpenCL device(s)");
     const auto& d = devices[index];
     out.platform_index = d.platform_index;
     out.device_index = d.device_index;
