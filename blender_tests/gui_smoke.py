@@ -9,7 +9,9 @@ interface; headless, run it under a virtual X server:
 
 It starts the simulation with the Start button's operator, lets the timer drive it,
 pauses with a second Start, checks the steps stopped, saves a screenshot of the
-viewport, and quits with exit code 0 (or 1 on a failure). Not part of run_all.py.
+viewport; then runs the modal Bake Sequence (Start is refused meanwhile), cancels it
+with a second press, resumes it to the end and checks the material plays the frames;
+and quits with exit code 0 (or 1 on a failure). Not part of run_all.py.
 Pass a .blend file before -P (any saved file) so the splash screen does not cover the
 viewport. Under Xvfb Blender's event loop wakes only about once a second, so the
 timer drives just a few updates there; on a desktop it runs at 30 updates a second.
@@ -63,6 +65,9 @@ def check(condition, message):
 
 
 def finish():
+    if STATE.get("bake_dir"):
+        import shutil
+        shutil.rmtree(STATE["bake_dir"], ignore_errors=True)
     code = 1 if STATE["failures"] else 0
     print(f"gui_smoke: {len(STATE['failures'])} failure(s)")
     sys.stdout.flush()
@@ -156,8 +161,82 @@ def _tick():
         return 0.5
     if phase == "deleted":
         check(live.get("Torus") is None, "deleting the object freed its simulation")
+        return start_bake()
+    if phase == "baking":
+        entry = live.get("Torus")
+        check(entry is not None and entry.baking, "the modal bake is running")
+        progress = entry.bake_progress if entry else {}
+        check(bool(progress) and progress["frames_done"] > 0,
+              f"its timer polled the progress ({progress.get('frames_done')} frames)")
+        try:
+            call(bpy.ops.moldtex.start, 'INVOKE_DEFAULT')
+            check(False, "Start is refused while baking")
+        except RuntimeError as error:
+            check("a bake is running" in str(error), f"Start says: {error}")
+        screenshot("_bake")
+        call(bpy.ops.moldtex.bake, 'INVOKE_DEFAULT')  # the button again = cancel
+        STATE["phase"] = "cancelling"
+        return 1.5
+    if phase == "cancelling":
+        entry = live.get("Torus")
+        check(not entry.baking, "cancelled by pressing Bake again")
+        check("cancelled" in entry.bake_summary, f"summary: {entry.bake_summary}")
+        frames = sorted(n for n in os.listdir(STATE["bake_dir"]) if n.endswith(".exr"))
+        check(0 < len(frames) < 30, f"whole frames kept ({len(frames)})")
+        obj.moldtex.bake_resume = True
+        result = call(bpy.ops.moldtex.bake, 'INVOKE_DEFAULT')
+        check(result == {'RUNNING_MODAL'}, f"resume starts ({result})")
+        STATE["phase"] = "resuming"
+        STATE["waited"] = 0
+        return 1.0
+    if phase == "resuming":
+        entry = live.get("Torus")
+        if entry.baking and STATE["waited"] < 60:
+            STATE["waited"] += 1
+            return 1.0
+        check(not entry.baking, "the resumed bake ended")
+        frames = sorted(n for n in os.listdir(STATE["bake_dir"]) if n.endswith(".exr"))
+        check(len(frames) == 30, f"all 30 frames ({len(frames)})")
+        node = obj.active_material.node_tree.nodes["Moldtex Texture"]
+        check(node.image is not None and node.image.source == 'SEQUENCE',
+              "the material plays the sequence")
         finish()
     return None
+
+
+def screenshot(suffix):
+    if not ARGS.screenshot:
+        return
+    root, extension = os.path.splitext(ARGS.screenshot)
+    path = f"{root}{suffix}{extension}"
+    override = view3d_override()
+    if hasattr(bpy.context, "temp_override"):
+        with bpy.context.temp_override(**override):
+            bpy.ops.screen.screenshot(filepath=path)
+    else:
+        bpy.ops.screen.screenshot(override, filepath=path)
+    print(f"screenshot: {path}")
+
+
+def start_bake():
+    """Modal bake (the Bake Sequence button): runs, refuses Start, cancels, resumes."""
+    import tempfile
+    call(bpy.ops.mesh.primitive_torus_add)
+    obj = bpy.context.view_layer.objects.active
+    obj.name = "Torus"
+    settings = obj.moldtex
+    settings.resolution = "256"
+    settings.agent_count = 20000
+    settings.bake_use_scene_range = False
+    settings.bake_frame_start, settings.bake_frame_end = 1, 30
+    settings.bake_steps_per_frame = 20
+    STATE["bake_dir"] = tempfile.mkdtemp(prefix="moldtex_gui_bake_")
+    settings.bake_directory = STATE["bake_dir"]
+    check(call(bpy.ops.moldtex.setup_material) == {'FINISHED'}, "set up material (bake)")
+    result = call(bpy.ops.moldtex.bake, 'INVOKE_DEFAULT')
+    check(result == {'RUNNING_MODAL'}, f"bake returns RUNNING_MODAL ({result})")
+    STATE["phase"] = "baking"
+    return 1.5
 
 
 bpy.app.timers.register(tick, first_interval=1.0)

@@ -17,6 +17,12 @@ NON_DEFAULTS = {
     # What the Backend chooser stores (test_opencl checks the chooser itself).
     "backend_type": "CPU", "opencl_platform": 1, "opencl_device": 2,
     "opencl_device_name": "Imaginary GPU", "opencl_platform_name": "Imaginary Platform",
+    # Bake settings, and the ramp a preset left for Set Up Material.
+    "bake_use_scene_range": False, "bake_frame_start": 5, "bake_frame_end": 77,
+    "bake_steps_per_frame": 9, "bake_directory": "//elsewhere/", "bake_format": "PNG16",
+    "bake_prefix": "rock_", "bake_resume": True,
+    "ramp_stops": '{"stops": [[0.0, [0.1, 0.2, 0.3, 1.0]], [1.0, [0.9, 0.8, 0.7, 1.0]]], '
+                  '"interpolation": "EASE"}',
 }
 # Not stored: shown by get/set from backend_type and the opencl_* properties.
 DERIVED = {"backend"}

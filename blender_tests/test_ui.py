@@ -21,6 +21,8 @@ class RecordingLayout:
         self.log = log
         self.use_property_split = False
         self.scale_y = 1.0
+        self.enabled = True
+        self.emboss = 'NORMAL'
 
     def _child(self, *args, **kwargs):
         return RecordingLayout(self.test, self.log)
@@ -49,14 +51,36 @@ class RecordingLayout:
     def operator(self, idname, text="", **kwargs):
         self._icon(kwargs)
         category, name = idname.split(".")
-        getattr(getattr(bpy.ops, category), name).get_rna_type()  # raises if missing
+        rna = getattr(getattr(bpy.ops, category), name).get_rna_type()  # raises if missing
         self.log.append(("operator", text or idname))
+        return OperatorProps(self.test, rna, idname)
+
+    def menu(self, idname, text="", **kwargs):
+        self._icon(kwargs)
+        self.test.assertTrue(hasattr(bpy.types, idname), f"no menu {idname}")
+        self.log.append(("menu", idname))
+
+    def separator(self, **kwargs):
+        pass
+
+
+class OperatorProps:
+    """What layout.operator() returns: only the operator's properties may be set."""
+
+    def __init__(self, test, rna, idname):
+        object.__setattr__(self, "_test", test)
+        object.__setattr__(self, "_names", set(rna.properties.keys()))
+        object.__setattr__(self, "_idname", idname)
+
+    def __setattr__(self, name, value):
+        self._test.assertIn(name, self._names, f"{self._idname} has no property {name}")
+        object.__setattr__(self, name, value)
 
 
 def draw_all(test, obj):
     from moldtex import ui
     log = []
-    context = types.SimpleNamespace(active_object=obj)
+    context = types.SimpleNamespace(active_object=obj, scene=bpy.context.scene)
     for panel in ui.CLASSES:
         if hasattr(panel, "poll") and not panel.poll(context):
             continue
@@ -92,16 +116,32 @@ class PanelTests(unittest.TestCase):
                                  "vision_angle", "evaporation_rate", "diffusion_rate",
                                  "deposit", "substeps", "resolution", "agent_count",
                                  "seed", "backend", "steps_per_update", "thread_count",
-                                 "image"})
+                                 "image", "bake_use_scene_range", "bake_steps_per_frame",
+                                 "bake_directory", "bake_format", "bake_prefix",
+                                 "bake_resume"})
         self.assertIn(("prop_search", "uv_map"), log)
+        self.assertIn(("menu", "MOLDTEX_MT_presets"), log)
         buttons = [name for kind, name in log if kind == "operator"]
-        self.assertEqual(buttons[0], "Start")
+        self.assertEqual(buttons[0], "moldtex.preset_add")  # + and - beside the menu
+        self.assertEqual(buttons[2], "Start")
+        self.assertIn("Bake Sequence", buttons)
+        self.assertIn("moldtex.use_baked_sequence", buttons)
+        # The bake panel names the files; an unsaved file cannot use the default
+        # //moldtex_bake/ folder, which is said, not raised.
+        if bpy.data.filepath:  # an earlier test saved the session's file
+            self.assertIn("250 frames: Torus_0001.exr … Torus_0250.exr", labels(log))
+        else:
+            self.assertIn("has not been saved", labels(log))
+        obj.moldtex.bake_directory = "/tmp/somewhere"
+        obj.moldtex.bake_prefix = "rock 2"
+        self.assertIn("250 frames: rock_2_0001.exr … rock_2_0250.exr",
+                      labels(draw_all(self, obj)))
         self.assertIn("Not running yet", labels(log))
 
         h.run(obj, 3)
         h.live().get(obj.name).running = True  # as the modal Start sets it
         log = draw_all(self, obj)
-        self.assertEqual([n for k, n in log if k == "operator"][0], "Pause")
+        self.assertEqual([n for k, n in log if k == "operator"][2], "Pause")
         text = labels(log)
         self.assertIn("Coverage", text)
         self.assertIn("2,000", text)  # agents

@@ -1,11 +1,19 @@
-"""Moldtex's main job: grow the default slime-mold texture on Suzanne and render it.
+"""Moldtex's main job: grow the default slime-mold texture on Suzanne, bake its growth
+as an EXR sequence, and render it.
 
   blender -b --factory-startup --python-exit-code 1 -P tools/bake_default.py -- \
       --addon-dir build/addon --out out/
 
-Writes into --out: moldtex_pheromone.png (the raw pheromone, 8-bit grey),
-moldtex_render.png (a small Cycles render) and moldtex_default.blend (the scene, with
-the float texture packed in it).
+Writes into --out: moldtex_sequence/Suzanne_0001.exr .. Suzanne_0024.exr (the growth,
+one half-float EXR per frame, written by the core's bake worker, with
+Suzanne_metrics.csv and a checkpoint beside them), moldtex_pheromone.png (the raw
+pheromone of the last step, 8-bit grey), moldtex_render.png (a small Cycles render) and
+moldtex_default.blend (the scene, with the float texture packed in it; Moldtex ▸ Bake
+Sequence ▸ Use Baked Sequence plays the frames in its material).
+
+The bake runs first: frame f is the state after f * steps-per-frame steps, so after
+frame 24 the simulation has grown 24 * (steps // 24) steps; the remaining few steps run
+live, and the still image and render show the state after --steps steps.
 """
 
 import argparse
@@ -29,6 +37,8 @@ def parse_args():
     parser.add_argument("--subdivisions", type=int, default=2)
     parser.add_argument("--samples", type=int, default=16)
     parser.add_argument("--render-size", default="480x360")
+    parser.add_argument("--frames", type=int, default=24,
+                        help="frames of the EXR sequence (0 = no sequence)")
     return parser.parse_args(argv)
 
 
@@ -119,7 +129,32 @@ def build_scene(args):
     return suzanne
 
 
-def grow(suzanne, args):
+def bake_sequence(suzanne, args, out):
+    """Bakes frames 1..args.frames with the core's bake worker (synchronous in
+    background mode, one progress line per frame). Returns (plan, steps done, seconds)."""
+    import bpy
+    from moldtex import bake
+
+    settings = suzanne.moldtex
+    steps_per_frame = max(1, args.steps // args.frames)
+    settings.bake_use_scene_range = False
+    settings.bake_frame_start = 1
+    settings.bake_frame_end = args.frames
+    settings.bake_steps_per_frame = steps_per_frame
+    settings.bake_directory = os.path.join(out, "moldtex_sequence")
+    settings.bake_format = 'EXR_HALF'
+    settings.bake_resume = False
+    scene = bpy.context.scene
+    scene.frame_start, scene.frame_end = 1, args.frames
+    began = time.perf_counter()
+    # use_sequence=False: the still and the render below show the live texture.
+    if bpy.ops.moldtex.bake(object_name=suzanne.name, use_sequence=False) != {'FINISHED'}:
+        fail("the sequence bake did not finish")
+    return (bake.plan_for(suzanne, scene), args.frames * steps_per_frame,
+            time.perf_counter() - began)
+
+
+def grow(suzanne, args, out):
     import bpy
     from moldtex import live
 
@@ -136,7 +171,11 @@ def grow(suzanne, args):
     print(f"Surface: {info['triangle_count']} triangles, {info['seam_edge_count']} seam "
           f"edges; {args.agents} agents on {args.resolution}² texels")
     done, chunk = 0, 50
+    plan = None
     began = time.perf_counter()
+    if args.frames > 0:
+        plan, done, seconds = bake_sequence(suzanne, args, out)
+        print(f"Baked {args.frames} frames ({done} steps) in {seconds:.1f} s")
     while done < args.steps:
         n = min(chunk, args.steps - done)
         if bpy.ops.moldtex.step(steps=n) != {'FINISHED'}:
@@ -148,7 +187,12 @@ def grow(suzanne, args):
               f"presence {100 * stats['presence']:5.1f} %  "
               f"{done * args.agents / elapsed / 1e6:5.2f} M agent-steps/s")
         sys.stdout.flush()
-    return time.perf_counter() - began
+    if plan is not None and done == plan.frame_count * plan.steps_per_frame:
+        # No live step after the bake: copy its last state into the live image.
+        from moldtex import image_io
+        image = image_io.ensure_image(suzanne, entry.sim.width, entry.sim.height)
+        image_io.upload(image, live.read_pixels(entry))
+    return time.perf_counter() - began, plan
 
 
 def main():
@@ -159,7 +203,7 @@ def main():
     os.makedirs(out, exist_ok=True)
     enable_addon(args.addon_dir)
     suzanne = build_scene(args)
-    seconds = grow(suzanne, args)
+    seconds, plan = grow(suzanne, args, out)
     print(f"Grew {args.steps} steps in {seconds:.1f} s")
 
     scene = bpy.context.scene
@@ -178,10 +222,16 @@ def main():
     blend_path = os.path.join(out, "moldtex_default.blend")
     bpy.ops.wm.save_as_mainfile(filepath=blend_path)  # packs the texture (save_pre)
 
-    for path in (pheromone_path, render_path, blend_path):
+    sequence = ([plan.frame_path(f) for f in range(plan.first_frame, plan.last_frame + 1)]
+                if plan is not None else [])
+    for path in [pheromone_path, render_path, blend_path] + sequence:
         if not os.path.isfile(path):
             fail(f"{path} was not written")
     print("Moldtex bake written:")
+    if plan is not None:
+        print(f"  EXR sequence       {plan.directory}/{plan.describe_files()} "
+              f"({plan.frame_count} frames, {plan.steps_per_frame} steps each)")
+        print(f"  sequence metrics   {plan.metrics_path}")
     print(f"  pheromone texture  {pheromone_path}")
     print(f"  Cycles render      {render_path}")
     print(f"  scene              {blend_path}")

@@ -6,7 +6,10 @@ Layout (engine never imports bpy; UI never calls ctypes):
   mesh_export.py  evaluated mesh -> flat arrays
   live.py         live simulations keyed by object name
   properties.py   per-object settings (Object.moldtex)
-  operators.py    Start/Pause, Step, Reset, Set Up Material
+  operators.py    Start/Pause, Step, Reset, Set Up Material, Bake, Use Baked Sequence
+  bake.py         baking image sequences (core bake worker) and their playback
+  presets.py      looks: preset menu, saving presets, ramp helpers
+  cli.py          headless bake (blender -P cli.py --, blender --command moldtex bake)
   image_io.py     pheromone image and fast pixel upload
   material.py     node setup
   handlers.py     load / depsgraph / undo / save handlers
@@ -28,24 +31,32 @@ if "live" in locals():
     import importlib
     # Re-enabling after a reload: free what the old module held, then reload all.
     live.free_all()
-    for _module in (engine, mesh_export, live, properties, image_io, material,
-                    operators, handlers, ui):
+    for _module in (engine, mesh_export, live, properties, image_io, material, bake,
+                    presets, operators, handlers, ui, cli):
         importlib.reload(_module)
 
-from . import engine, mesh_export, live, properties, image_io, material  # noqa: E402
-from . import operators, handlers, ui  # noqa: E402
+import bpy  # noqa: E402
 
-_MODULES = (properties, operators, ui, handlers)
+from . import engine, mesh_export, live, properties, image_io, material  # noqa: E402
+from . import bake, presets, operators, handlers, ui, cli  # noqa: E402
+
+_MODULES = (properties, presets, operators, ui, handlers)
+_cli_commands = []  # handles of bpy.utils.register_cli_command (Blender 4.2+)
 
 
 def register():
     for module in _MODULES:
         module.register()
+    # `blender --command moldtex bake ...`: only Blender 4.2+ has command-line commands.
+    if hasattr(bpy.utils, "register_cli_command"):
+        _cli_commands.append(bpy.utils.register_cli_command("moldtex", cli.command))
     if not engine.available():
         print(f"Moldtex: {engine.status_text()}")
 
 
 def unregister():
     live.free_all()
+    while _cli_commands:
+        bpy.utils.unregister_cli_command(_cli_commands.pop())
     for module in reversed(_MODULES):
         module.unregister()

@@ -27,6 +27,8 @@ ERROR_TOO_LARGE = 4
 ERROR_OUT_OF_MEMORY = 5
 ERROR_INTERNAL = 6
 ERROR_UNAVAILABLE = 7
+ERROR_IO = 8          # a file could not be read or written
+ERROR_BUSY = 9        # a bake is running on this simulation
 
 STATUS_NAMES = {
     OK: "ok",
@@ -37,6 +39,8 @@ STATUS_NAMES = {
     ERROR_OUT_OF_MEMORY: "out of memory",
     ERROR_INTERNAL: "internal error",
     ERROR_UNAVAILABLE: "unavailable",
+    ERROR_IO: "file error",
+    ERROR_BUSY: "busy (a bake is running)",
 }
 
 # moldtex_backend values (moldtex.h)
@@ -47,6 +51,22 @@ BACKEND_OPENCL = 2  # the device (opencl_platform, opencl_device)
 TEXEL_OUTSIDE = 0
 TEXEL_INSIDE = 1
 TEXEL_GUTTER = 2
+
+# moldtex_image_format values (moldtex.h)
+IMAGE_EXR_HALF = 0   # OpenEXR, 16-bit float, one channel "Y" per species
+IMAGE_EXR_FLOAT = 1  # OpenEXR, 32-bit float
+IMAGE_PNG8 = 2
+IMAGE_PNG16 = 3
+IMAGE_EXTENSIONS = {IMAGE_EXR_HALF: ".exr", IMAGE_EXR_FLOAT: ".exr", IMAGE_PNG8: ".png",
+                    IMAGE_PNG16: ".png"}
+
+# moldtex_bake_state values (moldtex.h)
+BAKE_RUNNING = 0
+BAKE_FINISHED = 1
+BAKE_CANCELLED = 2
+BAKE_FAILED = 3
+BAKE_STATE_NAMES = {BAKE_RUNNING: "running", BAKE_FINISHED: "finished",
+                    BAKE_CANCELLED: "cancelled", BAKE_FAILED: "failed"}
 
 
 class EngineError(Exception):
@@ -134,6 +154,35 @@ class SimStats(ctypes.Structure):
     ]
 
 
+class BakeDesc(ctypes.Structure):
+    _fields_ = [
+        ("struct_size", ctypes.c_uint32),
+        ("directory", ctypes.c_char_p),
+        ("file_prefix", ctypes.c_char_p),
+        ("first_frame", ctypes.c_int32),
+        ("last_frame", ctypes.c_int32),
+        ("steps_per_frame", ctypes.c_uint32),
+        ("format", ctypes.c_uint32),
+        ("write_checkpoints", ctypes.c_uint32),
+        ("resume", ctypes.c_uint32),
+    ]
+
+
+class BakeProgress(ctypes.Structure):
+    _fields_ = [
+        ("struct_size", ctypes.c_uint32),
+        ("state", ctypes.c_uint32),
+        ("first_frame", ctypes.c_int32),
+        ("last_frame", ctypes.c_int32),
+        ("last_frame_written", ctypes.c_int32),
+        ("frames_done", ctypes.c_uint32),
+        ("step_count", ctypes.c_uint64),
+        ("coverage", ctypes.c_double),
+        ("presence", ctypes.c_double),
+        ("message", ctypes.c_char * 512),
+    ]
+
+
 class OpenCLDeviceInfo(ctypes.Structure):
     _fields_ = [
         ("struct_size", ctypes.c_uint32),
@@ -150,9 +199,12 @@ CONFIG_FIELDS = tuple(name for name, _ in SimConfig._fields_ if name != "struct_
 PARAM_FIELDS = tuple(name for name, _ in SimParams._fields_ if name != "struct_size")
 STATS_FIELDS = tuple(name for name, _ in SimStats._fields_ if name != "struct_size")
 SURFACE_INFO_FIELDS = tuple(name for name, _ in SurfaceInfo._fields_ if name != "struct_size")
+BAKE_PROGRESS_FIELDS = tuple(name for name, _ in BakeProgress._fields_
+                             if name not in ("struct_size", "message"))
 
 _Surface = ctypes.c_void_p  # opaque moldtex_surface
 _Sim = ctypes.c_void_p      # opaque moldtex_sim
+_Bake = ctypes.c_void_p     # opaque moldtex_bake
 _status = ctypes.c_int      # moldtex_status (a C enum is an int)
 _P = ctypes.POINTER
 
@@ -187,6 +239,16 @@ _SIGNATURES = {
     "moldtex_sim_stats_init": (None, [_P(SimStats)]),
     "moldtex_sim_get_stats": (_status, [_Sim, _P(SimStats)]),
     "moldtex_sim_get_backend_name": (_status, [_Sim, _P(ctypes.c_char), ctypes.c_size_t]),
+    "moldtex_sim_write_image": (_status, [_Sim, ctypes.c_char_p, ctypes.c_uint32]),
+    "moldtex_sim_save_checkpoint": (_status, [_Sim, ctypes.c_char_p]),
+    "moldtex_sim_load_checkpoint": (_status, [_Sim, ctypes.c_char_p]),
+    "moldtex_bake_desc_init": (None, [_P(BakeDesc)]),
+    "moldtex_bake_progress_init": (None, [_P(BakeProgress)]),
+    "moldtex_bake_start": (_status, [_Sim, _P(BakeDesc), _P(_Bake)]),
+    "moldtex_bake_get_progress": (_status, [_Bake, _P(BakeProgress)]),
+    "moldtex_bake_cancel": (None, [_Bake]),
+    "moldtex_bake_wait": (_status, [_Bake]),
+    "moldtex_bake_release": (None, [_Bake]),
     "moldtex_opencl_device_info_init": (None, [_P(OpenCLDeviceInfo)]),
     "moldtex_opencl_device_count": (_status, [_P(ctypes.c_uint32)]),
     "moldtex_opencl_get_device": (_status, [ctypes.c_uint32, _P(OpenCLDeviceInfo)]),
@@ -199,6 +261,8 @@ _STRUCT_INITS = (
     ("moldtex_sim_config_init", SimConfig),
     ("moldtex_sim_params_init", SimParams),
     ("moldtex_sim_stats_init", SimStats),
+    ("moldtex_bake_desc_init", BakeDesc),
+    ("moldtex_bake_progress_init", BakeProgress),
     ("moldtex_opencl_device_info_init", OpenCLDeviceInfo),
 )
 
@@ -603,9 +667,141 @@ class Simulation:
         _check(_lib.moldtex_sim_get_stats(self.handle, ctypes.byref(s)), "Reading statistics")
         return _struct_to_dict(s, STATS_FIELDS)
 
+    def write_image(self, path, image_format=IMAGE_EXR_HALF):
+        """Writes the pheromone to `path` (IMAGE_* format; one channel "Y" per species,
+        written as path.partial and renamed when whole)."""
+        _check(_lib.moldtex_sim_write_image(self.handle, _path_bytes(path), int(image_format)),
+               "Writing the image")
+
+    def save_checkpoint(self, path):
+        """Saves the whole state (agents, pheromone, step count, parameters) atomically."""
+        _check(_lib.moldtex_sim_save_checkpoint(self.handle, _path_bytes(path)),
+               "Saving the checkpoint")
+
+    def load_checkpoint(self, path):
+        """Restores a checkpoint made by a simulation of the same mesh and config."""
+        _check(_lib.moldtex_sim_load_checkpoint(self.handle, _path_bytes(path)),
+               "Loading the checkpoint")
+
     def release(self):
         if self._handle is not None and _lib is not None:
             _lib.moldtex_sim_release(self._handle)
+        self._handle = None
+
+    def __del__(self):
+        try:
+            self.release()
+        except Exception:
+            pass
+
+
+def _path_bytes(path):
+    """A file path as the bytes the core's const char* expects."""
+    if not path:
+        raise EngineError("The file path is empty.", ERROR_INVALID_ARGUMENT)
+    return os.fsencode(os.fspath(path))
+
+
+def frame_file_name(prefix, frame, image_format):
+    """The name a bake gives frame `frame`: <prefix><frame, 4 digits>.exr|png."""
+    return f"{prefix}{int(frame):04d}{IMAGE_EXTENSIONS[int(image_format)]}"
+
+
+def metrics_file_name(prefix):
+    return f"{prefix}metrics.csv"
+
+
+def checkpoint_file_name(prefix):
+    return f"{prefix}checkpoint.bin"
+
+
+class Bake:
+    """A native bake (moldtex_bake): frames first_frame..last_frame of a simulation
+    written into `directory` by the core's own thread.
+
+    It resets the simulation; frame f is the state after (f - first_frame + 1) *
+    steps_per_frame steps. Files: frame_file_name(prefix, f, format) for each frame,
+    metrics_file_name(prefix) (frame, step, coverage, presence) and, with
+    write_checkpoints, checkpoint_file_name(prefix) after every frame; resume=True
+    continues from that checkpoint with bit-identical frames. While it runs, every other
+    call on the simulation raises EngineError with status ERROR_BUSY.
+    progress() never blocks; wait() blocks (without holding Python's GIL).
+    """
+
+    def __init__(self, sim, directory, first_frame, last_frame, steps_per_frame,
+                 image_format=IMAGE_EXR_HALF, file_prefix="moldtex_", resume=False,
+                 write_checkpoints=True):
+        lib = _require()
+        self._handle = None
+        desc = BakeDesc()
+        lib.moldtex_bake_desc_init(ctypes.byref(desc))
+        # The core copies both strings before moldtex_bake_start returns; they are kept
+        # here anyway so that nothing points into freed memory.
+        self._directory = _path_bytes(directory)
+        self._prefix = os.fsencode(file_prefix)
+        desc.directory = self._directory
+        desc.file_prefix = self._prefix
+        desc.first_frame = int(first_frame)
+        desc.last_frame = int(last_frame)
+        desc.steps_per_frame = int(steps_per_frame)
+        desc.format = int(image_format)
+        desc.write_checkpoints = 1 if write_checkpoints else 0
+        desc.resume = 1 if resume else 0
+        handle = _Bake()
+        _check(lib.moldtex_bake_start(sim.handle, ctypes.byref(desc), ctypes.byref(handle)),
+               "Starting the bake")
+        self._handle = handle
+        self.directory = os.fsdecode(self._directory)
+        self.file_prefix = file_prefix
+        self.first_frame = desc.first_frame
+        self.last_frame = desc.last_frame
+        self.steps_per_frame = desc.steps_per_frame
+        self.image_format = desc.format
+        self.resume = bool(resume)
+
+    @property
+    def handle(self):
+        if self._handle is None:
+            raise EngineError("This bake was released.", ERROR_INVALID_ARGUMENT)
+        return self._handle
+
+    @property
+    def frame_count(self):
+        return self.last_frame - self.first_frame + 1
+
+    def frame_path(self, frame):
+        return os.path.join(self.directory,
+                            frame_file_name(self.file_prefix, frame, self.image_format))
+
+    def progress(self):
+        """dict: state (BAKE_*), first_frame, last_frame, last_frame_written, frames_done
+        (whole frames on disk, resumed ones included), step_count, coverage, presence
+        (of the last frame written) and message (why it failed)."""
+        p = BakeProgress()
+        _lib.moldtex_bake_progress_init(ctypes.byref(p))
+        _check(_lib.moldtex_bake_get_progress(self.handle, ctypes.byref(p)),
+               "Reading the bake's progress")
+        result = _struct_to_dict(p, BAKE_PROGRESS_FIELDS)
+        result["message"] = _decode(p.message)
+        return result
+
+    def running(self):
+        return self.progress()["state"] == BAKE_RUNNING
+
+    def cancel(self):
+        """Asks the bake to stop after the current step (no partial frame is left)."""
+        if self._handle is not None:
+            _lib.moldtex_bake_cancel(self._handle)
+
+    def wait(self):
+        """Blocks until the bake ends; raises EngineError if it failed (a cancelled
+        bake is not a failure: see progress()["state"])."""
+        _check(_lib.moldtex_bake_wait(self.handle), "The bake")
+
+    def release(self):
+        """Cancels and waits if still running, then frees the handle."""
+        if self._handle is not None and _lib is not None:
+            _lib.moldtex_bake_release(self._handle)
         self._handle = None
 
     def __del__(self):

@@ -44,8 +44,21 @@ class LiveSim:
         self.warning = ""         # same, but reported as a warning
         self.backend_name = ""    # moldtex_sim_get_backend_name of the running sim
         self.backend_note = ""    # why the sim does not run on the chosen backend
+        # Bake (bake.py): the core's bake worker owns self.sim while it runs.
+        self.bake = None          # engine.Bake while a bake runs, else None
+        self.bake_plan = None     # bake.BakePlan of the running or last bake
+        self.bake_progress = {}   # last engine.Bake.progress() (the panel shows it)
+        self.bake_cancel_requested = False  # the modal bake cancels on its next tick
+        self.bake_summary = ""    # one line about the last bake, for the panel
+
+    @property
+    def baking(self):
+        return self.bake is not None
 
     def release(self):
+        if self.bake is not None:
+            self.bake.release()  # cancels and waits for the current step
+        self.bake = None
         if self.sim is not None:
             self.sim.release()
         self.sim = None
@@ -198,13 +211,34 @@ def _build(entry, obj, mesh):
     entry.warning = note
 
 
+def bake_running_message(entry, what=""):
+    """Plain words for "the core refuses: a bake owns this simulation"."""
+    progress = entry.bake_progress or {}
+    where = ""
+    if progress:
+        total = progress["last_frame"] - progress["first_frame"] + 1
+        where = f" (frame {progress['frames_done']}/{total})"
+    start = f"{what}: a" if what else "A"
+    return (f"{start} bake is running on '{entry.name}'{where}: wait for it to finish, or "
+            f"cancel it (Esc, or Cancel Bake in the Moldtex panel).")
+
+
+def check_not_baking(obj, what=""):
+    """Raises engine.EngineError (ERROR_BUSY) if a bake runs on obj's simulation."""
+    entry = _registry.get(obj.name) if obj is not None else None
+    if entry is not None and entry.baking:
+        raise engine.EngineError(bake_running_message(entry, what), engine.ERROR_BUSY)
+
+
 def ensure(obj, depsgraph, rebuild=False):
     """The object's LiveSim with a simulation matching its current mesh.
 
     rebuild=True makes a fresh simulation from the current settings (Reset, or Start
     after a config change). A dirty entry is rebuilt only if its mesh really changed.
-    Raises MeshExportError or engine.EngineError with a message for the user.
+    Raises MeshExportError or engine.EngineError with a message for the user (status
+    ERROR_BUSY while a bake runs on the object's simulation).
     """
+    check_not_baking(obj)
     entry = _registry.get(obj.name)
     if entry is not None and entry.sim is not None and not rebuild and not entry.dirty:
         return entry
@@ -233,8 +267,8 @@ def ensure(obj, depsgraph, rebuild=False):
 def push_params(obj):
     """Sends the object's current parameters to its live simulation, if any."""
     entry = _registry.get(obj.name) if obj is not None else None
-    if entry is None or entry.sim is None:
-        return
+    if entry is None or entry.sim is None or entry.baking:
+        return  # a running bake keeps the parameters it started with
     entry.sim.set_params(params_from_settings(obj.moldtex))
 
 

@@ -5,6 +5,8 @@ UV Map ▸ Image Texture ▸ Color Ramp ▸ Principled BSDF Base Color. The user
 kept; our nodes are found again by name, so running it twice adds nothing.
 """
 
+import json
+
 import bpy
 
 UV_NODE = "Moldtex UV"
@@ -78,12 +80,8 @@ def setup_material(obj, image, uv_map_name):
     texture.image = image
     texture.interpolation = 'Linear'
     if ramp_created:
-        elements = ramp.color_ramp.elements
-        while len(elements) < len(DEFAULT_RAMP):
-            elements.new(0.5)
-        for element, (position, color) in zip(elements, DEFAULT_RAMP):
-            element.position = position
-            element.color = color
+        stops, interpolation = preset_ramp(obj)
+        set_ramp(ramp, stops or DEFAULT_RAMP, interpolation)
         x, y = principled.location.x, principled.location.y
         ramp.location = (x - 320.0, y)
         texture.location = (x - 640.0, y)
@@ -104,3 +102,62 @@ def sync_uv_map(obj, uv_map_name):
     node = material.node_tree.nodes.get(UV_NODE)
     if node is not None and node.uv_map != uv_map_name:
         node.uv_map = uv_map_name
+
+
+def set_ramp(ramp_node, stops, interpolation='LINEAR'):
+    """Replaces the elements of a ColorRamp node: stops = [(position, (r, g, b, a))]."""
+    stops = sorted(((float(p), tuple(float(c) for c in color)) for p, color in stops),
+                   key=lambda stop: stop[0])
+    if not stops:
+        raise ValueError("a colour ramp needs at least one stop")
+    color_ramp = ramp_node.color_ramp
+    elements = color_ramp.elements
+    while len(elements) > 1:  # a ramp keeps at least one element
+        elements.remove(elements[-1])
+    first_position, first_color = stops[0]
+    elements[0].position = first_position
+    elements[0].color = _rgba(first_color)
+    for position, color in stops[1:]:
+        element = elements.new(position)
+        element.color = _rgba(color)
+    color_ramp.interpolation = interpolation
+
+
+def _rgba(color):
+    return tuple(color) + (1.0,) * (4 - len(color)) if len(color) < 4 else tuple(color[:4])
+
+
+def store_preset_ramp(obj, stops, interpolation):
+    """Remembers a preset's ramp on the object, for a Set Up Material still to come."""
+    obj.moldtex.ramp_stops = json.dumps(
+        {"stops": [[float(p), list(_rgba(c))] for p, c in stops],
+         "interpolation": interpolation})
+
+
+def preset_ramp(obj):
+    """(stops, interpolation) remembered by store_preset_ramp, or (None, 'LINEAR')."""
+    text = obj.moldtex.ramp_stops
+    if not text:
+        return None, 'LINEAR'
+    try:
+        data = json.loads(text)
+        stops = [(float(p), tuple(float(c) for c in color)) for p, color in data["stops"]]
+        return stops or None, str(data.get("interpolation", 'LINEAR'))
+    except (ValueError, KeyError, TypeError):
+        return None, 'LINEAR'
+
+
+def moldtex_node(obj, name):
+    """One of our nodes (UV_NODE, TEXTURE_NODE, RAMP_NODE) in obj's active material."""
+    material = obj.active_material if obj is not None else None
+    if material is None or material.node_tree is None:
+        return None
+    return material.node_tree.nodes.get(name)
+
+
+def show_image(obj, image):
+    """Points an existing Moldtex Image Texture node at `image` (e.g. back at the live
+    pheromone after a baked sequence was shown)."""
+    node = moldtex_node(obj, TEXTURE_NODE)
+    if node is not None and node.image != image:
+        node.image = image

@@ -1,20 +1,23 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Start/Pause (modal), Step (synchronous), Reset and Set Up Material.
+"""Start/Pause (modal), Step (synchronous), Reset, Set Up Material, Bake (modal, or
+synchronous in background mode and from scripts) and Use Baked Sequence.
 
-All act on the active object. Problems with the user's object or the core (a
-MeshExportError or EngineError) are reported with self.report({'ERROR'}, ...) and the
-operator returns {'CANCELLED'}; the modal Start also stops cleanly on anything else.
+All act on the active object (Bake and Use Baked Sequence also take object_name).
+Problems with the user's object, settings or the core (a MeshExportError, BakeError or
+EngineError) are reported with self.report({'ERROR'}, ...) and the operator returns
+{'CANCELLED'}; the modal operators also stop cleanly on anything else.
 """
 
 import time
 
 import bpy
-from bpy.props import IntProperty
+from bpy.props import BoolProperty, IntProperty, StringProperty
 
-from . import engine, image_io, live, material
+from . import bake, engine, image_io, live, material
 from .mesh_export import MeshExportError, check_object, resolve_uv_map_name
+from .properties import BAKE_FORMAT_ITEMS
 
-USER_ERRORS = (MeshExportError, engine.EngineError)
+USER_ERRORS = (MeshExportError, bake.BakeError, engine.EngineError)
 
 _STEP_CHUNK = 25  # steps between two progress updates of a long Step
 _TIMER_INTERVAL = 1.0 / 30.0  # seconds between image updates while running
@@ -31,6 +34,7 @@ def _show(entry, obj):
     sim = entry.sim
     image = image_io.ensure_image(obj, sim.width, sim.height)
     image_io.upload(image, live.read_pixels(entry))
+    material.show_image(obj, image)  # back from a baked sequence to the live image
     return image
 
 
@@ -129,6 +133,9 @@ class MOLDTEX_OT_start(bpy.types.Operator):
         if entry is not None and entry.running:
             entry.stop_requested = True  # the running modal pauses on its next tick
             return {'FINISHED'}
+        if entry is not None and entry.baking:
+            self.report({'ERROR'}, live.bake_running_message(entry, "Cannot start"))
+            return {'CANCELLED'}
         if bpy.app.background or context.window is None:
             self.report({'ERROR'}, "Start needs Blender's interface (timers do not run "
                                    "in background mode): use moldtex.step instead.")
@@ -228,7 +235,7 @@ material's Base Color (keeps your nodes; safe to run again)"""
         else:
             width = height = int(settings.resolution)
         image = image_io.ensure_image(obj, width, height)
-        if entry is not None and entry.sim is not None:
+        if entry is not None and entry.sim is not None and not entry.baking:
             try:
                 image_io.upload(image, live.read_pixels(entry))
             except engine.EngineError as error:
@@ -237,7 +244,211 @@ material's Base Color (keeps your nodes; safe to run again)"""
         return {'FINISHED'}
 
 
-CLASSES = (MOLDTEX_OT_step, MOLDTEX_OT_reset, MOLDTEX_OT_start, MOLDTEX_OT_setup_material)
+def _named_or_active_object(context, name):
+    if name:
+        obj = bpy.data.objects.get(name)
+        if obj is None:
+            raise MeshExportError(f"There is no object named '{name}' in this file.")
+    else:
+        obj = context.active_object
+    check_object(obj)
+    return obj
+
+
+_FORMAT_NAMES = {identifier: label for identifier, label, _ in BAKE_FORMAT_ITEMS}
+
+
+class MOLDTEX_OT_bake(bpy.types.Operator):
+    """Bake the growth into an image sequence, one file per frame, from the current \
+settings (restarts the simulation as Reset does). Press again or Esc to cancel"""
+    bl_idname = "moldtex.bake"
+    bl_label = "Bake Sequence"
+    bl_options = {'REGISTER'}
+
+    object_name: StringProperty(
+        name="Object", default="", options={'SKIP_SAVE'},
+        description="Object to bake (empty = the active object)")
+    use_sequence: BoolProperty(
+        name="Play Back", default=True, options={'SKIP_SAVE'},
+        description="When the bake is done, show the baked sequence in the material")
+
+    _job = None
+    _timer = None
+    _window = None
+
+    # ---- synchronous: scripts (EXEC_DEFAULT), background mode, the command line ----
+    def execute(self, context):
+        try:
+            obj = _named_or_active_object(context, self.object_name)
+            plan = bake.plan_for(obj, context.scene)
+            job = bake.BakeJob(obj, context.evaluated_depsgraph_get(), plan)
+        except USER_ERRORS as error:
+            self.report({'ERROR'}, str(error))
+            return {'CANCELLED'}
+        print(f"Moldtex bake: '{obj.name}', {self._describe(plan)}")
+        try:
+            progress = bake.run_synchronously(job)
+        except USER_ERRORS as error:
+            self.report({'ERROR'}, str(error))
+            return {'CANCELLED'}
+        return self._done(obj.name, plan, progress)
+
+    # ---- modal: the Bake button ----
+    def invoke(self, context, event):
+        try:
+            obj = _named_or_active_object(context, self.object_name)
+        except USER_ERRORS as error:
+            self.report({'ERROR'}, str(error))
+            return {'CANCELLED'}
+        entry = live.get(obj.name)
+        if entry is not None and entry.baking:
+            entry.bake_cancel_requested = True  # the running modal cancels on its tick
+            return {'FINISHED'}
+        if bpy.app.background or context.window is None:
+            return self.execute(context)
+        try:
+            plan = bake.plan_for(obj, context.scene)
+            self._job = bake.BakeJob(obj, context.evaluated_depsgraph_get(), plan)
+        except USER_ERRORS as error:
+            self.report({'ERROR'}, str(error))
+            return {'CANCELLED'}
+        window_manager = context.window_manager
+        window_manager.progress_begin(0, max(1, plan.frame_count))
+        self._window = context.window
+        self._timer = window_manager.event_timer_add(0.1, window=context.window)
+        window_manager.modal_handler_add(self)
+        self._show_progress(context, self._job.progress)
+        return {'RUNNING_MODAL'}
+
+    def modal(self, context, event):
+        job = self._job
+        if job is None:
+            return {'CANCELLED'}
+        if event.type == 'ESC' and event.value == 'PRESS':
+            job.cancel()
+            return self._end(context)
+        if event.type != 'TIMER':
+            return {'PASS_THROUGH'}
+        try:
+            if job.cancel_requested:
+                job.cancel()
+                return self._end(context)
+            progress = job.poll()
+        except USER_ERRORS as error:
+            self.report({'ERROR'}, str(error))
+            self._cleanup(context)
+            return {'CANCELLED'}
+        self._show_progress(context, progress)
+        if progress["state"] != engine.BAKE_RUNNING:
+            return self._end(context)
+        return {'PASS_THROUGH'}
+
+    def cancel(self, context):
+        # Blender ends the modal (another file is loaded, Blender quits): stop the bake.
+        if self._job is not None:
+            self._job.cancel()
+            try:
+                self._job.finish()
+            except USER_ERRORS:
+                pass
+        self._cleanup(context)
+
+    def _end(self, context):
+        job = self._job
+        try:
+            progress = job.finish()
+        except USER_ERRORS as error:
+            self.report({'ERROR'}, str(error))
+            self._cleanup(context)
+            return {'CANCELLED'}
+        self._cleanup(context)
+        return self._done(job.name, job.plan, progress)
+
+    def _done(self, name, plan, progress):
+        entry = live.get(name)
+        summary = entry.bake_summary if entry is not None else ""
+        if progress["state"] == engine.BAKE_CANCELLED:
+            self.report({'WARNING'}, summary or "Bake cancelled.")
+            return {'CANCELLED'}
+        obj = bpy.data.objects.get(name)
+        if self.use_sequence and obj is not None:
+            try:
+                bake.use_sequence(obj, plan)
+            except (bake.BakeError, RuntimeError) as error:
+                self.report({'WARNING'}, f"Baked, but the sequence could not be shown: "
+                                         f"{error}")
+                return {'FINISHED'}
+        self.report({'INFO'}, summary)
+        return {'FINISHED'}
+
+    @staticmethod
+    def _describe(plan):
+        return (f"frames {plan.first_frame}–{plan.last_frame}, {plan.steps_per_frame} "
+                f"steps per frame, {_FORMAT_NAMES.get(plan.format_id, plan.format_id)}"
+                f"{', resuming' if plan.resume else ''} into {plan.directory}")
+
+    def _show_progress(self, context, progress):
+        window_manager = context.window_manager
+        window_manager.progress_update(progress["frames_done"])
+        text = f"Moldtex bake: {bake.progress_line(progress)} — Esc to cancel"
+        try:
+            if context.workspace is not None:
+                context.workspace.status_text_set(text)
+            if context.area is not None:
+                context.area.header_text_set(text)
+        except (AttributeError, RuntimeError):
+            pass
+        _tag_redraw(context)
+
+    def _cleanup(self, context):
+        window_manager = context.window_manager
+        if self._timer is not None:
+            window_manager.event_timer_remove(self._timer)
+            self._timer = None
+            window_manager.progress_end()
+        try:
+            if context.workspace is not None:
+                context.workspace.status_text_set(None)
+            if context.area is not None:
+                context.area.header_text_set(None)
+        except (AttributeError, RuntimeError):
+            pass
+        self._job = None
+        _tag_redraw(context)
+
+
+class MOLDTEX_OT_use_baked_sequence(bpy.types.Operator):
+    """Show the baked image sequence in the material: scene frame f shows baked frame \
+f (uses the Bake settings to find the files)"""
+    bl_idname = "moldtex.use_baked_sequence"
+    bl_label = "Use Baked Sequence"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    object_name: StringProperty(
+        name="Object", default="", options={'SKIP_SAVE'},
+        description="Object whose bake to show (empty = the active object)")
+
+    def execute(self, context):
+        try:
+            obj = _named_or_active_object(context, self.object_name)
+            plan = bake.plan_for(obj, context.scene)
+            image, count = bake.use_sequence(obj, plan)
+        except USER_ERRORS as error:
+            self.report({'ERROR'}, str(error))
+            return {'CANCELLED'}
+        last = plan.first_frame + count - 1
+        if count < plan.frame_count:
+            self.report({'WARNING'}, f"Only frames {plan.first_frame}–{last} of "
+                                     f"{plan.first_frame}–{plan.last_frame} are baked; "
+                                     f"later frames show frame {last}.")
+        else:
+            self.report({'INFO'}, f"'{image.name}' plays frames {plan.first_frame}–{last}.")
+        _tag_redraw(context)
+        return {'FINISHED'}
+
+
+CLASSES = (MOLDTEX_OT_step, MOLDTEX_OT_reset, MOLDTEX_OT_start, MOLDTEX_OT_setup_material,
+           MOLDTEX_OT_bake, MOLDTEX_OT_use_baked_sequence)
 
 
 def register():

@@ -2,7 +2,8 @@
 """Per-object settings (bpy.types.Object.moldtex), saved in the .blend.
 
 Parameters (speeds, vision, evaporation, ...) go to a running simulation at once
-through their update callbacks. Config settings (resolution, agent count, seed, UV map,
+through their update callbacks (not while a bake runs: the bake keeps the parameters it
+started with). Config settings (resolution, agent count, seed, UV map,
 backend) shape the simulation itself and take effect on Reset or Start.
 
 The Backend chooser lists this machine's OpenCL devices, which differ between machines,
@@ -13,20 +14,32 @@ showing an invalid enum value.
 """
 
 import bpy
-from bpy.props import (EnumProperty, FloatProperty, IntProperty, PointerProperty,
-                       StringProperty)
+from bpy.props import (BoolProperty, EnumProperty, FloatProperty, IntProperty,
+                       PointerProperty, StringProperty)
 
 from . import engine, live
 
 _RESET_NOTE = " Takes effect on Reset (or Start)"
 
+# Bake file formats: identifier -> engine.IMAGE_* (bake.py maps them).
+BAKE_FORMAT_ITEMS = [
+    ("EXR_HALF", "OpenEXR Half", "16-bit float OpenEXR, one channel (small, plenty for a "
+                                 "texture: 11 significant bits)"),
+    ("EXR_FLOAT", "OpenEXR Float", "32-bit float OpenEXR, one channel: the exact pheromone"),
+    ("PNG8", "PNG 8-bit", "8-bit greyscale PNG (smallest; 256 levels)"),
+    ("PNG16", "PNG 16-bit", "16-bit greyscale PNG"),
+]
+
+# The numbers are what a .blend stores: keep them when adding sizes (128 came last).
 RESOLUTION_ITEMS = [
-    ("256", "256 × 256", "Pheromone texture of 256 × 256 texels"),
-    ("512", "512 × 512", "Pheromone texture of 512 × 512 texels"),
-    ("1024", "1024 × 1024", "Pheromone texture of 1024 × 1024 texels"),
-    ("2048", "2048 × 2048", "Pheromone texture of 2048 × 2048 texels"),
-    ("4096", "4096 × 4096", "Pheromone texture of 4096 × 4096 texels"),
-    ("8192", "8192 × 8192", "Pheromone texture of 8192 × 8192 texels (uses much memory)"),
+    ("128", "128 × 128", "Pheromone texture of 128 × 128 texels (quick previews)", 6),
+    ("256", "256 × 256", "Pheromone texture of 256 × 256 texels", 0),
+    ("512", "512 × 512", "Pheromone texture of 512 × 512 texels", 1),
+    ("1024", "1024 × 1024", "Pheromone texture of 1024 × 1024 texels", 2),
+    ("2048", "2048 × 2048", "Pheromone texture of 2048 × 2048 texels", 3),
+    ("4096", "4096 × 4096", "Pheromone texture of 4096 × 4096 texels", 4),
+    ("8192", "8192 × 8192", "Pheromone texture of 8192 × 8192 texels (uses much memory)",
+     5),
 ]
 
 
@@ -226,6 +239,56 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         name="Image", type=bpy.types.Image,
         description="Image that receives the pheromone (made by Set Up Material or the "
                     "first step)")
+    # Colour ramp of the last preset (JSON: [[position, [r, g, b, a]], ...] and the
+    # interpolation), used when Set Up Material creates the ramp later.
+    ramp_stops: StringProperty(
+        name="Preset Ramp", default="", options={'HIDDEN'},
+        description="Colour ramp stops of the last preset, for Set Up Material")
+    # ---- bake (image sequence, bake.py) ----
+    bake_use_scene_range: BoolProperty(
+        name="Scene Frame Range", default=True,
+        description="Bake the scene's frame range (Output Properties ▸ Frame Range); off: "
+                    "bake from Start to End below")
+    bake_frame_start: IntProperty(
+        name="Start", default=1, min=0, max=999999,
+        description="First frame to bake when not using the scene's frame range")
+    bake_frame_end: IntProperty(
+        name="End", default=250, min=0, max=999999,
+        description="Last frame to bake when not using the scene's frame range")
+    bake_steps_per_frame: IntProperty(
+        name="Steps per Frame", default=2, min=1, max=100000, soft_max=60,
+        description="Simulation steps between two frames (60 steps = 1 s of the paper's "
+                    "clock). Frame f shows the mold after (f - start + 1) × this many steps")
+    bake_directory: StringProperty(
+        name="Output Folder", default="//moldtex_bake/", subtype='DIR_PATH',
+        description="Folder for the frames, metrics.csv and the checkpoint (// = next to "
+                    "the .blend file); created if missing")
+    bake_format: EnumProperty(
+        name="Format", items=BAKE_FORMAT_ITEMS, default="EXR_HALF",
+        description="File format of the baked frames")
+    bake_prefix: StringProperty(
+        name="File Prefix", default="",
+        description="Start of every file name, e.g. 'rock_' gives rock_0001.exr (empty = "
+                    "the object's name and '_'). Characters other than letters, digits, "
+                    "'.', '-' and '_' become '_'")
+    bake_resume: BoolProperty(
+        name="Resume", default=False,
+        description="Continue an interrupted bake from its checkpoint (same mesh, "
+                    "settings, frame range and steps per frame) instead of starting over; "
+                    "the frames equal those of an uninterrupted bake")
+
+    # ---- helpers for preset files (presets.py); methods, so that a preset needs no
+    # import of this add-on (its module name differs between installs) ----
+    def scaled_agent_count(self, agents_at_512):
+        """Agent count giving the density `agents_at_512` agents have on 512 × 512
+        texels, at this object's resolution."""
+        from . import presets
+        return presets.scaled_agent_count(agents_at_512, int(self.resolution))
+
+    def apply_ramp(self, stops, interpolation='LINEAR'):
+        """Sets the Moldtex colour ramp: stops = [(position, (r, g, b, a)), ...]."""
+        from . import presets
+        presets.apply_ramp(self.id_data, stops, interpolation)
 
 
 CLASSES = (MoldtexSettings,)

@@ -6,7 +6,7 @@ import textwrap
 
 import bpy
 
-from . import engine, live
+from . import bake, engine, live, presets
 
 
 # Characters a line of the sidebar shows at its default width next to an icon (seen in
@@ -49,6 +49,12 @@ class MOLDTEX_PT_main(bpy.types.Panel):
         entry = live.get(obj.name)
 
         layout.label(text=obj.name, icon='OBJECT_DATA')
+        row = layout.row(align=True)
+        row.menu(presets.MENU_IDNAME, text=presets.MOLDTEX_MT_presets.bl_label,
+                 icon='PRESET')
+        row.operator("moldtex.preset_add", text="", icon='ADD')
+        props = row.operator("moldtex.preset_add", text="", icon='REMOVE')
+        props.remove_active = True
         if len(obj.data.uv_layers) == 0:
             _wrapped(layout.box(), "No UV map: add one (UV ▸ Smart UV Project in Edit "
                                    "Mode).", icon='ERROR')
@@ -72,6 +78,9 @@ class MOLDTEX_PT_main(bpy.types.Panel):
                              "Reset (or Start) to apply.", icon='INFO')
         if entry is not None and entry.notice:
             _wrapped(layout, entry.notice, icon='INFO')
+        if entry is not None and entry.baking:
+            _wrapped(layout, "Baking: " + _bake_progress_text(entry.bake_progress) +
+                     " (the live simulation waits)", icon='RENDER_ANIMATION')
 
         box = layout.box()
         stats = entry.stats if entry is not None and entry.sim is not None else None
@@ -165,7 +174,69 @@ class MOLDTEX_PT_setup(_SubPanel, bpy.types.Panel):
         layout.prop(settings, "image")
 
 
-CLASSES = (MOLDTEX_PT_main, MOLDTEX_PT_agents, MOLDTEX_PT_pheromone, MOLDTEX_PT_setup)
+def _bake_progress_text(progress):
+    if not progress:
+        return "starting"
+    text = bake.progress_line(progress)
+    if progress["frames_done"]:
+        text = (f"{text.split(' (')[0]}, coverage {100.0 * progress['coverage']:.1f} %, "
+                f"presence {100.0 * progress['presence']:.1f} %")
+    return text
+
+
+class MOLDTEX_PT_bake(_SubPanel, bpy.types.Panel):
+    bl_label = "Bake Sequence"
+    bl_idname = "MOLDTEX_PT_bake"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        obj = context.active_object
+        settings = obj.moldtex
+        entry = live.get(obj.name)
+        baking = entry is not None and entry.baking
+        layout = self.layout
+
+        column = layout.column(align=True)
+        column.use_property_split = True
+        column.enabled = not baking
+        column.prop(settings, "bake_use_scene_range")
+        if not settings.bake_use_scene_range:
+            column.prop(settings, "bake_frame_start")
+            column.prop(settings, "bake_frame_end")
+        column.prop(settings, "bake_steps_per_frame")
+        column.prop(settings, "bake_directory")
+        column.prop(settings, "bake_format")
+        column.prop(settings, "bake_prefix")
+        column.prop(settings, "bake_resume")
+        scene = getattr(context, "scene", None)
+        if scene is not None:
+            try:
+                plan = bake.plan_for(obj, scene)
+                _wrapped(layout, f"{plan.frame_count} frames: {plan.describe_files()}",
+                         icon='FILE_IMAGE')
+            except bake.BakeError as error:
+                _wrapped(layout, str(error), icon='ERROR')
+
+        column = layout.column(align=True)
+        row = column.row(align=True)
+        row.scale_y = 1.4
+        if baking:
+            row.operator("moldtex.bake", text="Cancel Bake", icon='CANCEL')
+        else:
+            row.operator("moldtex.bake", text="Bake Sequence", icon='RENDER_ANIMATION')
+        column.operator("moldtex.use_baked_sequence", icon='SEQUENCE')
+
+        if entry is None:
+            return
+        if baking:
+            _wrapped(layout, "Baking: " + _bake_progress_text(entry.bake_progress) +
+                     ". Esc cancels.", icon='TIME')
+        elif entry.bake_summary:
+            _wrapped(layout, entry.bake_summary, icon='INFO')
+
+
+CLASSES = (MOLDTEX_PT_main, MOLDTEX_PT_agents, MOLDTEX_PT_pheromone, MOLDTEX_PT_setup,
+           MOLDTEX_PT_bake)
 
 
 def register():

@@ -1,0 +1,223 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Looks (presets): parameter sets plus a colour ramp, in Blender's preset format.
+
+A preset is a .py file that Blender's script.execute_preset runs with the object to
+change as context.object:
+
+    import bpy
+    obj = bpy.context.object
+    s = obj.moldtex
+    s.movement_speed = 1.0
+    ...
+    s.agent_count = s.scaled_agent_count(60000)  # 60 000 agents on 512 x 512 texels
+    s.apply_ramp([(0.0, (0.9, 0.9, 0.85, 1.0)), (1.0, (0.3, 0.3, 0.32, 1.0))])
+
+scaled_agent_count and apply_ramp are methods of the settings (properties.py), so a
+preset never imports this add-on, whose module name differs between installs
+("moldtex" as a legacy add-on, "bl_ext.<repository>.moldtex" as a 4.2 extension).
+
+Where presets are found (the same on Blender 3.4 and 4.2+):
+  - the presets shipped with the add-on: <add-on>/presets/*.py (staged there from the
+    repository's presets/ folder; in a source checkout addon/moldtex/../../presets);
+  - the user's own: Blender's preset folders for "moldtex"
+    (bpy.utils.preset_paths("moldtex"), e.g. ~/.config/blender/<version>/scripts/
+    presets/moldtex/), where moldtex.preset_add saves them.
+MOLDTEX_MT_presets lists both (its draw passes both folders to Menu.path_menu), so
+nothing is copied into the user's folders and the shipped presets are updated with
+the add-on. bpy.utils.register_preset_path would do this on 4.2+ only.
+"""
+
+import os
+
+import bpy
+from bl_operators.presets import AddPresetBase
+
+from . import engine, material
+
+SUBDIR = "moldtex"
+MENU_IDNAME = "MOLDTEX_MT_presets"
+REFERENCE_RESOLUTION = 512  # agent counts in presets are for 512 x 512 texels
+MAX_AGENTS = 67108864
+
+# Settings a preset sets (besides the agent count and the ramp).
+PRESET_PROPERTIES = ("movement_speed", "turn_speed", "vision_distance", "vision_angle",
+                     "evaporation_rate", "diffusion_rate", "deposit", "substeps")
+
+
+def shipped_directory():
+    """The folder of the presets that come with the add-on, or "" if missing."""
+    for candidate in (os.path.join(engine.ADDON_DIR, "presets"),
+                      os.path.join(engine.ADDON_DIR, os.pardir, os.pardir, "presets")):
+        if os.path.isdir(candidate):
+            return os.path.normpath(candidate)
+    return ""
+
+
+def user_directories():
+    """Blender's preset folders for Moldtex that exist (the user's saved presets)."""
+    shipped = shipped_directory()
+    found = []
+    for path in bpy.utils.preset_paths(SUBDIR):
+        path = os.path.normpath(path)
+        if path != shipped and path not in found:
+            found.append(path)
+    return found
+
+
+def search_directories():
+    shipped = shipped_directory()
+    return ([shipped] if shipped else []) + user_directories()
+
+
+def _is_preset_file(name):
+    return name.endswith(".py") and not name.startswith((".", "_"))
+
+
+def available():
+    """{name: path} of every preset, shipped first; a user's preset of the same name
+    comes later and wins."""
+    presets = {}
+    for directory in search_directories():
+        try:
+            names = sorted(os.listdir(directory))
+        except OSError:
+            continue
+        for name in names:
+            if _is_preset_file(name):
+                presets[name[:-3]] = os.path.join(directory, name)
+    return presets
+
+
+def find(name):
+    """Path of the preset called `name` ("marble", "Wood Grain", or a .py path)."""
+    if name.endswith(".py") and os.path.isfile(name):
+        return os.path.abspath(name)
+    presets = available()
+    if name in presets:
+        return presets[name]
+    wanted = bpy.path.display_name_to_filepath(name.strip()).replace(" ", "_").lower()
+    for key, path in presets.items():
+        if key.lower() == wanted:
+            return path
+    return ""
+
+
+def scaled_agent_count(agents_at_512, resolution):
+    """The agent count with the density of `agents_at_512` agents on 512² texels."""
+    count = round(float(agents_at_512) * (int(resolution) / REFERENCE_RESOLUTION) ** 2)
+    return max(1, min(MAX_AGENTS, int(count)))
+
+
+def apply_ramp(obj, stops, interpolation='LINEAR'):
+    """Sets the Moldtex Ramp node of obj's material to `stops` ([(position, (r, g, b,
+    a)), ...]) if it exists, and remembers them so that a later Set Up Material (or a
+    bake's playback setup) uses them too."""
+    material.store_preset_ramp(obj, stops, interpolation)
+    node = material.moldtex_node(obj, material.RAMP_NODE)
+    if node is not None:
+        material.set_ramp(node, stops, interpolation)
+
+
+def current_ramp(obj):
+    """(stops, interpolation) of obj's Moldtex Ramp node, else the remembered ones."""
+    node = material.moldtex_node(obj, material.RAMP_NODE)
+    if node is not None:
+        ramp = node.color_ramp
+        return ([(element.position, tuple(element.color)) for element in ramp.elements],
+                ramp.interpolation)
+    return material.preset_ramp(obj)
+
+
+def preset_text(obj, title=""):
+    """The preset file for obj's current look, in the shipped presets' format."""
+    settings = obj.moldtex
+    lines = [f"# Moldtex preset{': ' + title if title else ''}", "import bpy",
+             "obj = bpy.context.object", "s = obj.moldtex"]
+    for name in PRESET_PROPERTIES:
+        value = getattr(settings, name)
+        lines.append(f"s.{name} = {round(value, 6) if isinstance(value, float) else value!r}")
+    resolution = int(settings.resolution)
+    at_512 = round(settings.agent_count * (REFERENCE_RESOLUTION / resolution) ** 2)
+    lines.append(f"s.agent_count = s.scaled_agent_count({max(1, at_512)})  "
+                 f"# agents on {REFERENCE_RESOLUTION} x {REFERENCE_RESOLUTION} texels")
+    stops, interpolation = current_ramp(obj)
+    if stops:
+        lines.append("s.apply_ramp([")
+        for position, color in stops:
+            rgba = ", ".join(f"{c:.4f}" for c in color)
+            lines.append(f"    ({position:.4f}, ({rgba})),")
+        lines.append(f"], interpolation={interpolation!r})")
+    return "\n".join(lines) + "\n"
+
+
+class MOLDTEX_MT_presets(bpy.types.Menu):
+    """Looks: parameters and colour ramp (shipped presets, then your own)"""
+    bl_label = "Presets"
+    bl_idname = MENU_IDNAME
+    preset_subdir = SUBDIR
+    preset_operator = "script.execute_preset"
+    preset_add_operator = "moldtex.preset_add"
+
+    def draw(self, context):
+        layout = self.layout
+
+        def display_name(path):
+            return bpy.path.display_name(os.path.basename(path))
+
+        def is_py(extension):
+            return extension.lower() == ".py"
+
+        shipped = shipped_directory()
+        if shipped:
+            self.path_menu([shipped], self.preset_operator, filter_ext=is_py,
+                           display_name=display_name)
+        users = user_directories()
+        if users:
+            layout.separator()
+            # With add_operator: a remove button on each (own) preset, then a name
+            # field and an add button.
+            self.path_menu(users, self.preset_operator, filter_ext=is_py,
+                           display_name=display_name, add_operator=self.preset_add_operator)
+        else:
+            layout.separator()
+            row = layout.row()
+            window_manager = context.window_manager
+            row.prop(window_manager, "preset_name", text="")
+            props = row.operator(self.preset_add_operator, text="", icon='ADD')
+            props.name = window_manager.preset_name
+
+
+class MOLDTEX_OT_preset_add(AddPresetBase, bpy.types.Operator):
+    """Save the active object's look (parameters, agent density and colour ramp) as a \
+preset, or remove one of your presets"""
+    bl_idname = "moldtex.preset_add"
+    bl_label = "Add Moldtex Preset"
+    preset_menu = MENU_IDNAME
+    preset_subdir = SUBDIR
+    preset_defines = ["obj = bpy.context.object", "s = obj.moldtex"]
+    preset_values = [f"s.{name}" for name in PRESET_PROPERTIES] + ["s.agent_count"]
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.object
+        return obj is not None and obj.type == 'MESH'
+
+    def add(self, context, filepath):
+        # Our own writer, so a saved preset also keeps the colour ramp and scales the
+        # agent count with the resolution like the shipped ones.
+        print(f"Writing Moldtex preset: {filepath!r}")
+        with open(filepath, "w", encoding="utf-8") as file:
+            file.write(preset_text(context.object, self.name.strip()))
+
+
+CLASSES = (MOLDTEX_MT_presets, MOLDTEX_OT_preset_add)
+
+
+def register():
+    for cls in CLASSES:
+        bpy.utils.register_class(cls)
+
+
+def unregister():
+    for cls in reversed(CLASSES):
+        bpy.utils.unregister_class(cls)

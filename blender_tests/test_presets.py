@@ -1,0 +1,179 @@
+"""Looks (presets): every shipped preset loads through the preset menu's execute path,
+grows on a torus with the coverage its look needs, and sets the colour ramp; the menu
+lists shipped and own presets; saving and removing an own preset works."""
+
+import os
+import types
+import unittest
+
+import bpy
+
+import helpers as h
+from test_ui import RecordingLayout
+
+RESOLUTION = "128"  # agents scale with it: the presets' 512² counts / 16
+STEPS = 200
+SHIPPED = ("marble", "wood_grain", "golden_web", "lava_rivers", "moss", "metal_scratches")
+
+# Coverage (Eq. 1) after 200 steps on the torus at 128², measured over seeds 0..7
+# (the test uses seed 7): golden_web 0.27-0.43, lava_rivers 0.36-0.43, marble
+# 0.63-0.69, metal_scratches 0.52-0.57, moss 0.43-0.47, wood_grain 0.73-0.81. The bands
+# add about 0.11 on either side; what each look needs: thin networks with dark cells
+# between them (web, lava, moss: well below half); marble's soft, diffused veins cover
+# more; wood's banded ramp needs pheromone almost everywhere (the highest); scratches
+# are sparse lines that still reach across the surface (not empty, not full).
+BANDS = {
+    "golden_web": (0.16, 0.54),
+    "lava_rivers": (0.25, 0.54),
+    "marble": (0.52, 0.80),
+    "metal_scratches": (0.41, 0.68),
+    "moss": (0.32, 0.58),
+    "wood_grain": (0.62, 0.92),
+}
+
+
+def presets_module():
+    from moldtex import presets
+    return presets
+
+
+def execute_preset(path):
+    # What clicking an entry of MOLDTEX_MT_presets runs.
+    return bpy.ops.script.execute_preset(filepath=path, menu_idname="MOLDTEX_MT_presets")
+
+
+def ramp_of(obj):
+    ramp = obj.active_material.node_tree.nodes["Moldtex Ramp"].color_ramp
+    return [(round(e.position, 4), tuple(round(c, 4) for c in e.color))
+            for e in ramp.elements], ramp.interpolation
+
+
+class ShippedPresetTests(unittest.TestCase):
+    def setUp(self):
+        h.clear_scene()
+
+    def test_all_six_looks_are_shipped(self):
+        available = presets_module().available()
+        for name in SHIPPED:
+            self.assertIn(name, available)
+            self.assertEqual(os.path.dirname(available[name]),
+                             presets_module().shipped_directory())
+
+    def test_every_preset_grows_its_look_on_a_torus(self):
+        presets = presets_module()
+        results = {}
+        for name in SHIPPED:
+            h.clear_scene()
+            obj = h.add_primitive("torus")
+            h.configure(obj, resolution=RESOLUTION, agents=1, seed=7)
+            self.assertEqual(bpy.ops.moldtex.setup_material(), {'FINISHED'})
+            before = ramp_of(obj)
+            self.assertEqual(execute_preset(presets.find(name)), {'FINISHED'})
+            self.assertEqual(bpy.types.MOLDTEX_MT_presets.bl_label,
+                             bpy.path.display_name(name, title_case=False))
+            settings = obj.moldtex
+            self.assertGreater(settings.agent_count, 100, name)  # scaled from 512²
+            self.assertNotEqual(ramp_of(obj), before, f"{name} kept the default ramp")
+            stops, _ = ramp_of(obj)
+            self.assertGreaterEqual(len(stops), 4, name)
+            h.run(obj, STEPS)
+            coverage = h.live().get(obj.name).stats["coverage"]
+            results[name] = coverage
+            low, high = BANDS[name]
+            self.assertGreater(coverage, low, f"{name}: too little pheromone")
+            self.assertLess(coverage, high, f"{name}: too much pheromone")
+        print("  preset coverage:", ", ".join(f"{k} {v:.3f}" for k, v in results.items()))
+
+    def test_agent_count_scales_with_resolution(self):
+        obj = h.add_primitive("torus")
+        for resolution, expected in (("128", 3750), ("512", 60000), ("1024", 240000)):
+            obj.moldtex.resolution = resolution
+            self.assertEqual(execute_preset(presets_module().find("marble")), {'FINISHED'})
+            self.assertEqual(obj.moldtex.agent_count, expected)
+
+    def test_preset_before_the_material_still_sets_the_ramp(self):
+        obj = h.add_primitive("torus")
+        h.configure(obj, resolution=RESOLUTION, agents=1000)
+        self.assertEqual(execute_preset(presets_module().find("lava_rivers")), {'FINISHED'})
+        self.assertIsNone(obj.active_material)  # nothing to change yet: remembered
+        self.assertEqual(bpy.ops.moldtex.setup_material(), {'FINISHED'})
+        from moldtex import material
+        remembered, interpolation = material.preset_ramp(obj)
+        self.assertEqual(len(remembered), 6)  # lava_rivers.py has six stops
+        self.assertEqual(ramp_of(obj), ([(round(p, 4), tuple(round(c, 4) for c in color))
+                                         for p, color in remembered], interpolation))
+
+    def test_broken_preset_is_reported(self):
+        path = os.path.join(bpy.app.tempdir or "/tmp", "moldtex_broken_preset.py")
+        with open(path, "w") as file:
+            file.write("import bpy\nbpy.context.object.moldtex.movement_speed = 'fast'\n")
+        h.add_primitive("torus")
+        try:
+            with self.assertRaises(RuntimeError) as caught:
+                execute_preset(path)
+            self.assertIn("Failed to execute the preset", str(caught.exception))
+        finally:
+            os.remove(path)
+
+
+class PresetMenuTests(unittest.TestCase):
+    def setUp(self):
+        h.clear_scene()
+
+    def draw_menu(self):
+        log = []
+        menu = bpy.types.MOLDTEX_MT_presets
+        fake = types.SimpleNamespace(layout=RecordingLayout(self, log),
+                                     bl_idname=menu.bl_idname,
+                                     preset_operator=menu.preset_operator,
+                                     preset_add_operator=menu.preset_add_operator)
+        fake.path_menu = types.MethodType(bpy.types.Menu.path_menu, fake)
+        menu.draw(fake, bpy.context)
+        return [text for kind, text in log if kind == "operator"]
+
+    def test_menu_lists_shipped_and_own_presets_and_saves_removes(self):
+        obj = h.add_primitive("torus")
+        h.configure(obj, resolution=RESOLUTION, agents=2000, turn_speed=27.5)
+        self.assertEqual(bpy.ops.moldtex.setup_material(), {'FINISHED'})
+        entries = self.draw_menu()
+        for label in ("Marble", "Wood Grain", "Golden Web", "Lava Rivers", "Moss",
+                      "Metal Scratches"):
+            self.assertIn(label, entries)
+        self.assertIn("moldtex.preset_add", entries)  # the name field's add button
+
+        # Save an own preset (into Blender's user presets folder), then remove it.
+        name = "Moldtex Test Look 1234"
+        user_root = bpy.utils.user_resource('SCRIPTS', path=os.path.join("presets",
+                                                                        "moldtex"))
+        # Leave the user's folders as they were: remove what saving created.
+        created = []
+        folder = user_root
+        while not os.path.isdir(folder):
+            created.append(folder)
+            folder = os.path.dirname(folder)
+        path = os.path.join(user_root, "Moldtex_Test_Look_1234.py")
+        try:
+            self.assertEqual(bpy.ops.moldtex.preset_add(name=name), {'FINISHED'})
+            self.assertTrue(os.path.isfile(path), path)
+            with open(path, encoding="utf-8") as file:
+                text = file.read()
+            self.assertIn("s.turn_speed = 27.5", text)
+            self.assertIn("s.agent_count = s.scaled_agent_count(32000)", text)  # 2000 at 128²
+            self.assertIn("s.apply_ramp([", text)
+            self.assertIn("Moldtex Test Look 1234", self.draw_menu())
+            obj.moldtex.turn_speed = 11.0
+            self.assertEqual(execute_preset(path), {'FINISHED'})
+            self.assertAlmostEqual(obj.moldtex.turn_speed, 27.5)
+            self.assertEqual(bpy.ops.moldtex.preset_add(name=name, remove_name=True),
+                             {'FINISHED'})
+            self.assertFalse(os.path.exists(path))
+        finally:
+            if os.path.exists(path):
+                os.remove(path)
+            for folder in created:  # deepest first
+                if os.path.isdir(folder) and not os.listdir(folder):
+                    os.rmdir(folder)
+
+
+if __name__ == "__main__":
+    unittest.main()
