@@ -230,9 +230,11 @@ typedef struct moldtex_species_params {
  * +1 to its own trail and -1 to every other species' (the paper's competing species). */
 MOLDTEX_API void moldtex_species_params_init(moldtex_species_params* params, uint32_t species);
 
-/* Creates a simulation on the surface's UV layout and spawns agents uniformly by area
- * with headings over the full circle. The simulation holds its own reference to the
- * surface. */
+/* Creates a simulation on the surface's UV layout, takes config->fields_rgba if given,
+ * and spawns agents as config->seed_shape says (by default uniformly by area with
+ * headings over the full circle). Every species starts with `params`' behaviour and the
+ * default attractions (moldtex_species_params_init). The simulation holds its own
+ * reference to the surface. */
 MOLDTEX_API moldtex_status moldtex_sim_create(moldtex_surface surface,
                                               const moldtex_sim_config* config,
                                               const moldtex_sim_params* params,
@@ -275,7 +277,8 @@ MOLDTEX_API moldtex_status moldtex_sim_get_config(moldtex_sim sim, moldtex_sim_c
 MOLDTEX_API moldtex_status moldtex_sim_get_backend_name(moldtex_sim sim, char* buffer,
                                                         size_t capacity);
 
-/* Clears the pheromone and respawns the agents from the config's seed. */
+/* Clears the pheromone and respawns the agents from the config's seed and seed shape
+ * (a spawn map from the current fields). Fields and species parameters are kept. */
 MOLDTEX_API moldtex_status moldtex_sim_reset(moldtex_sim sim);
 /* Advances `steps` steps (sense, turn, move, deposit, blur, evaporate). */
 MOLDTEX_API moldtex_status moldtex_sim_step(moldtex_sim sim, uint32_t steps);
@@ -330,14 +333,16 @@ typedef enum moldtex_image_format {
 } moldtex_image_format;
 
 /* Writes the current pheromone to `path` through OpenImageIO: one channel per species
- * (a single species is one luminance channel "Y"), top row first as image files store
- * it. The file is written as `path`.partial and renamed when complete, so `path` either
+ * (a single species is one luminance channel "Y"; 2 to 4 species are channels "R", "G",
+ * "B", "A" in species order), top row first as image files store it. The file is written as `path`.partial and renamed when complete, so `path` either
  * does not exist or is whole. */
 MOLDTEX_API moldtex_status moldtex_sim_write_image(moldtex_sim sim, const char* path,
                                                    uint32_t format);
 
-/* A checkpoint holds the whole state: agents, pheromone, step count, parameters. Loading
- * it into a simulation made from the same mesh and config restores that state exactly,
+/* A checkpoint holds the whole state: agents (with their species), every species'
+ * pheromone, step count, parameters, species parameters and fields. Loading it into a
+ * simulation made from the same mesh and config (resolution, agent count, seed, species
+ * count) restores that state exactly,
  * so the following steps equal those of an uninterrupted run. Written atomically. */
 MOLDTEX_API moldtex_status moldtex_sim_save_checkpoint(moldtex_sim sim, const char* path);
 MOLDTEX_API moldtex_status moldtex_sim_load_checkpoint(moldtex_sim sim, const char* path);

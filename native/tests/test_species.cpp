@@ -6,6 +6,9 @@
 #include <filesystem>
 #include <vector>
 
+#include <OpenImageIO/imageio.h>
+#include <unistd.h>
+
 #include "test_backends.h"
 
 namespace mtx {
@@ -234,6 +237,42 @@ TEST(SpeciesCheckpoint, RoundTripContinuesBitIdentically) {
   ASSERT_TRUE(other) << LastError();
   EXPECT_EQ(moldtex_sim_load_checkpoint(other.get(), path.c_str()), MOLDTEX_ERROR_INVALID_ARGUMENT);
   std::filesystem::remove(path);
+}
+
+TEST(SpeciesImage, ImageHasOneChannelPerSpecies) {
+  // Header: write_image writes one channel per species, "R", "G", "B" for 3 species,
+  // holding the same values read_rgba gives (EXR float: exact), top row first.
+  const Mesh m = Plane();
+  auto s = create_surface(m);
+  ASSERT_TRUE(s) << LastError();
+  moldtex_sim_config c = make_config(32, 16, 1500, 3);
+  c.species_count = 3;
+  auto sim = create_sim(s.get(), c, default_params());
+  ASSERT_TRUE(sim) << LastError();
+  ASSERT_EQ(moldtex_sim_step(sim.get(), 30), MOLDTEX_OK);
+  const std::string path =
+      (std::filesystem::temp_directory_path() / ("moldtex_species_" + std::to_string(::getpid()) + ".exr")).string();
+  ASSERT_EQ(moldtex_sim_write_image(sim.get(), path.c_str(), MOLDTEX_IMAGE_EXR_FLOAT), MOLDTEX_OK) << LastError();
+  auto in = OIIO::ImageInput::open(path);
+  ASSERT_TRUE(in) << OIIO::geterror();
+  const OIIO::ImageSpec spec = in->spec();
+  ASSERT_EQ(spec.nchannels, 3);
+  // EXR stores channels sorted by name; OpenImageIO gives them back as R, G, B.
+  EXPECT_EQ(spec.channelnames, (std::vector<std::string>{"R", "G", "B"}));
+  std::vector<float> img(size_t(spec.width) * spec.height * 3);
+  ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, img.data()));
+  in->close();
+  std::filesystem::remove(path);
+  const std::vector<float> rgba = read_rgba(sim.get(), 32, 16);
+  double sum = 0;
+  for (uint32_t y = 0; y < 16; ++y)
+    for (uint32_t x = 0; x < 32; ++x)
+      for (int k = 0; k < 3; ++k) {
+        const float want = rgba[4 * ((15 - y) * 32 + x) + k];
+        ASSERT_EQ(img[3 * (y * 32 + x) + k], want) << x << ", " << y << " channel " << k;
+        sum += want;
+      }
+  EXPECT_GT(sum, 0);
 }
 
 }  // namespace
