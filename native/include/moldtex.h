@@ -156,7 +156,41 @@ typedef struct moldtex_sim_config {
   uint32_t backend;          /* a moldtex_backend */
   uint32_t opencl_platform;  /* indices as listed by moldtex_opencl_get_device */
   uint32_t opencl_device;
+  /* Added for species, fields and starting seeds (momas-paper.md §2.5); older callers
+   * get the defaults. */
+  uint32_t species_count;    /* 1 .. MOLDTEX_MAX_SPECIES (default 1): agent i belongs to
+                                species i % species_count; each species has its own
+                                pheromone channel */
+  uint32_t seed_shape;       /* a moldtex_seed_shape (default MOLDTEX_SEED_RANDOM) */
+  moldtex_surface_point seed_center; /* CIRCLE, BIG_BANG, STARBURST: the centre */
+  float seed_radius;         /* CIRCLE, STARBURST: radius in 3D units of the mesh, measured
+                                on the surface (geodesic); finite, > 0 */
+  uint32_t seed_rays;        /* STARBURST: number of rays, 1 .. 1024 (default 8) */
+  /* Optional static fields at create time (NULL = none): width * height * 4 floats as
+   * moldtex_sim_set_fields takes them, copied during the call (not kept). Needed for
+   * MOLDTEX_SEED_SPAWN_MAP, whose first spawn happens in moldtex_sim_create.
+   * moldtex_sim_get_config returns NULL here. */
+  const float* fields_rgba;
 } moldtex_sim_config;
+
+/* How agents are placed at create and reset. All placements are a pure function of the
+ * config's seed. Agents placed inside an obstacle (CIRCLE, BIG_BANG, STARBURST only) may
+ * walk out of it; no agent ever walks into one. */
+typedef enum moldtex_seed_shape {
+  MOLDTEX_SEED_RANDOM = 0,    /* uniform by 3D area, headings uniform (obstacle texels
+                                 excluded when fields mark obstacles) */
+  MOLDTEX_SEED_SPAWN_MAP = 1, /* a texel with probability ~ R (spawn weight) * its 3D
+                                 area, obstacles excluded, a uniform point inside it;
+                                 needs fields whose spawn weights are not all zero */
+  MOLDTEX_SEED_CIRCLE = 2,    /* on the geodesic circle of radius seed_radius around
+                                 seed_center, heading toward the centre */
+  MOLDTEX_SEED_BIG_BANG = 3,  /* all at seed_center, headings uniform */
+  MOLDTEX_SEED_STARBURST = 4  /* seed_rays rays from seed_center (equal angles), each agent
+                                 at a uniform distance in [0, seed_radius] along its ray,
+                                 heading outward */
+} moldtex_seed_shape;
+
+#define MOLDTEX_MAX_SPECIES 4u
 
 /* Parameters that may change between steps without a reset. Ranges in brackets are
  * the ones momas-paper.md Table 1 tested; the core accepts the wider hard limits. */
@@ -180,18 +214,61 @@ typedef struct moldtex_sim_params {
 MOLDTEX_API void moldtex_sim_config_init(moldtex_sim_config* config);
 MOLDTEX_API void moldtex_sim_params_init(moldtex_sim_params* params);
 
-/* Creates a simulation on the surface's UV layout and spawns agents uniformly by area
- * with headings over the full circle. The simulation holds its own reference to the
- * surface. */
+/* Behaviour of one species (momas-paper.md §2.5). Same meaning, units and hard ranges as
+ * the fields of moldtex_sim_params with the same names. An agent of species s senses
+ *   sum_k attraction[k] * P_k + fields
+ * where P_k is species k's pheromone (k < species_count; the rest is ignored): +1 follows
+ * that trail, -1 avoids it. Each attraction is in [-1, 1]. */
+typedef struct moldtex_species_params {
+  uint32_t struct_size;
+  float movement_speed, turn_speed, vision_distance, vision_angle;
+  float deposit;   /* into the species' own channel */
+  float attraction[4];
+} moldtex_species_params;
+
+/* Defaults of species `species`: the behaviour of moldtex_sim_params_init, attraction
+ * +1 to its own trail and -1 to every other species' (the paper's competing species). */
+MOLDTEX_API void moldtex_species_params_init(moldtex_species_params* params, uint32_t species);
+
+/* Creates a simulation on the surface's UV layout, takes config->fields_rgba if given,
+ * and spawns agents as config->seed_shape says (by default uniformly by area with
+ * headings over the full circle). Every species starts with `params`' behaviour and the
+ * default attractions (moldtex_species_params_init). The simulation holds its own
+ * reference to the surface. */
 MOLDTEX_API moldtex_status moldtex_sim_create(moldtex_surface surface,
                                               const moldtex_sim_config* config,
                                               const moldtex_sim_params* params,
                                               moldtex_sim* out_sim);
 MOLDTEX_API void moldtex_sim_release(moldtex_sim sim);
 
+/* Sets the shared parameters and the behaviour fields (movement_speed, turn_speed,
+ * vision_distance, vision_angle, deposit) of ALL species, leaving their attractions: a
+ * one-species caller needs nothing else. get_params returns species 0's behaviour. */
 MOLDTEX_API moldtex_status moldtex_sim_set_params(moldtex_sim sim,
                                                   const moldtex_sim_params* params);
 MOLDTEX_API moldtex_status moldtex_sim_get_params(moldtex_sim sim, moldtex_sim_params* params);
+/* Behaviour of species `index` (0 .. species_count - 1); takes effect at the next step. */
+MOLDTEX_API moldtex_status moldtex_sim_set_species_params(moldtex_sim sim, uint32_t index,
+                                                          const moldtex_species_params* params);
+MOLDTEX_API moldtex_status moldtex_sim_get_species_params(moldtex_sim sim, uint32_t index,
+                                                          moldtex_species_params* params);
+
+/* Static fields (momas-paper.md §2.5), painted in texture space: width * height * 4
+ * floats in the order of moldtex_sim_read_rgba. Per texel:
+ *   R  spawn weight >= 0 (MOLDTEX_SEED_SPAWN_MAP, used at the next reset)
+ *   G  obstacle where > 0.5: every species senses -1e9 there, nothing is deposited there,
+ *      and an agent never moves into it (a move that would end there is undone and the
+ *      agent turns back)
+ *   B  attractor strength in [0, 1]: sensed as (species_count + 1) * B on top of the
+ *      trails, more than any trail sum but finite, so patterns still form inside
+ *   A  ignored
+ * Fields never diffuse or evaporate; they stay until set again (NULL rgba clears them).
+ * Gutter texels take the obstacle and attractor of the texel across the seam (or are an
+ * obstacle where painted so), so sensing across a seam sees walls. All values must be
+ * finite. With seed_shape SPAWN_MAP, fields with no spawn weight outside obstacles are
+ * refused. */
+MOLDTEX_API moldtex_status moldtex_sim_set_fields(moldtex_sim sim, const float* rgba,
+                                                  size_t float_count);
 MOLDTEX_API moldtex_status moldtex_sim_get_config(moldtex_sim sim, moldtex_sim_config* config);
 
 /* What the simulation runs on, e.g. "CPU (2 threads)" or "OpenCL: <device>
@@ -200,14 +277,17 @@ MOLDTEX_API moldtex_status moldtex_sim_get_config(moldtex_sim sim, moldtex_sim_c
 MOLDTEX_API moldtex_status moldtex_sim_get_backend_name(moldtex_sim sim, char* buffer,
                                                         size_t capacity);
 
-/* Clears the pheromone and respawns the agents from the config's seed. */
+/* Clears the pheromone and respawns the agents from the config's seed and seed shape
+ * (a spawn map from the current fields). Fields and species parameters are kept. */
 MOLDTEX_API moldtex_status moldtex_sim_reset(moldtex_sim sim);
 /* Advances `steps` steps (sense, turn, move, deposit, blur, evaporate). */
 MOLDTEX_API moldtex_status moldtex_sim_step(moldtex_sim sim, uint32_t steps);
 
 /* Copies the pheromone as RGBA float, Blender's order (row 0 is the bottom row, each
  * row left to right): width * height * 4 floats. With one species R = G = B = the
- * pheromone in [0, 1]; A is 1 on the islands and their gutter (a mask). Texels just
+ * pheromone in [0, 1]; A is 1 on the islands and their gutter (a mask). With 2 to 4
+ * species channel k holds species k's pheromone, unused channels are 0, and A is the
+ * mask while species_count < 4 (with 4 species A is species 3). Texels just
  * outside the UV islands (the gutter) hold copies of their neighbours across the seam;
  * all other outside texels are 0 in every channel.
  * `float_count` is the capacity of `rgba` in floats and must be >= width*height*4. */
@@ -234,8 +314,10 @@ typedef struct moldtex_sim_stats {
   uint32_t agent_count;
   uint64_t bytes_in_use;   /* memory held by the simulation and its surface */
   double coverage;         /* momas-paper.md Eq. 1: mean pheromone over the islands,
-                              weighted by 3D area */
-  double presence;         /* Eq. 1 with the ceiling: 3D-area fraction where pheromone > 0 */
+                              weighted by 3D area; with several species the mean over
+                              species of each one's Eq. 1 */
+  double presence;         /* Eq. 1 with the ceiling: 3D-area fraction where pheromone > 0
+                              (of any species) */
 } moldtex_sim_stats;
 
 MOLDTEX_API void moldtex_sim_stats_init(moldtex_sim_stats* stats);
@@ -251,14 +333,16 @@ typedef enum moldtex_image_format {
 } moldtex_image_format;
 
 /* Writes the current pheromone to `path` through OpenImageIO: one channel per species
- * (a single species is one luminance channel "Y"), top row first as image files store
- * it. The file is written as `path`.partial and renamed when complete, so `path` either
+ * (a single species is one luminance channel "Y"; 2 to 4 species are channels "R", "G",
+ * "B", "A" in species order), top row first as image files store it. The file is written as `path`.partial and renamed when complete, so `path` either
  * does not exist or is whole. */
 MOLDTEX_API moldtex_status moldtex_sim_write_image(moldtex_sim sim, const char* path,
                                                    uint32_t format);
 
-/* A checkpoint holds the whole state: agents, pheromone, step count, parameters. Loading
- * it into a simulation made from the same mesh and config restores that state exactly,
+/* A checkpoint holds the whole state: agents (with their species), every species'
+ * pheromone, step count, parameters, species parameters and fields. Loading it into a
+ * simulation made from the same mesh and config (resolution, agent count, seed, species
+ * count) restores that state exactly,
  * so the following steps equal those of an uninterrupted run. Written atomically. */
 MOLDTEX_API moldtex_status moldtex_sim_save_checkpoint(moldtex_sim sim, const char* path);
 MOLDTEX_API moldtex_status moldtex_sim_load_checkpoint(moldtex_sim sim, const char* path);

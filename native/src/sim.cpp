@@ -1,5 +1,6 @@
 #include "sim.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <unistd.h>
@@ -23,7 +24,8 @@ constexpr uint32_t kMaxAgents = 1u << 26;
 // triangle raster, and roughly one gutter entry per texel along the island borders.
 double estimated_bytes(const moldtex_sim_config& c) {
   double texels = static_cast<double>(c.width) * c.height;
-  return static_cast<double>(c.agent_count) * 20.0 + texels * (4 + 4 + 4 + 1 + 1) + texels * 0.5;
+  const double planes = c.species_count;
+  return static_cast<double>(c.agent_count) * 21.0 + texels * (planes * 9 + 4 + 4 + 1) + texels * 0.5;
 }
 
 double physical_memory_bytes() {
@@ -42,7 +44,7 @@ void check_range(const char* name, float value, float lo, float hi, const char* 
 
 }  // namespace
 
-void validate_config(const moldtex_sim_config& c, const Surface&) {
+void validate_config(const moldtex_sim_config& c, const Surface& surface) {
   if (c.struct_size < sizeof(moldtex_sim_config))
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
          "moldtex_sim_config.struct_size is too small: call moldtex_sim_config_init first");
@@ -59,6 +61,36 @@ void validate_config(const moldtex_sim_config& c, const Surface&) {
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Unknown backend: use 0 (auto), 1 (CPU) or 2 (OpenCL)");
   if (c.agent_count == 0)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The number of agents must be at least 1");
+  if (c.species_count < 1 || c.species_count > MOLDTEX_MAX_SPECIES)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The number of species must be between 1 and 4");
+  if (c.seed_shape > MOLDTEX_SEED_STARBURST)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "Unknown seed shape: use 0 (random), 1 (spawn map), 2 (circle), 3 (big bang) or 4 (starburst)");
+  if (c.seed_shape == MOLDTEX_SEED_SPAWN_MAP && c.fields_rgba == nullptr)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "The spawn-map seed needs fields (config.fields_rgba): paint a spawn region");
+  if (c.seed_shape >= MOLDTEX_SEED_CIRCLE) {
+    const moldtex_surface_point& p = c.seed_center;
+    if (p.triangle >= surface.triangle_count())
+      fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The seed centre's triangle index is out of range");
+    if (surface.degenerate[p.triangle])
+      fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The seed centre lies on a zero-area triangle");
+    float sum = 0;
+    for (float b : p.bary) {
+      if (!std::isfinite(b) || b < -1e-4f)
+        fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+             "The seed centre's barycentric weights must be finite and non-negative");
+      sum += b;
+    }
+    if (std::fabs(sum - 1.f) >= 1e-3f)
+      fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The seed centre's barycentric weights must sum to 1");
+  }
+  if ((c.seed_shape == MOLDTEX_SEED_CIRCLE || c.seed_shape == MOLDTEX_SEED_STARBURST) &&
+      !(std::isfinite(c.seed_radius) && c.seed_radius > 0.f && c.seed_radius < 1e30f))
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "The seed radius must be a finite number > 0 (3D units, measured on the surface)");
+  if (c.seed_shape == MOLDTEX_SEED_STARBURST && (c.seed_rays < 1 || c.seed_rays > 1024))
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The number of starburst rays must be between 1 and 1024");
   if (c.agent_count > kMaxAgents) {
     std::ostringstream m;
     m << c.agent_count << " agents is more than the limit of " << kMaxAgents;
@@ -92,6 +124,19 @@ void validate_params(const moldtex_sim_params& p) {
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Thread count must be between 0 (all cores) and 256");
 }
 
+void validate_species_params(const moldtex_species_params& p) {
+  if (p.struct_size < sizeof(moldtex_species_params))
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "moldtex_species_params.struct_size is too small: call moldtex_species_params_init first");
+  check_range("Movement speed", p.movement_speed, 0.f, 64.f, "the paper tested 1 to 2");
+  check_range("Turn speed", p.turn_speed, 0.f, 1000.f, "the paper tested 10 to 50");
+  check_range("Vision distance", p.vision_distance, 0.f, 50.f, "the paper tested 0.4 to 2");
+  check_range("Vision angle", p.vision_angle, 0.f, 180.f, "in degrees; the paper tested 10 to 50");
+  check_range("Deposit", p.deposit, 0.f, 1.f, "");
+  for (float a : p.attraction)
+    check_range("Attraction", a, -1.f, 1.f, "+1 follows a trail, -1 avoids it");
+}
+
 namespace {
 
 #ifdef MOLDTEX_HAVE_OPENCL
@@ -101,7 +146,7 @@ std::unique_ptr<Backend> make_opencl(std::shared_ptr<const Surface> surface,
   const std::vector<cl::Device> devices = cl::list_devices();
   for (const cl::Device& d : devices)
     if (d.platform_index == c.opencl_platform && d.device_index == c.opencl_device)
-      return std::make_unique<OpenClBackend>(surface, domain, c.agent_count, d);
+      return std::make_unique<OpenClBackend>(surface, domain, c.agent_count, c.species_count, d);
   std::ostringstream m;
   m << "There is no OpenCL device " << c.opencl_device << " on platform " << c.opencl_platform
     << "; this machine has:";
@@ -118,7 +163,8 @@ std::unique_ptr<Backend> make_auto_opencl(std::shared_ptr<const Surface> surface
                                           const moldtex_sim_config& c, std::string& why_not) {
   try {
     for (const cl::Device& d : cl::list_devices())
-      if (d.is_gpu) return std::make_unique<OpenClBackend>(surface, domain, c.agent_count, d);
+      if (d.is_gpu)
+        return std::make_unique<OpenClBackend>(surface, domain, c.agent_count, c.species_count, d);
     why_not = "no OpenCL GPU device";
   } catch (const Error& e) {
     why_not = e.what();
@@ -131,9 +177,13 @@ std::unique_ptr<Backend> make_auto_opencl(std::shared_ptr<const Surface> surface
 
 Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim_config& config,
                        const moldtex_sim_params& params)
-    : surface_(std::move(surface)), config_(config), params_(params) {
+    : surface_(std::move(surface)), config_(config) {
   validate_config(config, *surface_);
   validate_params(params);
+  config_.fields_rgba = nullptr;  // copied below, never kept
+  settings_.species_count = config.species_count;
+  for (uint32_t k = 0; k < MTX_MAX_SPECIES; ++k) moldtex_species_params_init(&settings_.species[k], k);
+  set_params(params);
   {
     ThreadPool pool(params.thread_count);
     domain_ = std::make_shared<const TextureDomain>(
@@ -159,51 +209,177 @@ Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim
       break;
   }
   if (!backend_)
-    backend_ = std::make_unique<CpuBackend>(surface_, domain_, config.agent_count, params.thread_count);
+    backend_ = std::make_unique<CpuBackend>(surface_, domain_, config.agent_count,
+                                            config.species_count, params.thread_count);
   why_not_opencl_ = why_not;
+  if (config.fields_rgba) set_fields(config.fields_rgba);
   reset();
 }
 
 void Simulation::set_params(const moldtex_sim_params& params) {
   validate_params(params);
-  if (params.thread_count != params_.thread_count) backend_->set_thread_count(params.thread_count);
-  params_ = params;
+  if (backend_ && params.thread_count != settings_.params.thread_count)
+    backend_->set_thread_count(params.thread_count);
+  settings_.params = params;
+  for (moldtex_species_params& sp : settings_.species) {
+    sp.movement_speed = params.movement_speed;
+    sp.turn_speed = params.turn_speed;
+    sp.vision_distance = params.vision_distance;
+    sp.vision_angle = params.vision_angle;
+    sp.deposit = params.deposit;
+  }
+}
+
+void Simulation::set_species_params(uint32_t index, const moldtex_species_params& p) {
+  if (index >= settings_.species_count)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The species index is out of range: the simulation has " +
+                                             std::to_string(settings_.species_count) + " species");
+  validate_species_params(p);
+  settings_.species[index] = p;
+  if (index == 0) {  // get_params reports species 0's behaviour
+    settings_.params.movement_speed = p.movement_speed;
+    settings_.params.turn_speed = p.turn_speed;
+    settings_.params.vision_distance = p.vision_distance;
+    settings_.params.vision_angle = p.vision_angle;
+    settings_.params.deposit = p.deposit;
+  }
+}
+
+void Simulation::set_fields(const float* rgba) {
+  const TextureDomain& d = *domain_;
+  const size_t texels = d.texel_count();
+  if (!rgba) {
+    if (config_.seed_shape == MOLDTEX_SEED_SPAWN_MAP)
+      fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+           "This simulation spawns from its spawn map: paint a spawn region instead of clearing the fields");
+    fields_rgba_.clear();
+    field_plane_.clear();
+    spawn_weights_.clear();
+    free_weights_.clear();
+    settings_.has_fields = false;
+    backend_->set_field(field_plane_);
+    return;
+  }
+  for (size_t i = 0; i < texels; ++i) {
+    const float r = rgba[4 * i], g = rgba[4 * i + 1], b = rgba[4 * i + 2];
+    if (!std::isfinite(r) || !std::isfinite(g) || !std::isfinite(b) || !std::isfinite(rgba[4 * i + 3]))
+      fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The fields contain a NaN or infinite value at texel " +
+                                               std::to_string(i));
+    if (r < 0.f)
+      fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Spawn weights (red) must be >= 0");
+    if (b < 0.f || b > 1.f)
+      fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Attractor strengths (blue) must be between 0 and 1");
+  }
+  std::vector<uint8_t> obstacle(texels);
+  for (size_t i = 0; i < texels; ++i) obstacle[i] = rgba[4 * i + 1] > 0.5f;
+  std::vector<float> attract(texels);
+  for (size_t i = 0; i < texels; ++i) attract[i] = rgba[4 * i + 2];
+  // The gutter sees what lies across the seam (and stays a wall where painted as one).
+  for (size_t g = 0; g < d.gutter_texel.size(); ++g) {
+    const uint32_t t = d.gutter_texel[g], src = d.gutter_source[g];
+    obstacle[t] = obstacle[t] || obstacle[src];
+    attract[t] = attract[src];
+  }
+  std::vector<float> plane(texels);
+  std::vector<double> spawn(texels, 0.0), free(texels, 0.0);
+  const float attractor_scale = static_cast<float>(settings_.species_count + 1);
+  bool any = false;
+  double spawn_total = 0;
+  for (size_t i = 0; i < texels; ++i) {
+    plane[i] = obstacle[i] ? MTX_OBSTACLE_FIELD : attractor_scale * attract[i];
+    any = any || plane[i] != 0.f;
+    if (d.classes[i] == MOLDTEX_TEXEL_INSIDE && !obstacle[i]) {
+      const double area = d.triangle_area_scale[d.texel_triangle[i]];
+      free[i] = area;
+      spawn[i] = area * rgba[4 * i];
+      spawn_total += spawn[i];
+    }
+  }
+  if (config_.seed_shape == MOLDTEX_SEED_SPAWN_MAP && !(spawn_total > 0))
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "The spawn map is empty (or lies entirely under obstacles): paint a spawn region "
+         "(red channel) on the mesh");
+  fields_rgba_.assign(rgba, rgba + 4 * texels);
+  field_plane_ = any ? std::move(plane) : std::vector<float>{};
+  spawn_weights_ = std::move(spawn);
+  free_weights_ = std::move(free);
+  settings_.has_fields = any;
+  backend_->set_field(field_plane_);
 }
 
 void Simulation::reset() {
-  backend_->reset(config_.seed);
+  SpawnSpec spec;
+  spec.count = config_.agent_count;
+  spec.seed = config_.seed;
+  spec.species_count = config_.species_count;
+  spec.shape = config_.seed_shape;
+  spec.center = config_.seed_center;
+  spec.radius = config_.seed_radius;
+  spec.rays = config_.seed_rays;
+  spec.texel_triangle = &domain_->texel_triangle;
+  spec.width = domain_->width;
+  spec.height = domain_->height;
+  // Random spawns avoid obstacles when there are any; the spawn map is the R channel.
+  bool obstacles = false;
+  for (float v : field_plane_) obstacles = obstacles || v < MTX_OBSTACLE_THRESHOLD;
+  if (config_.seed_shape == MOLDTEX_SEED_SPAWN_MAP)
+    spec.texel_weights = &spawn_weights_;
+  else if (obstacles)
+    spec.texel_weights = &free_weights_;
+  ThreadPool pool(settings_.params.thread_count);
+  backend_->reset(spawn_agents(*surface_, spec, pool));
   step_count_ = 0;
 }
 
 void Simulation::step(uint32_t steps) {
-  for (uint32_t i = 0; i < steps; ++i) backend_->step(params_, config_.seed, step_count_++);
+  for (uint32_t i = 0; i < steps; ++i) backend_->step(settings_, config_.seed, step_count_++);
   backend_->finish();
 }
 
 void Simulation::read_rgba(float* rgba) const {
-  std::vector<float> field(domain_->texel_count());
+  const size_t texels = domain_->texel_count();
+  const uint32_t planes = settings_.species_count;
+  std::vector<float> field(texels * planes);
   backend_->read_pheromone(field.data());
   const auto& classes = domain_->classes;
-  for (size_t i = 0; i < field.size(); ++i) {
-    float v = field[i];
-    rgba[4 * i] = v;
-    rgba[4 * i + 1] = v;
-    rgba[4 * i + 2] = v;
-    rgba[4 * i + 3] = classes[i] == MOLDTEX_TEXEL_OUTSIDE ? 0.f : 1.f;  // alpha = island mask
+  for (size_t i = 0; i < texels; ++i) {
+    const float mask = classes[i] == MOLDTEX_TEXEL_OUTSIDE ? 0.f : 1.f;  // alpha = island mask
+    if (planes == 1) {
+      const float v = field[i];
+      rgba[4 * i] = v;
+      rgba[4 * i + 1] = v;
+      rgba[4 * i + 2] = v;
+      rgba[4 * i + 3] = mask;
+    } else {
+      for (uint32_t k = 0; k < 4; ++k) rgba[4 * i + k] = k < planes ? field[k * texels + i] : 0.f;
+      if (planes < 4) rgba[4 * i + 3] = mask;
+    }
   }
 }
 
 void Simulation::write_image(const std::string& path, moldtex_image_format format) const {
-  std::vector<float> field(domain_->texel_count());
+  const size_t texels = domain_->texel_count();
+  const uint32_t planes = settings_.species_count;
+  std::vector<float> field(texels * planes);
   backend_->read_pheromone(field.data());
-  static const char* const kNames[] = {"Y"};
-  write_image_atomically(path, ImageData{domain_->width, domain_->height, 1, field.data(), kNames}, format);
+  static const char* const kOne[] = {"Y"};
+  static const char* const kMany[] = {"R", "G", "B", "A"};
+  std::vector<float> interleaved(texels * planes);
+  for (size_t i = 0; i < texels; ++i)
+    for (uint32_t k = 0; k < planes; ++k) interleaved[i * planes + k] = field[k * texels + i];
+  write_image_atomically(path,
+                         ImageData{domain_->width, domain_->height, planes, interleaved.data(),
+                                   planes == 1 ? kOne : kMany},
+                         format);
 }
 
 void Simulation::save_checkpoint(const std::string& path, const std::vector<MetricRow>& metrics) const {
   Checkpoint c;
   c.config = config_;
-  c.params = params_;
+  c.config.fields_rgba = nullptr;
+  c.params = settings_.params;
+  c.species.assign(settings_.species, settings_.species + MTX_MAX_SPECIES);
+  c.fields_rgba = fields_rgba_;
   c.surface_fingerprint = surface_->fingerprint;
   c.step_count = step_count_;
   c.metrics = metrics;
@@ -217,21 +393,40 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
          "The checkpoint " + path + " was made on a different mesh or UV map: bake from the start");
   if (c.config.width != config_.width || c.config.height != config_.height ||
-      c.config.agent_count != config_.agent_count || c.config.seed != config_.seed)
+      c.config.agent_count != config_.agent_count || c.config.seed != config_.seed ||
+      c.config.species_count != config_.species_count)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
-         "The checkpoint " + path + " was made with another resolution, agent count or seed: "
-         "bake from the start");
+         "The checkpoint " + path + " was made with another resolution, agent count, seed or "
+         "number of species: bake from the start");
   const Agents& a = c.state.agents;
+  const uint32_t planes = config_.species_count;
   if (a.triangle.size() != config_.agent_count || a.b1.size() != a.triangle.size() ||
       a.b2.size() != a.triangle.size() || a.hx.size() != a.triangle.size() ||
-      a.hy.size() != a.triangle.size() || c.state.pheromone.size() != domain_->texel_count())
+      a.hy.size() != a.triangle.size() || a.species.size() != a.triangle.size() ||
+      c.state.pheromone.size() != domain_->texel_count() * planes ||
+      c.species.size() != MTX_MAX_SPECIES ||
+      (!c.fields_rgba.empty() && c.fields_rgba.size() != domain_->texel_count() * 4))
     fail(MOLDTEX_ERROR_IO, "The checkpoint " + path + " is damaged");
   for (uint32_t t : a.triangle)
     if (t >= surface_->triangle_count()) fail(MOLDTEX_ERROR_IO, "The checkpoint " + path + " is damaged");
-  c.params.thread_count = params_.thread_count;  // a machine setting, not part of the state
+  for (uint8_t sp : a.species)
+    if (sp >= planes) fail(MOLDTEX_ERROR_IO, "The checkpoint " + path + " is damaged");
+  c.params.thread_count = settings_.params.thread_count;  // a machine setting, not part of the state
   validate_params(c.params);
+  for (uint32_t k = 0; k < planes; ++k) validate_species_params(c.species[k]);
+  // Fields first (it may refuse), then the state.
+  const moldtex_sim_config saved = config_;
+  config_.seed_shape = MOLDTEX_SEED_RANDOM;  // the spawn already happened
+  try {
+    set_fields(c.fields_rgba.empty() ? nullptr : c.fields_rgba.data());
+  } catch (...) {
+    config_ = saved;
+    throw;
+  }
+  config_ = saved;
   backend_->import_state(c.state);
-  params_ = c.params;
+  settings_.params = c.params;
+  for (uint32_t k = 0; k < MTX_MAX_SPECIES; ++k) settings_.species[k] = c.species[k];
   step_count_ = c.step_count;
   return c.metrics;
 }
@@ -242,11 +437,24 @@ moldtex_sim_stats Simulation::stats() const {
   s.step_count = step_count_;
   s.agent_count = static_cast<uint32_t>(backend_->agent_count());
   s.bytes_in_use = backend_->bytes() + domain_->bytes() + surface_->bytes();
-  std::vector<float> field(domain_->texel_count());
+  const size_t texels = domain_->texel_count();
+  const uint32_t planes = settings_.species_count;
+  std::vector<float> field(texels * planes);
   backend_->read_pheromone(field.data());
-  FieldMetrics m = measure(*domain_, field.data());
-  s.coverage = m.coverage;
-  s.presence = m.presence;
+  if (planes == 1) {
+    FieldMetrics m = measure(*domain_, field.data());
+    s.coverage = m.coverage;
+    s.presence = m.presence;
+  } else {
+    // Coverage: the mean of each species' Eq. 1; presence: where any species is.
+    std::vector<float> any(texels, 0.f);
+    for (uint32_t k = 0; k < planes; ++k) {
+      const float* plane = field.data() + k * texels;
+      s.coverage += measure(*domain_, plane).coverage / planes;
+      for (size_t i = 0; i < texels; ++i) any[i] = std::max(any[i], plane[i]);
+    }
+    s.presence = measure(*domain_, any.data()).presence;
+  }
   return s;
 }
 

@@ -14,13 +14,20 @@ namespace moldtex {
 
 void validate_config(const moldtex_sim_config& config, const Surface& surface);
 void validate_params(const moldtex_sim_params& params);
+void validate_species_params(const moldtex_species_params& params);
 
 class Simulation {
  public:
   Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim_config& config,
              const moldtex_sim_params& params);
+  // Sets the shared parameters and the behaviour of every species (not the attractions).
   void set_params(const moldtex_sim_params& params);
-  const moldtex_sim_params& params() const { return params_; }
+  void set_species_params(uint32_t index, const moldtex_species_params& params);
+  const moldtex_species_params& species_params(uint32_t index) const { return settings_.species[index]; }
+  uint32_t species_count() const { return settings_.species_count; }
+  // width * height * 4 floats (see moldtex_sim_set_fields), or nullptr to clear.
+  void set_fields(const float* rgba);
+  const moldtex_sim_params& params() const { return settings_.params; }
   const moldtex_sim_config& config() const { return config_; }
   const TextureDomain& domain() const { return *domain_; }
   const Surface& surface() const { return *surface_; }
@@ -45,8 +52,12 @@ class Simulation {
  private:
   std::shared_ptr<const Surface> surface_;
   std::shared_ptr<const TextureDomain> domain_;
-  moldtex_sim_config config_;
-  moldtex_sim_params params_;
+  moldtex_sim_config config_;  // fields_rgba is always NULL here
+  StepSettings settings_;      // params (behaviour = species 0's) and every species
+  // Static fields as given (width * height * 4, empty = none), the field plane the agents
+  // sense, and the spawn weight of each texel (3D area * R, 0 at obstacles).
+  std::vector<float> fields_rgba_, field_plane_;
+  std::vector<double> spawn_weights_, free_weights_;
   std::unique_ptr<Backend> backend_;
   std::string why_not_opencl_;  // why Auto chose the CPU
   uint64_t step_count_ = 0;

@@ -1,5 +1,6 @@
 // Agent state as a structure of arrays: triangle, two barycentric weights (the third is
-// 1 - b1 - b2) and a unit heading in the triangle's local frame. 20 bytes per agent.
+// 1 - b1 - b2), a unit heading in the triangle's local frame, and the species. 21 bytes
+// per agent.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -12,16 +13,19 @@ namespace moldtex {
 struct Agents {
   std::vector<uint32_t> triangle;
   std::vector<float> b1, b2, hx, hy;
+  std::vector<uint8_t> species;
 
   size_t size() const { return triangle.size(); }
   void resize(size_t n) {
     triangle.resize(n);
+    species.resize(n);
     b1.resize(n);
     b2.resize(n);
     hx.resize(n);
     hy.resize(n);
   }
-  size_t bytes() const { return triangle.capacity() * 4 + (b1.capacity() + b2.capacity() + hx.capacity() + hy.capacity()) * 4; }
+  size_t bytes() const { return triangle.capacity() * 4 + (b1.capacity() + b2.capacity() + hx.capacity() + hy.capacity()) * 4 +
+                        species.capacity(); }
 
   Walker load(size_t i) const {
     return Walker{triangle[i], {1.f - b1[i] - b2[i], b1[i], b2[i]}, {hx[i], hy[i]}};
@@ -35,13 +39,30 @@ struct Agents {
   }
 };
 
-// Places `count` agents uniformly by 3D area (triangle chosen by area, barycentrics
-// uniform on the triangle) with headings uniform over the full circle. Agent i depends
-// only on (seed, i), never on the thread that placed it.
 // Reorders agents by the texture tile they stand in (a stable counting sort), so that
 // neighbouring agents read neighbouring texels and stay in cache. Deterministic.
 void sort_by_tile(const Surface& surface, uint32_t width, uint32_t height, Agents& agents);
 
-Agents spawn_uniform(const Surface& surface, uint32_t count, uint64_t seed, ThreadPool& pool);
+// How to place agents (moldtex_sim_config's seed fields, validated).
+struct SpawnSpec {
+  uint32_t count = 0;
+  uint64_t seed = 0;
+  uint32_t species_count = 1;  // agent i gets species i % species_count
+  uint32_t shape = 0;          // a moldtex_seed_shape
+  moldtex_surface_point center{};
+  float radius = 0;
+  uint32_t rays = 8;
+  // Texel weights for SPAWN_MAP (and RANDOM when obstacles exist): width * height, with
+  // obstacle and non-island texels at 0; empty = none.
+  const std::vector<double>* texel_weights = nullptr;
+  const std::vector<int32_t>* texel_triangle = nullptr;
+  uint32_t width = 0, height = 0;
+};
+
+// Places agents as `spec` says. Agent i depends only on (seed, i), never on the thread
+// that placed it. RANDOM without texel weights: uniform by 3D area (triangle chosen by
+// area, barycentrics uniform on the triangle), headings uniform over the full circle.
+// Throws INVALID_ARGUMENT if texel weights are needed and all zero.
+Agents spawn_agents(const Surface& surface, const SpawnSpec& spec, ThreadPool& pool);
 
 }  // namespace moldtex

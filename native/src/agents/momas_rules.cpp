@@ -5,21 +5,29 @@
 
 namespace moldtex {
 
-MomasStepConstants momas_constants(const moldtex_sim_params& p, const TextureDomain& d,
+MomasStepConstants momas_constants(const StepSettings& settings, const TextureDomain& d,
                                    uint64_t seed, uint64_t step) {
+  const moldtex_sim_params& p = settings.params;
   const float texel = static_cast<float>(d.texel_length);
-  const float angle = p.vision_angle * std::numbers::pi_v<float> / 180.f;
   MomasStepConstants c{};
   c.seed = seed;
   c.step = step;
-  c.move_length = p.movement_speed * texel;
-  c.sensor_length = p.vision_distance * MTX_VISION_UNIT_TEXELS * texel;
-  c.sensor_cos = std::cos(angle);
-  c.sensor_sin = std::sin(angle);
-  c.max_turn = p.turn_speed * std::numbers::pi_v<float> * p.time_step;
+  for (uint32_t s = 0; s < settings.species_count; ++s) {
+    const moldtex_species_params& sp = settings.species[s];
+    const float angle = sp.vision_angle * std::numbers::pi_v<float> / 180.f;
+    c.move_length[s] = sp.movement_speed * texel;
+    c.sensor_length[s] = sp.vision_distance * MTX_VISION_UNIT_TEXELS * texel;
+    c.sensor_cos[s] = std::cos(angle);
+    c.sensor_sin[s] = std::sin(angle);
+    c.max_turn[s] = sp.turn_speed * std::numbers::pi_v<float> * p.time_step;
+    for (uint32_t k = 0; k < settings.species_count; ++k)
+      c.attraction[MTX_MAX_SPECIES * s + k] = sp.attraction[k];
+  }
   c.substeps = p.substeps;
   c.width = d.width;
   c.height = d.height;
+  c.species_count = settings.species_count;
+  c.has_fields = settings.has_fields ? 1u : 0u;
   return c;
 }
 
@@ -29,11 +37,11 @@ mtx_surface_tables surface_tables(const Surface& s, const TextureDomain& d) {
 }
 
 void momas_update_agents(const mtx_surface_tables& tables, const MomasStepConstants& c,
-                         const float* pheromone, uint8_t* marks, Agents& agents, size_t begin,
-                         size_t end) {
+                         const float* pheromone, const float* field, uint8_t* marks,
+                         Agents& agents, size_t begin, size_t end) {
   for (size_t i = begin; i < end; ++i) {
     Walker w = agents.load(i);
-    mtx_momas_agent_step(tables, pheromone, marks, &w, i, &c);
+    mtx_momas_agent_step(tables, pheromone, field, marks, &w, agents.species[i], i, &c);
     agents.store(i, w);
   }
 }

@@ -12,7 +12,15 @@ namespace moldtex {
 
 using MomasStepConstants = mtx_momas_constants;
 
-MomasStepConstants momas_constants(const moldtex_sim_params& p, const TextureDomain& d,
+// What a backend needs for one step: the shared parameters and each species' behaviour.
+struct StepSettings {
+  moldtex_sim_params params{};
+  moldtex_species_params species[MTX_MAX_SPECIES]{};
+  uint32_t species_count = 1;
+  bool has_fields = false;
+};
+
+MomasStepConstants momas_constants(const StepSettings& settings, const TextureDomain& d,
                                    uint64_t seed, uint64_t step);
 
 mtx_surface_tables surface_tables(const Surface& surface, const TextureDomain& domain);
@@ -20,7 +28,7 @@ mtx_surface_tables surface_tables(const Surface& surface, const TextureDomain& d
 // Updates agents [begin, end); see shared/momas.h for why this is thread-safe and
 // deterministic.
 void momas_update_agents(const mtx_surface_tables& tables, const MomasStepConstants& c,
-                         const float* pheromone, uint8_t* marks, Agents& agents, size_t begin,
-                         size_t end);
+                         const float* pheromone, const float* field, uint8_t* marks,
+                         Agents& agents, size_t begin, size_t end);
 
 }  // namespace moldtex

@@ -107,6 +107,25 @@ T read_struct(const T* in, const char* name, void (*init)(T*) = nullptr,
 
 // moldtex_sim_config as first released, before the backend fields.
 constexpr size_t kSimConfigV1Size = offsetof(moldtex_sim_config, backend);
+// The second release ended with opencl_device; its sizeof (40) includes 4 bytes of tail
+// padding where species_count now lies, so a caller that says 40 knows nothing after
+// opencl_device.
+constexpr size_t kSimConfigV2Fields = offsetof(moldtex_sim_config, species_count);
+constexpr size_t kSimConfigV2Size = (kSimConfigV2Fields + 7) / 8 * 8;
+static_assert(kSimConfigV2Size == 40, "moldtex_sim_config's second release was 40 bytes");
+
+moldtex_sim_config read_config(const moldtex_sim_config* in) {
+  moldtex_sim_config c =
+      read_struct(in, "moldtex_sim_config", moldtex_sim_config_init, kSimConfigV1Size);
+  if (in->struct_size <= kSimConfigV2Size) {
+    moldtex_sim_config defaults;
+    moldtex_sim_config_init(&defaults);
+    std::memcpy(reinterpret_cast<char*>(&c) + kSimConfigV2Fields,
+                reinterpret_cast<const char*>(&defaults) + kSimConfigV2Fields,
+                sizeof(c) - kSimConfigV2Fields);
+  }
+  return c;
+}
 
 }  // namespace
 
@@ -233,6 +252,27 @@ void moldtex_sim_config_init(moldtex_sim_config* c) {
   c->backend = MOLDTEX_BACKEND_AUTO;
   c->opencl_platform = 0;
   c->opencl_device = 0;
+  c->species_count = 1;
+  c->seed_shape = MOLDTEX_SEED_RANDOM;
+  c->seed_center.triangle = 0;
+  c->seed_center.bary[0] = c->seed_center.bary[1] = c->seed_center.bary[2] = 1.0f / 3.0f;
+  c->seed_radius = 0.0f;
+  c->seed_rays = 8;
+  c->fields_rgba = nullptr;
+}
+
+void moldtex_species_params_init(moldtex_species_params* p, uint32_t species) {
+  if (!p) return;
+  moldtex_sim_params defaults;
+  moldtex_sim_params_init(&defaults);
+  std::memset(p, 0, sizeof(*p));
+  p->struct_size = sizeof(*p);
+  p->movement_speed = defaults.movement_speed;
+  p->turn_speed = defaults.turn_speed;
+  p->vision_distance = defaults.vision_distance;
+  p->vision_angle = defaults.vision_angle;
+  p->deposit = defaults.deposit;
+  for (uint32_t k = 0; k < 4; ++k) p->attraction[k] = k == species ? 1.0f : -1.0f;
 }
 
 void moldtex_sim_params_init(moldtex_sim_params* p) {
@@ -257,8 +297,7 @@ moldtex_status moldtex_sim_create(moldtex_surface surface, const moldtex_sim_con
     require(out != nullptr, "out_sim is NULL");
     *out = nullptr;
     require(surface != nullptr, "The surface handle is NULL");
-    moldtex_sim_config c =
-        read_struct(config, "moldtex_sim_config", moldtex_sim_config_init, kSimConfigV1Size);
+    moldtex_sim_config c = read_config(config);
     moldtex_sim_params p = read_struct(params, "moldtex_sim_params");
     auto sim = std::make_shared<moldtex::Simulation>(surface->surface, c, p);
     *out = new moldtex_sim_t{std::move(sim)};
@@ -281,10 +320,44 @@ moldtex_status moldtex_sim_get_params(moldtex_sim sim, moldtex_sim_params* param
   });
 }
 
+moldtex_status moldtex_sim_set_species_params(moldtex_sim sim, uint32_t index,
+                                              const moldtex_species_params* params) {
+  return guarded([&] {
+    use(sim).set_species_params(index, read_struct(params, "moldtex_species_params"));
+  });
+}
+
+moldtex_status moldtex_sim_get_species_params(moldtex_sim sim, uint32_t index,
+                                              moldtex_species_params* params) {
+  return guarded([&] {
+    moldtex::Simulation& s = use(sim);
+    read_struct(params, "moldtex_species_params");
+    if (index >= s.species_count())
+      moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+                    "The species index is out of range: the simulation has " +
+                        std::to_string(s.species_count()) + " species");
+    *params = s.species_params(index);
+  });
+}
+
+moldtex_status moldtex_sim_set_fields(moldtex_sim sim, const float* rgba, size_t float_count) {
+  return guarded([&] {
+    moldtex::Simulation& s = use(sim);
+    if (rgba) {
+      const size_t need = s.domain().texel_count() * 4;
+      if (float_count != need)
+        moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+                      "The fields need width * height * 4 floats (" + std::to_string(need) +
+                          "), got " + std::to_string(float_count));
+    }
+    s.set_fields(rgba);
+  });
+}
+
 moldtex_status moldtex_sim_get_config(moldtex_sim sim, moldtex_sim_config* config) {
   return guarded([&] {
     use(sim);
-    read_struct(config, "moldtex_sim_config", moldtex_sim_config_init, kSimConfigV1Size);
+    read_config(config);
     // Write back only as much as the caller's struct holds.
     moldtex_sim_config out = sim->sim->config();
     const uint32_t caller_size = config->struct_size;

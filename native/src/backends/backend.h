@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "agents/agents.h"
+#include "agents/momas_rules.h"
 #include "moldtex.h"
 
 namespace moldtex {
@@ -15,18 +16,22 @@ namespace moldtex {
 // Everything that evolves, in a backend-independent layout (checkpoints).
 struct SimState {
   Agents agents;
-  std::vector<float> pheromone;
+  std::vector<float> pheromone;  // one plane of width * height per species
 };
 
 class Backend {
  public:
   virtual ~Backend() = default;
-  virtual void reset(uint64_t seed) = 0;
+  // Clears the pheromone and takes these agents (spawned on the host).
+  virtual void reset(const Agents& agents) = 0;
   // May return before the device is done; finish() waits.
-  virtual void step(const moldtex_sim_params& params, uint64_t seed, uint64_t step_index) = 0;
+  virtual void step(const StepSettings& settings, uint64_t seed, uint64_t step_index) = 0;
   virtual void finish() {}
   virtual void set_thread_count(unsigned threads) = 0;
-  // Pheromone of the single species, width * height floats, gutter filled.
+  // Static field plane (width * height, gutter filled): MTX_OBSTACLE_FIELD at obstacles,
+  // the attractor bonus elsewhere. Empty = no fields.
+  virtual void set_field(const std::vector<float>& field) = 0;
+  // Pheromone, one plane of width * height floats per species, gutter filled.
   virtual void read_pheromone(float* out) const = 0;
   virtual void read_agents(moldtex_surface_point* out, size_t count) const = 0;
   virtual size_t agent_count() const = 0;

@@ -11,7 +11,9 @@ namespace moldtex {
 
 namespace {
 
-constexpr char kMagic[8] = {'M', 'T', 'X', 'C', 'K', 'P', 'T', '1'};
+// Version 2: species (per-agent species, one pheromone plane per species, species
+// parameters) and static fields.
+constexpr char kMagic[8] = {'M', 'T', 'X', 'C', 'K', 'P', 'T', '2'};
 
 struct Writer {
   std::vector<char> bytes;
@@ -62,6 +64,7 @@ void for_each_array(State& s, F&& f) {
   f(s.agents.b2);
   f(s.agents.hx);
   f(s.agents.hy);
+  f(s.agents.species);
   f(s.pheromone);
 }
 
@@ -75,6 +78,8 @@ void save_checkpoint(const std::string& path, const Checkpoint& c) {
   w.value(c.surface_fingerprint);
   w.value(c.step_count);
   w.array(c.metrics);
+  w.array(c.species);
+  w.array(c.fields_rgba);
   for_each_array(c.state, [&](const auto& v) { w.array(v); });
   write_file_atomically(path, w.bytes.data(), w.bytes.size());
 }
@@ -90,10 +95,13 @@ Checkpoint load_checkpoint(const std::string& path) {
     fail(MOLDTEX_ERROR_IO, path + " is not a Moldtex checkpoint of this version");
   Checkpoint c;
   c.config = r.value<moldtex_sim_config>();
+  c.config.fields_rgba = nullptr;  // a pointer is meaningless in a file
   c.params = r.value<moldtex_sim_params>();
   c.surface_fingerprint = r.value<uint64_t>();
   c.step_count = r.value<uint64_t>();
   r.array(c.metrics);
+  r.array(c.species);
+  r.array(c.fields_rgba);
   for_each_array(c.state, [&](auto& v) { r.array(v); });
   return c;
 }

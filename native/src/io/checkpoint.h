@@ -23,6 +23,8 @@ struct Checkpoint {
   uint64_t surface_fingerprint = 0;
   uint64_t step_count = 0;
   std::vector<MetricRow> metrics;
+  std::vector<moldtex_species_params> species;  // MOLDTEX_MAX_SPECIES entries
+  std::vector<float> fields_rgba;               // width * height * 4, or empty
   SimState state;
 };
 

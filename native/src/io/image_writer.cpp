@@ -61,6 +61,10 @@ void write_image_atomically(const std::string& path, const ImageData& image, mol
   spec.channelnames.clear();
   for (uint32_t c = 0; c < image.channels; ++c) spec.channelnames.emplace_back(image.channel_names[c]);
   if (plugin == std::string("openexr")) spec.attribute("compression", "zip");
+  // OpenImageIO stamps the wall-clock time (EXR capDate) unless told otherwise; a fixed
+  // stamp keeps frames a pure function of the simulation state, so a resumed bake
+  // writes byte-identical files.
+  spec.attribute("DateTime", "1970:01:01 00:00:00");
   const std::string tmp = temporary_name(path);
   if (!out->open(tmp, spec)) {
     std::string err = out->geterror();

@@ -21,6 +21,12 @@
 #define MTX_VISION_UNIT_TEXELS 10.0f
 /* No neighbour across an edge: an open boundary, or a wall next to a zero-area face. */
 #define MTX_NO_NEIGHBOUR 0xffffffffu
+/* Species, each with its own pheromone plane; equal to MOLDTEX_MAX_SPECIES. */
+#define MTX_MAX_SPECIES 4
+/* What an obstacle texel adds to every species' sensing (momas-paper.md §2.5), and the
+ * threshold below which a texel's field value marks an obstacle. */
+#define MTX_OBSTACLE_FIELD (-1e9f)
+#define MTX_OBSTACLE_THRESHOLD (-1e8f)
 
 MTX_BEGIN_NAMESPACE
 
@@ -29,12 +35,18 @@ MTX_BEGIN_NAMESPACE
 typedef struct mtx_momas_constants {
   mtx_u64 seed;
   mtx_u64 step;
-  float move_length;   /* 3D length of one move */
-  float sensor_length; /* 3D distance to the sensors */
-  float sensor_cos, sensor_sin;
-  float max_turn;      /* radians */
+  /* Per species. */
+  float move_length[MTX_MAX_SPECIES];   /* 3D length of one move */
+  float sensor_length[MTX_MAX_SPECIES]; /* 3D distance to the sensors */
+  float sensor_cos[MTX_MAX_SPECIES], sensor_sin[MTX_MAX_SPECIES];
+  float max_turn[MTX_MAX_SPECIES];      /* radians */
+  /* attraction[4 * s + k]: weight of species k's pheromone in species s's sensing. */
+  float attraction[MTX_MAX_SPECIES * MTX_MAX_SPECIES];
   mtx_u32 substeps;
   mtx_u32 width, height;
+  mtx_u32 species_count;
+  mtx_u32 has_fields;  /* 0: the field plane is all zero and is not read */
+  mtx_u32 pad;
 } mtx_momas_constants;
 
 MTX_END_NAMESPACE

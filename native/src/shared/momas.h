@@ -38,22 +38,47 @@ MTX_FN mtx_u32 mtx_walker_texel(MTX_GLOBAL const float* corner_uvs, const mtx_wa
   return mtx_texel_of_uv(u, v, width, height);
 }
 
-MTX_FN float mtx_sense(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
-                       const mtx_walker* from, float c, float sn,
-                       const mtx_momas_constants* k) {
-  mtx_walker probe = *from;
-  probe.heading = mtx_rotate(probe.heading, c, sn);
-  mtx_walk(s.frames, s.adjacency, &probe, k->sensor_length, 0, 0);
-  return pheromone[mtx_walker_texel(s.corner_uvs, &probe, k->width, k->height)];
+/* Byte plane `plane` of the deposit marks, float plane `plane` of the pheromone. */
+MTX_FN mtx_u32 mtx_texel_count(const mtx_momas_constants* k) { return k->width * k->height; }
+
+/* What species `species` senses at `texel`: its attraction-weighted sum of all species'
+ * pheromone, plus the static field (obstacles -1e9, attractors). */
+MTX_FN float mtx_sensed_value(MTX_GLOBAL const float* pheromone, MTX_GLOBAL const float* field,
+                              mtx_u32 texel, mtx_u32 species, const mtx_momas_constants* k) {
+  const mtx_u32 texels = mtx_texel_count(k);
+  float v = 0.0f;
+  for (mtx_u32 p = 0; p < k->species_count; ++p)
+    v += k->attraction[MTX_MAX_SPECIES * species + p] * pheromone[p * texels + texel];
+  if (k->has_fields) v += field[texel];
+  return v;
 }
 
-/* Updates walker w (agent number `agent`) by one step. */
+MTX_FN int mtx_is_obstacle(MTX_GLOBAL const float* field, mtx_u32 texel,
+                           const mtx_momas_constants* k) {
+  return k->has_fields && field[texel] < MTX_OBSTACLE_THRESHOLD;
+}
+
+MTX_FN float mtx_sense(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
+                       MTX_GLOBAL const float* field, const mtx_walker* from, float c, float sn,
+                       mtx_u32 species, const mtx_momas_constants* k) {
+  mtx_walker probe = *from;
+  probe.heading = mtx_rotate(probe.heading, c, sn);
+  mtx_walk(s.frames, s.adjacency, &probe, k->sensor_length[species], 0, 0);
+  return mtx_sensed_value(pheromone, field,
+                          mtx_walker_texel(s.corner_uvs, &probe, k->width, k->height), species, k);
+}
+
+/* Updates walker w (agent number `agent`, of species `species`) by one step. `pheromone`
+ * holds species_count planes of width * height texels, `marks` as many byte planes;
+ * `field` is the static field plane (read only when k->has_fields). */
 MTX_FN void mtx_momas_agent_step(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
-                                 MTX_GLOBAL mtx_u8* marks, mtx_walker* w, mtx_u64 agent,
+                                 MTX_GLOBAL const float* field, MTX_GLOBAL mtx_u8* marks,
+                                 mtx_walker* w, mtx_u32 species, mtx_u64 agent,
                                  const mtx_momas_constants* k) {
-  const float left = mtx_sense(s, pheromone, w, k->sensor_cos, k->sensor_sin, k);
-  const float front = mtx_sense(s, pheromone, w, 1.0f, 0.0f, k);
-  const float right = mtx_sense(s, pheromone, w, k->sensor_cos, -k->sensor_sin, k);
+  const float sc = k->sensor_cos[species], ss = k->sensor_sin[species];
+  const float left = mtx_sense(s, pheromone, field, w, sc, ss, species, k);
+  const float front = mtx_sense(s, pheromone, field, w, 1.0f, 0.0f, species, k);
+  const float right = mtx_sense(s, pheromone, field, w, sc, -ss, species, k);
 
   /* Steering: keep going only while the front is strictly strongest, else turn toward
    * the stronger side, or to a random side on a tie (so agents on bare ground wander
@@ -68,17 +93,32 @@ MTX_FN void mtx_momas_agent_step(mtx_surface_tables s, MTX_GLOBAL const float* p
       side = -1.0f;
     else
       side = mtx_rng_float(&rng) < 0.5f ? 1.0f : -1.0f;
-    const float turn = side * r * k->max_turn;
+    const float turn = side * r * k->max_turn[species];
     w->heading = mtx_unit(mtx_rotate(w->heading, cos(turn), sin(turn)));
   }
 
   /* Move in equal substeps, leaving a deposit after each: a line-integrated trail whose
-   * total length does not depend on the substep count. */
-  const float sub_length = k->move_length / MTX_CAST(float, k->substeps);
+   * total length does not depend on the substep count. A substep that would carry the
+   * agent from free ground into an obstacle is undone and the agent turns back, so no
+   * agent ever stands in an obstacle it did not start in. */
+  const float sub_length = k->move_length[species] / MTX_CAST(float, k->substeps);
+  MTX_GLOBAL mtx_u8* own_marks = marks + species * mtx_texel_count(k);
+  mtx_u32 texel = mtx_walker_texel(s.corner_uvs, w, k->width, k->height);
   for (mtx_u32 i = 0; i < k->substeps; ++i) {
+    const mtx_walker before = *w;
+    const mtx_u32 before_texel = texel;
     mtx_walk(s.frames, s.adjacency, w, sub_length, 0, 0);
-    const mtx_u32 texel = mtx_walker_texel(s.corner_uvs, w, k->width, k->height);
-    if (s.classes[texel] == MTX_TEXEL_INSIDE) MTX_MARK(marks, texel);
+    texel = mtx_walker_texel(s.corner_uvs, w, k->width, k->height);
+    if (mtx_is_obstacle(field, texel, k)) {
+      if (!mtx_is_obstacle(field, before_texel, k)) {
+        *w = before;
+        w->heading.x = -w->heading.x;
+        w->heading.y = -w->heading.y;
+        texel = before_texel;
+      }
+      continue; /* nothing is deposited in an obstacle */
+    }
+    if (s.classes[texel] == MTX_TEXEL_INSIDE) MTX_MARK(own_marks, texel);
   }
 }
 

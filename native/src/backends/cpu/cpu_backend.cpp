@@ -11,21 +11,23 @@ constexpr uint64_t kSortInterval = 16;
 
 CpuBackend::CpuBackend(std::shared_ptr<const Surface> surface,
                        std::shared_ptr<const TextureDomain> domain, uint32_t agent_count,
-                       unsigned threads)
+                       uint32_t species_count, unsigned threads)
     : surface_(std::move(surface)),
       domain_(std::move(domain)),
       agent_count_(agent_count),
+      species_count_(species_count),
       pool_(std::make_unique<ThreadPool>(threads)) {
-  pheromone_.assign(domain_->texel_count(), 0.f);
-  scratch_.assign(domain_->texel_count(), 0.f);
-  marks_.assign(domain_->texel_count(), 0);
+  const size_t n = domain_->texel_count() * species_count_;
+  pheromone_.assign(n, 0.f);
+  scratch_.assign(n, 0.f);
+  marks_.assign(n, 0);
 }
 
-void CpuBackend::reset(uint64_t seed) {
+void CpuBackend::reset(const Agents& agents) {
   std::fill(pheromone_.begin(), pheromone_.end(), 0.f);
   std::fill(scratch_.begin(), scratch_.end(), 0.f);
   std::fill(marks_.begin(), marks_.end(), 0);
-  agents_ = spawn_uniform(*surface_, agent_count_, seed, *pool_);
+  agents_ = agents;
 }
 
 void CpuBackend::set_thread_count(unsigned threads) {
@@ -33,26 +35,32 @@ void CpuBackend::set_thread_count(unsigned threads) {
     pool_ = std::make_unique<ThreadPool>(threads);
 }
 
-void CpuBackend::step(const moldtex_sim_params& p, uint64_t seed, uint64_t step_index) {
+void CpuBackend::step(const StepSettings& settings, uint64_t seed, uint64_t step_index) {
   const TextureDomain& d = *domain_;
-  const MomasStepConstants c = momas_constants(p, d, seed, step_index);
+  const moldtex_sim_params& p = settings.params;
+  const MomasStepConstants c = momas_constants(settings, d, seed, step_index);
   // Agents drift apart in memory order as they move; regroup them now and then.
   if (step_index % kSortInterval == 0) sort_by_tile(*surface_, d.width, d.height, agents_);
   // 1. Agents sense the field as it was at the start of the step (read-only) and mark
   //    where they deposit: no thread reads what another is writing.
   const mtx_surface_tables tables = surface_tables(*surface_, d);
+  const float* field = c.has_fields ? field_.data() : nullptr;
   pool_->parallel_for(agents_.size(), 1024, [&](size_t begin, size_t end) {
-    momas_update_agents(tables, c, pheromone_.data(), marks_.data(), agents_, begin, end);
+    momas_update_agents(tables, c, pheromone_.data(), field, marks_.data(), agents_, begin, end);
   });
-  // 2. Deposit, make the gutter hold the texels across each seam, then blur (which then
-  //    mixes across seams) and evaporate.
-  apply_deposits(d, pheromone_.data(), marks_.data(), p.deposit, *pool_);
-  fill_gutter(d, pheromone_.data(), *pool_);
+  // 2. Per species: deposit, make the gutter hold the texels across each seam, then blur
+  //    (which then mixes across seams) and evaporate.
+  const size_t texels = d.texel_count();
   const float mix = std::min(1.f, p.diffusion_rate * p.time_step);
-  diffuse_and_evaporate(d, pheromone_.data(), scratch_.data(), mix,
-                        p.evaporation_rate * p.time_step, *pool_);
+  for (uint32_t k = 0; k < species_count_; ++k) {
+    float* plane = pheromone_.data() + k * texels;
+    apply_deposits(d, plane, marks_.data() + k * texels, settings.species[k].deposit, *pool_);
+    fill_gutter(d, plane, *pool_);
+    diffuse_and_evaporate(d, plane, scratch_.data() + k * texels, mix,
+                          p.evaporation_rate * p.time_step, *pool_);
+  }
   pheromone_.swap(scratch_);
-  fill_gutter(d, pheromone_.data(), *pool_);
+  for (uint32_t k = 0; k < species_count_; ++k) fill_gutter(d, pheromone_.data() + k * texels, *pool_);
 }
 
 void CpuBackend::read_pheromone(float* out) const {
@@ -84,7 +92,8 @@ std::string CpuBackend::name() const {
 }
 
 size_t CpuBackend::bytes() const {
-  return agents_.bytes() + (pheromone_.capacity() + scratch_.capacity()) * sizeof(float) +
+  return agents_.bytes() +
+         (pheromone_.capacity() + scratch_.capacity() + field_.capacity()) * sizeof(float) +
          marks_.capacity();
 }
 

@@ -13,10 +13,11 @@ namespace moldtex {
 class CpuBackend final : public Backend {
  public:
   CpuBackend(std::shared_ptr<const Surface> surface, std::shared_ptr<const TextureDomain> domain,
-             uint32_t agent_count, unsigned threads);
-  void reset(uint64_t seed) override;
-  void step(const moldtex_sim_params& params, uint64_t seed, uint64_t step_index) override;
+             uint32_t agent_count, uint32_t species_count, unsigned threads);
+  void reset(const Agents& agents) override;
+  void step(const StepSettings& settings, uint64_t seed, uint64_t step_index) override;
   void set_thread_count(unsigned threads) override;
+  void set_field(const std::vector<float>& field) override { field_ = field; }
   void read_pheromone(float* out) const override;
   void read_agents(moldtex_surface_point* out, size_t count) const override;
   size_t agent_count() const override { return agent_count_; }
@@ -28,10 +29,11 @@ class CpuBackend final : public Backend {
  private:
   std::shared_ptr<const Surface> surface_;
   std::shared_ptr<const TextureDomain> domain_;
-  uint32_t agent_count_;
+  uint32_t agent_count_, species_count_;
   std::unique_ptr<ThreadPool> pool_;
   Agents agents_;
-  std::vector<float> pheromone_, scratch_;
+  std::vector<float> pheromone_, scratch_;  // species_count_ planes each
+  std::vector<float> field_;
   std::vector<uint8_t> marks_;
 };
 

@@ -4,9 +4,10 @@
 
 __kernel void momas_agents(__global const mtx_frame* frames, __global const uint* adjacency,
                            __global const float* corner_uvs, __global const uchar* classes,
-                           __global const float* pheromone, __global uchar* marks,
-                           __global uint* triangle, __global float* b1, __global float* b2,
-                           __global float* hx, __global float* hy,
+                           __global const float* pheromone, __global const float* field,
+                           __global uchar* marks, __global uint* triangle, __global float* b1,
+                           __global float* b2, __global float* hx, __global float* hy,
+                           __global const uchar* species,
                            const mtx_momas_constants k, const uint count) {
   const uint i = get_global_id(0);
   if (i >= count) return;
@@ -22,7 +23,7 @@ __kernel void momas_agents(__global const mtx_frame* frames, __global const uint
   w.bary[0] = 1.0f - w.bary[1] - w.bary[2];
   w.heading.x = hx[i];
   w.heading.y = hy[i];
-  mtx_momas_agent_step(s, pheromone, marks, &w, (ulong)i, &k);
+  mtx_momas_agent_step(s, pheromone, field, marks, &w, (uint)species[i], (ulong)i, &k);
   triangle[i] = w.triangle;
   b1[i] = w.bary[1];
   b2[i] = w.bary[2];
@@ -30,29 +31,39 @@ __kernel void momas_agents(__global const mtx_frame* frames, __global const uint
   hy[i] = w.heading.y;
 }
 
+/* pheromone and marks hold `planes` planes of `texels`; plane p gets deposit[p]. */
 __kernel void apply_deposits(__global float* pheromone, __global uchar* marks,
-                             const float deposit, const uint count) {
+                             const float4 deposit, const uint texels, const uint planes) {
   const uint i = get_global_id(0);
-  if (i >= count || !marks[i]) return;
-  pheromone[i] = fmax(pheromone[i], deposit);
+  if (i >= texels * planes || !marks[i]) return;
+  const uint p = i / texels;
+  const float d = p == 0 ? deposit.x : (p == 1 ? deposit.y : (p == 2 ? deposit.z : deposit.w));
+  pheromone[i] = fmax(pheromone[i], d);
   marks[i] = 0;
 }
 
 /* Gutter texels copy island texels; the two sets are disjoint, so no write races. */
 __kernel void fill_gutter(__global float* pheromone, __global const uint* gutter_texel,
-                          __global const uint* gutter_source, const uint count) {
+                          __global const uint* gutter_source, const uint count,
+                          const uint texels, const uint planes) {
   const uint i = get_global_id(0);
   if (i >= count) return;
-  pheromone[gutter_texel[i]] = pheromone[gutter_source[i]];
+  for (uint p = 0; p < planes; ++p)
+    pheromone[p * texels + gutter_texel[i]] = pheromone[p * texels + gutter_source[i]];
 }
 
 __kernel void diffuse_evaporate(__global const float* in, __global float* out,
                                 __global const uchar* classes, const int width,
-                                const int height, const float mix, const float evaporation) {
+                                const int height, const float mix, const float evaporation,
+                                const uint planes) {
   const int x = get_global_id(0), y = get_global_id(1);
   if (x >= width || y >= height) return;
   const uint i = (uint)y * (uint)width + (uint)x;
-  out[i] = classes[i] == MTX_TEXEL_INSIDE
-               ? mtx_diffuse_evaporate_texel(in, classes, x, y, width, height, mix, evaporation)
-               : 0.0f;
+  const uint texels = (uint)width * (uint)height;
+  for (uint p = 0; p < planes; ++p)
+    out[p * texels + i] =
+        classes[i] == MTX_TEXEL_INSIDE
+            ? mtx_diffuse_evaporate_texel(in + p * texels, classes, x, y, width, height, mix,
+                                          evaporation)
+            : 0.0f;
 }

@@ -41,12 +41,13 @@ struct OpenClBackend::State {
   cl_mem frames = nullptr, adjacency = nullptr, corner_uvs = nullptr, classes = nullptr,
          gutter_texel = nullptr, gutter_source = nullptr;
   // State.
-  cl_mem triangle = nullptr, b1 = nullptr, b2 = nullptr, hx = nullptr, hy = nullptr;
-  cl_mem pheromone = nullptr, scratch = nullptr, marks = nullptr;
+  cl_mem triangle = nullptr, b1 = nullptr, b2 = nullptr, hx = nullptr, hy = nullptr,
+         species = nullptr;
+  cl_mem pheromone = nullptr, scratch = nullptr, marks = nullptr, field = nullptr;
 
   ~State() {
     for (cl_mem m : {frames, adjacency, corner_uvs, classes, gutter_texel, gutter_source, triangle,
-                     b1, b2, hx, hy, pheromone, scratch, marks})
+                     b1, b2, hx, hy, species, pheromone, scratch, marks, field})
       if (m) r.clReleaseMemObject(m);
     for (cl_kernel k : {agents_kernel, deposit_kernel, gutter_kernel, diffuse_kernel})
       if (k) r.clReleaseKernel(k);
@@ -81,10 +82,11 @@ struct OpenClBackend::State {
 
 OpenClBackend::OpenClBackend(std::shared_ptr<const Surface> surface,
                              std::shared_ptr<const TextureDomain> domain, uint32_t agent_count,
-                             const cl::Device& device)
+                             uint32_t species_count, const cl::Device& device)
     : surface_(std::move(surface)),
       domain_(std::move(domain)),
       agent_count_(agent_count),
+      species_count_(species_count),
       device_(device),
       state_(std::make_unique<State>()) {
   State& s = *state_;
@@ -124,7 +126,7 @@ OpenClBackend::OpenClBackend(std::shared_ptr<const Surface> surface,
   const Surface& sf = *surface_;
   const TextureDomain& d = *domain_;
   const size_t texels = d.texel_count();
-  const double need = agent_count_ * 20.0 + texels * 10.0 + sf.frames.size() * sizeof(mtx_frame) +
+  const double need = agent_count_ * 21.0 + texels * (9.0 * species_count_ + 5.0) + sf.frames.size() * sizeof(mtx_frame) +
                       sf.adjacency.size() * 4.0 + sf.corner_uvs.size() * 4.0 + d.gutter_texel.size() * 8.0;
   if (device_.global_memory && need > 0.9 * static_cast<double>(device_.global_memory))
     fail(MOLDTEX_ERROR_OUT_OF_MEMORY,
@@ -144,9 +146,11 @@ OpenClBackend::OpenClBackend(std::shared_ptr<const Surface> surface,
   s.b2 = s.buffer(agent_count_ * 4ull, nullptr, device_bytes_);
   s.hx = s.buffer(agent_count_ * 4ull, nullptr, device_bytes_);
   s.hy = s.buffer(agent_count_ * 4ull, nullptr, device_bytes_);
-  s.pheromone = s.buffer(texels * 4, nullptr, device_bytes_);
-  s.scratch = s.buffer(texels * 4, nullptr, device_bytes_);
-  s.marks = s.buffer(texels, nullptr, device_bytes_);
+  s.species = s.buffer(agent_count_ * 1ull, nullptr, device_bytes_);
+  s.pheromone = s.buffer(texels * 4 * species_count_, nullptr, device_bytes_);
+  s.scratch = s.buffer(texels * 4 * species_count_, nullptr, device_bytes_);
+  s.marks = s.buffer(texels * species_count_, nullptr, device_bytes_);
+  s.field = s.buffer(texels * 4, nullptr, device_bytes_);
 }
 
 OpenClBackend::~OpenClBackend() = default;
@@ -157,8 +161,8 @@ std::string OpenClBackend::name() const {
 
 void OpenClBackend::upload_agents(const Agents& a) {
   State& s = *state_;
-  auto write = [&](cl_mem m, const void* data) {
-    check(s.r.clEnqueueWriteBuffer(s.queue, m, CL_TRUE, 0, agent_count_ * 4ull, data, 0, nullptr, nullptr),
+  auto write = [&](cl_mem m, const void* data, size_t element = 4) {
+    check(s.r.clEnqueueWriteBuffer(s.queue, m, CL_TRUE, 0, agent_count_ * element, data, 0, nullptr, nullptr),
           "uploading the agents");
   };
   write(s.triangle, a.triangle.data());
@@ -166,14 +170,22 @@ void OpenClBackend::upload_agents(const Agents& a) {
   write(s.b2, a.b2.data());
   write(s.hx, a.hx.data());
   write(s.hy, a.hy.data());
+  write(s.species, a.species.data(), 1);
 }
 
-void OpenClBackend::reset(uint64_t seed) {
+void OpenClBackend::set_field(const std::vector<float>& field) {
+  State& s = *state_;
+  if (field.empty()) return;  // the kernels do not read it then
+  check(s.r.clEnqueueWriteBuffer(s.queue, s.field, CL_TRUE, 0, field.size() * 4, field.data(), 0,
+                                 nullptr, nullptr),
+        "uploading the fields");
+}
+
+void OpenClBackend::reset(const Agents& agents) {
   State& s = *state_;
   // Spawning is a one-off: done on the host with the CPU backend's code, then uploaded.
-  ThreadPool pool(0);
-  upload_agents(spawn_uniform(*surface_, agent_count_, seed, pool));
-  const size_t texels = domain_->texel_count();
+  upload_agents(agents);
+  const size_t texels = domain_->texel_count() * species_count_;
   const float zero = 0.f;
   const cl_uchar zero8 = 0;
   check(s.r.clEnqueueFillBuffer(s.queue, s.pheromone, &zero, 4, 0, texels * 4, 0, nullptr, nullptr),
@@ -185,32 +197,39 @@ void OpenClBackend::reset(uint64_t seed) {
   finish();
 }
 
-void OpenClBackend::step(const moldtex_sim_params& p, uint64_t seed, uint64_t step_index) {
+void OpenClBackend::step(const StepSettings& settings, uint64_t seed, uint64_t step_index) {
   State& s = *state_;
   const TextureDomain& d = *domain_;
-  const mtx_momas_constants c = momas_constants(p, d, seed, step_index);
+  const moldtex_sim_params& p = settings.params;
+  const mtx_momas_constants c = momas_constants(settings, d, seed, step_index);
+  const cl_uint planes = species_count_;
   const cl_uint texels = static_cast<cl_uint>(d.texel_count());
   const cl_uint gutter = static_cast<cl_uint>(d.gutter_texel.size());
 
   cl_kernel k = s.agents_kernel;
-  cl_mem agent_args[] = {s.frames, s.adjacency, s.corner_uvs, s.classes, s.pheromone, s.marks,
-                         s.triangle, s.b1, s.b2, s.hx, s.hy};
-  for (cl_uint i = 0; i < 11; ++i) s.arg(k, i, agent_args[i]);
-  s.arg(k, 11, c);
-  s.arg(k, 12, static_cast<cl_uint>(agent_count_));
+  cl_mem agent_args[] = {s.frames, s.adjacency, s.corner_uvs, s.classes, s.pheromone, s.field,
+                         s.marks, s.triangle, s.b1, s.b2, s.hx, s.hy, s.species};
+  for (cl_uint i = 0; i < 13; ++i) s.arg(k, i, agent_args[i]);
+  s.arg(k, 13, c);
+  s.arg(k, 14, static_cast<cl_uint>(agent_count_));
   s.run(k, agent_count_);
 
   s.arg(s.deposit_kernel, 0, s.pheromone);
   s.arg(s.deposit_kernel, 1, s.marks);
-  s.arg(s.deposit_kernel, 2, p.deposit);
+  cl_float4 deposit{};
+  for (cl_uint i = 0; i < planes; ++i) deposit.s[i] = settings.species[i].deposit;
+  s.arg(s.deposit_kernel, 2, deposit);
   s.arg(s.deposit_kernel, 3, texels);
-  s.run(s.deposit_kernel, texels);
+  s.arg(s.deposit_kernel, 4, planes);
+  s.run(s.deposit_kernel, static_cast<size_t>(texels) * planes);
 
   auto gutter_pass = [&] {
     s.arg(s.gutter_kernel, 0, s.pheromone);
     s.arg(s.gutter_kernel, 1, s.gutter_texel);
     s.arg(s.gutter_kernel, 2, s.gutter_source);
     s.arg(s.gutter_kernel, 3, gutter);
+    s.arg(s.gutter_kernel, 4, texels);
+    s.arg(s.gutter_kernel, 5, planes);
     s.run(s.gutter_kernel, gutter);
   };
   gutter_pass();
@@ -223,6 +242,7 @@ void OpenClBackend::step(const moldtex_sim_params& p, uint64_t seed, uint64_t st
   s.arg(s.diffuse_kernel, 4, static_cast<cl_int>(d.height));
   s.arg(s.diffuse_kernel, 5, mix);
   s.arg(s.diffuse_kernel, 6, p.evaporation_rate * p.time_step);
+  s.arg(s.diffuse_kernel, 7, planes);
   s.run(s.diffuse_kernel, d.width, d.height);
   std::swap(s.pheromone, s.scratch);
   gutter_pass();
@@ -232,7 +252,8 @@ void OpenClBackend::finish() { check(state_->r.clFinish(state_->queue), "finishi
 
 void OpenClBackend::read_pheromone(float* out) const {
   check(state_->r.clEnqueueReadBuffer(state_->queue, state_->pheromone, CL_TRUE, 0,
-                                      domain_->texel_count() * 4, out, 0, nullptr, nullptr),
+                                      domain_->texel_count() * 4 * species_count_, out, 0, nullptr,
+                                      nullptr),
         "reading the pheromone");
 }
 
@@ -241,7 +262,8 @@ void OpenClBackend::export_state(SimState& out) const {
   auto read = [&](cl_mem m, auto& v, size_t count) {
     v.resize(count);
     if (count)
-      check(s.r.clEnqueueReadBuffer(s.queue, m, CL_TRUE, 0, count * 4, v.data(), 0, nullptr, nullptr),
+      check(s.r.clEnqueueReadBuffer(s.queue, m, CL_TRUE, 0, count * sizeof(v[0]), v.data(), 0,
+                                    nullptr, nullptr),
             "reading the state");
   };
   read(s.triangle, out.agents.triangle, agent_count_);
@@ -249,7 +271,8 @@ void OpenClBackend::export_state(SimState& out) const {
   read(s.b2, out.agents.b2, agent_count_);
   read(s.hx, out.agents.hx, agent_count_);
   read(s.hy, out.agents.hy, agent_count_);
-  read(s.pheromone, out.pheromone, domain_->texel_count());
+  read(s.species, out.agents.species, agent_count_);
+  read(s.pheromone, out.pheromone, domain_->texel_count() * species_count_);
 }
 
 void OpenClBackend::import_state(const SimState& in) {
@@ -259,7 +282,8 @@ void OpenClBackend::import_state(const SimState& in) {
                                  in.pheromone.data(), 0, nullptr, nullptr),
         "restoring the pheromone");
   const cl_uchar zero8 = 0;
-  check(s.r.clEnqueueFillBuffer(s.queue, s.marks, &zero8, 1, 0, domain_->texel_count(), 0, nullptr, nullptr),
+  check(s.r.clEnqueueFillBuffer(s.queue, s.marks, &zero8, 1, 0, domain_->texel_count() * species_count_,
+                                0, nullptr, nullptr),
         "clearing the deposits");
   finish();
 }

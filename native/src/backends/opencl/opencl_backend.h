@@ -17,12 +17,13 @@ class OpenClBackend final : public Backend {
   // Throws moldtex::Error with a message a user can act on if the device cannot be used
   // (no runtime, kernel build failure, not enough device memory).
   OpenClBackend(std::shared_ptr<const Surface> surface, std::shared_ptr<const TextureDomain> domain,
-                uint32_t agent_count, const cl::Device& device);
+                uint32_t agent_count, uint32_t species_count, const cl::Device& device);
   ~OpenClBackend() override;
-  void reset(uint64_t seed) override;
-  void step(const moldtex_sim_params& params, uint64_t seed, uint64_t step_index) override;
+  void reset(const Agents& agents) override;
+  void step(const StepSettings& settings, uint64_t seed, uint64_t step_index) override;
   void finish() override;
   void set_thread_count(unsigned) override {}
+  void set_field(const std::vector<float>& field) override;
   void read_pheromone(float* out) const override;
   void read_agents(moldtex_surface_point* out, size_t count) const override;
   size_t agent_count() const override { return agent_count_; }
@@ -37,7 +38,7 @@ class OpenClBackend final : public Backend {
   struct State;
   std::shared_ptr<const Surface> surface_;
   std::shared_ptr<const TextureDomain> domain_;
-  uint32_t agent_count_;
+  uint32_t agent_count_, species_count_;
   cl::Device device_;
   size_t device_bytes_ = 0;
   std::unique_ptr<State> state_;
