@@ -124,6 +124,13 @@ class SimConfig(ctypes.Structure):
         ("backend", ctypes.c_uint32),
         ("opencl_platform", ctypes.c_uint32),
         ("opencl_device", ctypes.c_uint32),
+        # appended for species, fields and starting seeds
+        ("species_count", ctypes.c_uint32),
+        ("seed_shape", ctypes.c_uint32),
+        ("seed_center", SurfacePoint),
+        ("seed_radius", ctypes.c_float),
+        ("seed_rays", ctypes.c_uint32),
+        ("fields_rgba", ctypes.c_void_p),
     ]
 
 

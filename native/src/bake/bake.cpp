@@ -118,7 +118,7 @@ void Bake::run() {
       }
       sim.write_image(frame_path(frame), options_.format);
       moldtex_sim_stats st = sim.stats();
-      rows.push_back({frame, st.step_count, st.coverage, st.presence});
+      rows.push_back({frame, 0, st.step_count, st.coverage, st.presence});
       if (options_.write_checkpoints) sim.save_checkpoint(checkpoint_path(), rows);
       write_metrics_csv(rows);
       std::lock_guard<std::mutex> lock(mutex_);

@@ -11,8 +11,11 @@
 namespace moldtex {
 
 // One row of the bake's metrics (momas-paper.md Eq. 1 at a frame).
+// Written to checkpoints as raw bytes: the explicit `reserved` leaves no padding, so
+// identical bakes write identical files.
 struct MetricRow {
   int32_t frame;
+  int32_t reserved = 0;
   uint64_t step;
   double coverage, presence;
 };
