@@ -106,17 +106,23 @@ void validate_config(const moldtex_sim_config& c, const Surface& surface) {
   }
 }
 
-void validate_params(const moldtex_sim_params& p) {
-  if (p.struct_size < sizeof(moldtex_sim_params))
-    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
-         "moldtex_sim_params.struct_size is too small: call moldtex_sim_params_init first");
+// The agent behaviour fields that moldtex_sim_params and moldtex_species_params share.
+template <class Behaviour>
+void check_behaviour(const Behaviour& p) {
   check_range("Movement speed", p.movement_speed, 0.f, 64.f, "the paper tested 1 to 2");
   check_range("Turn speed", p.turn_speed, 0.f, 1000.f, "the paper tested 10 to 50");
   check_range("Vision distance", p.vision_distance, 0.f, 50.f, "the paper tested 0.4 to 2");
   check_range("Vision angle", p.vision_angle, 0.f, 180.f, "in degrees; the paper tested 10 to 50");
+  check_range("Deposit", p.deposit, 0.f, 1.f, "");
+}
+
+void validate_params(const moldtex_sim_params& p) {
+  if (p.struct_size < sizeof(moldtex_sim_params))
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "moldtex_sim_params.struct_size is too small: call moldtex_sim_params_init first");
+  check_behaviour(p);
   check_range("Evaporation rate", p.evaporation_rate, 0.f, 1000.f, "the paper tested 0.2 to 1");
   check_range("Diffusion rate", p.diffusion_rate, 0.f, 1000.f, "");
-  check_range("Deposit", p.deposit, 0.f, 1.f, "");
   check_range("Time step", p.time_step, 1e-6f, 1.f, "1/60 s reproduces the paper");
   if (p.substeps < 1 || p.substeps > 64)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Substeps must be between 1 and 64");
@@ -128,11 +134,7 @@ void validate_species_params(const moldtex_species_params& p) {
   if (p.struct_size < sizeof(moldtex_species_params))
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
          "moldtex_species_params.struct_size is too small: call moldtex_species_params_init first");
-  check_range("Movement speed", p.movement_speed, 0.f, 64.f, "the paper tested 1 to 2");
-  check_range("Turn speed", p.turn_speed, 0.f, 1000.f, "the paper tested 10 to 50");
-  check_range("Vision distance", p.vision_distance, 0.f, 50.f, "the paper tested 0.4 to 2");
-  check_range("Vision angle", p.vision_angle, 0.f, 180.f, "in degrees; the paper tested 10 to 50");
-  check_range("Deposit", p.deposit, 0.f, 1.f, "");
+  check_behaviour(p);
   for (float a : p.attraction)
     check_range("Attraction", a, -1.f, 1.f, "+1 follows a trail, -1 avoids it");
 }
