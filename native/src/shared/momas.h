@@ -38,7 +38,7 @@ MTX_FN mtx_u32 mtx_walker_texel(MTX_GLOBAL const float* corner_uvs, const mtx_wa
   return mtx_texel_of_uv(u, v, width, height);
 }
 
-/* Byte plane `plane` of the deposit marks, float plane `plane` of the pheromone. */
+/* Texels per plane: pheromone and deposit marks hold one plane per species. */
 MTX_FN mtx_u32 mtx_texel_count(const mtx_momas_constants* k) { return k->width * k->height; }
 
 /* What species `species` senses at `texel`: its attraction-weighted sum of all species'
