@@ -107,6 +107,20 @@ class PanelTests(unittest.TestCase):
                             with_uvs=False)
         self.assertIn("No UV map", labels(draw_all(self, obj)))
 
+    def test_species_and_start_settings_are_shown(self):
+        obj = h.add_primitive("torus")
+        h.configure(obj, agents=2000)
+        obj.moldtex.species_count = 2
+        obj.moldtex.seed_shape = 'STARBURST'
+        log = draw_all(self, obj)
+        shown = [name for kind, name in log if kind == "prop"]
+        self.assertIn("seed_radius", shown)
+        self.assertIn("seed_rays", shown)
+        self.assertEqual(shown.count("color"), 2)  # one box per species
+        self.assertEqual(shown.count("attraction"), 4)  # 2 species × 2 others
+        self.assertIn("Centre: the surface point nearest the 3D cursor.",
+                      labels(log))
+
     def test_idle_then_running_then_needs_reset(self):
         obj = h.add_primitive("torus")
         h.configure(obj, agents=2000)
@@ -118,7 +132,8 @@ class PanelTests(unittest.TestCase):
                                  "seed", "backend", "steps_per_update", "thread_count",
                                  "image", "bake_use_scene_range", "bake_steps_per_frame",
                                  "bake_directory", "bake_format", "bake_prefix",
-                                 "bake_resume"})
+                                 "bake_resume", "species_count", "seed_shape",
+                                 "fields_image"})
         self.assertIn(("prop_search", "uv_map"), log)
         self.assertIn(("menu", "MOLDTEX_MT_presets"), log)
         buttons = [name for kind, name in log if kind == "operator"]

@@ -134,6 +134,18 @@ class SimConfig(ctypes.Structure):
     ]
 
 
+class SpeciesParams(ctypes.Structure):
+    _fields_ = [
+        ("struct_size", ctypes.c_uint32),
+        ("movement_speed", ctypes.c_float),
+        ("turn_speed", ctypes.c_float),
+        ("vision_distance", ctypes.c_float),
+        ("vision_angle", ctypes.c_float),
+        ("deposit", ctypes.c_float),
+        ("attraction", ctypes.c_float * 4),
+    ]
+
+
 class SimParams(ctypes.Structure):
     _fields_ = [
         ("struct_size", ctypes.c_uint32),
@@ -203,6 +215,7 @@ class OpenCLDeviceInfo(ctypes.Structure):
 
 
 CONFIG_FIELDS = tuple(name for name, _ in SimConfig._fields_ if name != "struct_size")
+SPECIES_FIELDS = tuple(name for name, _ in SpeciesParams._fields_ if name != "struct_size")
 PARAM_FIELDS = tuple(name for name, _ in SimParams._fields_ if name != "struct_size")
 STATS_FIELDS = tuple(name for name, _ in SimStats._fields_ if name != "struct_size")
 SURFACE_INFO_FIELDS = tuple(name for name, _ in SurfaceInfo._fields_ if name != "struct_size")
@@ -238,6 +251,10 @@ _SIGNATURES = {
     "moldtex_sim_set_params": (_status, [_Sim, _P(SimParams)]),
     "moldtex_sim_get_params": (_status, [_Sim, _P(SimParams)]),
     "moldtex_sim_get_config": (_status, [_Sim, _P(SimConfig)]),
+    "moldtex_species_params_init": (None, [_P(SpeciesParams), ctypes.c_uint32]),
+    "moldtex_sim_set_species_params": (_status, [_Sim, ctypes.c_uint32, _P(SpeciesParams)]),
+    "moldtex_sim_get_species_params": (_status, [_Sim, ctypes.c_uint32, _P(SpeciesParams)]),
+    "moldtex_sim_set_fields": (_status, [_Sim, ctypes.c_void_p, ctypes.c_size_t]),
     "moldtex_sim_reset": (_status, [_Sim]),
     "moldtex_sim_step": (_status, [_Sim, ctypes.c_uint32]),
     "moldtex_sim_read_rgba": (_status, [_Sim, ctypes.c_void_p, ctypes.c_size_t]),
@@ -260,6 +277,13 @@ _SIGNATURES = {
     "moldtex_opencl_device_count": (_status, [_P(ctypes.c_uint32)]),
     "moldtex_opencl_get_device": (_status, [ctypes.c_uint32, _P(OpenCLDeviceInfo)]),
 }
+
+SEED_RANDOM = 0     # moldtex_seed_shape
+SEED_SPAWN_MAP = 1
+SEED_CIRCLE = 2
+SEED_BIG_BANG = 3
+SEED_STARBURST = 4
+MAX_SPECIES = 4
 
 # Structs whose *_init function must report the same struct_size as our mirror.
 _STRUCT_INITS = (
@@ -413,7 +437,11 @@ def _uint_ptr(buffer):
 
 
 def _struct_to_dict(struct, fields):
-    return {name: getattr(struct, name) for name in fields}
+    result = {name: getattr(struct, name) for name in fields}
+    for name, value in result.items():
+        if isinstance(value, SurfacePoint):
+            result[name] = (value.triangle, tuple(value.bary))
+    return result
 
 
 def default_params():
@@ -574,15 +602,30 @@ class Surface:
 class Simulation:
     """A MoMaS simulation on a surface's UV layout (moldtex_sim)."""
 
-    def __init__(self, surface, config=None, params=None):
+    def __init__(self, surface, config=None, params=None, fields=None):
         """config: dict with any of CONFIG_FIELDS (width, height, agent_count, seed,
-        backend, opencl_platform, opencl_device; missing = core default);
-        params: dict with any of PARAM_FIELDS (missing = core default)."""
+        backend, opencl_platform, opencl_device, species_count, seed_shape, seed_radius,
+        seed_rays; seed_center as (triangle, (b0, b1, b2)); missing = core default);
+        params: dict with any of PARAM_FIELDS (missing = core default);
+        fields: static fields (array('f') or numpy float32 of width*height*4, see
+        set_fields) taken at create, or None."""
         lib = _require()
         self._handle = None
         c = SimConfig()
         lib.moldtex_sim_config_init(ctypes.byref(c))
-        _fill(c, config or {}, CONFIG_FIELDS, "config")
+        config = dict(config or {})
+        center = config.pop("seed_center", None)
+        config.pop("fields_rgba", None)
+        _fill(c, config, CONFIG_FIELDS, "config")
+        if center is not None:
+            c.seed_center = SurfacePoint(int(center[0]),
+                                         (ctypes.c_float * 3)(*center[1]))
+        if fields is not None:
+            address, count = _buffer_address(fields, ("f",), writable=False)
+            if count < 4 * c.width * c.height:
+                raise EngineError("The fields need width × height × 4 floats.",
+                                  ERROR_INVALID_ARGUMENT)
+            c.fields_rgba = address
         p = SimParams()
         lib.moldtex_sim_params_init(ctypes.byref(p))
         _fill(p, params or {}, PARAM_FIELDS, "params")
@@ -613,6 +656,41 @@ class Simulation:
         _lib.moldtex_sim_params_init(ctypes.byref(p))
         _check(_lib.moldtex_sim_get_params(self.handle, ctypes.byref(p)), "Reading parameters")
         return _struct_to_dict(p, PARAM_FIELDS)
+
+    def set_species_params(self, index, params):
+        """Behaviour of species `index`: a dict with any of SPECIES_FIELDS (attraction
+        as up to 4 floats); fields not given keep their current value."""
+        p = SpeciesParams()
+        _lib.moldtex_species_params_init(ctypes.byref(p), int(index))
+        _check(_lib.moldtex_sim_get_species_params(self.handle, int(index), ctypes.byref(p)),
+               "Reading species parameters")
+        params = dict(params)
+        attraction = params.pop("attraction", None)
+        _fill(p, params, SPECIES_FIELDS, "species")
+        if attraction is not None:
+            for k, value in enumerate(list(attraction)[:4]):
+                p.attraction[k] = float(value)
+        _check(_lib.moldtex_sim_set_species_params(self.handle, int(index), ctypes.byref(p)),
+               "Setting species parameters")
+
+    def get_species_params(self, index):
+        p = SpeciesParams()
+        _lib.moldtex_species_params_init(ctypes.byref(p), int(index))
+        _check(_lib.moldtex_sim_get_species_params(self.handle, int(index), ctypes.byref(p)),
+               "Reading species parameters")
+        result = _struct_to_dict(p, SPECIES_FIELDS)
+        result["attraction"] = tuple(p.attraction)
+        return result
+
+    def set_fields(self, rgba):
+        """Static fields: width*height*4 floats (array('f') or numpy float32) in
+        read_rgba's order, R spawn weight, G obstacle (> 0.5), B attractor; None clears."""
+        if rgba is None:
+            _check(_lib.moldtex_sim_set_fields(self.handle, None, 0), "Setting the fields")
+            return
+        address, count = _buffer_address(rgba, ("f",), writable=False)
+        _check(_lib.moldtex_sim_set_fields(self.handle, ctypes.c_void_p(address), count),
+               "Setting the fields")
 
     def get_config(self):
         c = SimConfig()

@@ -10,6 +10,9 @@ mesh (or its UV map) is not the one the simulation was built on.
 This module talks to the core only through engine.py.
 """
 
+import array
+import math
+
 from . import engine
 from .mesh_export import export_object, resolve_uv_map_name
 
@@ -21,7 +24,14 @@ PARAM_PROPERTIES = ("movement_speed", "turn_speed", "vision_distance", "vision_a
                     "thread_count")
 CONFIG_PROPERTIES = ("resolution", "agent_count", "seed", "uv_map", "backend_type",
                      "opencl_platform", "opencl_device", "opencl_device_name",
-                     "opencl_platform_name")
+                     "opencl_platform_name", "species_count", "seed_shape", "seed_radius",
+                     "seed_rays")
+SPECIES_PROPERTIES = ("movement_speed", "turn_speed", "vision_distance", "vision_angle",
+                      "deposit")
+SEED_SHAPES = {"RANDOM": engine.SEED_RANDOM, "SPAWN_MAP": engine.SEED_SPAWN_MAP,
+               "CIRCLE": engine.SEED_CIRCLE, "BIG_BANG": engine.SEED_BIG_BANG,
+               "STARBURST": engine.SEED_STARBURST}
+CENTERED_SHAPES = {"CIRCLE", "BIG_BANG", "STARBURST"}
 
 
 class LiveSim:
@@ -44,6 +54,7 @@ class LiveSim:
         self.warning = ""         # same, but reported as a warning
         self.backend_name = ""    # moldtex_sim_get_backend_name of the running sim
         self.backend_note = ""    # why the sim does not run on the chosen backend
+        self.create_config = None  # config given to the core (seed centre, radius)
         # Bake (bake.py): the core's bake worker owns self.sim while it runs.
         self.bake = None          # engine.Bake while a bake runs, else None
         self.bake_plan = None     # bake.BakePlan of the running or last bake
@@ -157,13 +168,135 @@ def backend_note(settings):
 def config_from_settings(settings):
     size = int(settings.resolution)
     config = {"width": size, "height": size, "agent_count": int(settings.agent_count),
-              "seed": int(settings.seed)}
+              "seed": int(settings.seed), "species_count": int(settings.species_count),
+              "seed_shape": SEED_SHAPES[settings.seed_shape],
+              "seed_radius": float(settings.seed_radius),
+              "seed_rays": int(settings.seed_rays)}
     config.update(backend_from_settings(settings)[0])
     return config
 
 
 def params_from_settings(settings):
     return {name: getattr(settings, name) for name in PARAM_PROPERTIES}
+
+
+def species_params_from_settings(settings):
+    """[(index, dict)] for every species when there are 2 or more, else [] (one species
+    takes the object's own agent settings through set_params)."""
+    count = int(settings.species_count)
+    if count < 2:
+        return []
+    result = []
+    for index in range(min(count, len(settings.species))):
+        item = settings.species[index]
+        params = {name: getattr(item, name) for name in SPECIES_PROPERTIES}
+        params["attraction"] = tuple(item.attraction)
+        result.append((index, params))
+    return result
+
+
+def _push_species(entry, settings):
+    for index, params in species_params_from_settings(settings):
+        entry.sim.set_species_params(index, params)
+
+
+def fields_from_settings(settings, width, height):
+    """The Fields image as width*height*4 floats (nearest resampling when its size
+    differs), or None without one. Raises engine.EngineError with plain words."""
+    image = settings.fields_image
+    if image is None:
+        return None
+    source_width, source_height = image.size
+    channels = image.channels
+    if source_width == 0 or source_height == 0 or channels == 0:
+        raise engine.EngineError(
+            f"The Fields image '{image.name}' has no pixels (is its file missing?): pick "
+            f"another image or clear Fields (Moldtex ▸ Species & Start).")
+    source = array.array("f", bytes(4 * channels * source_width * source_height))
+    image.pixels.foreach_get(source)
+    if channels == 4 and (source_width, source_height) == (width, height):
+        fields = source
+    else:
+        fields = _resample_nearest(source, source_width, source_height, channels,
+                                   width, height)
+    if not all(math.isfinite(value) for value in fields):
+        raise engine.EngineError(f"The Fields image '{image.name}' holds values that are "
+                                 f"not numbers: repaint it or pick another image.")
+    return fields
+
+
+def _resample_nearest(source, source_width, source_height, channels, width, height):
+    """RGBA floats of width × height from `channels`-channel pixels (nearest texel)."""
+    fields = array.array("f", bytes(4 * 4 * width * height))
+    count = min(channels, 4)
+    columns = [min(source_width - 1, int((x + 0.5) * source_width / width))
+               for x in range(width)]
+    for y in range(height):
+        row = min(source_height - 1, int((y + 0.5) * source_height / height))
+        base = row * source_width
+        target = 4 * y * width
+        for x, column in enumerate(columns):
+            start = channels * (base + column)
+            out = target + 4 * x
+            fields[out:out + count] = source[start:start + count]
+    return fields
+
+
+def _check_spawn_map(settings, fields):
+    if settings.seed_shape != 'SPAWN_MAP':
+        return
+    if fields is None:
+        raise engine.EngineError(
+            "Start is Spawn Map, but no Fields image is set: pick one whose red channel "
+            "marks where agents start (Moldtex ▸ Species & Start), or choose another Start.")
+    if not any(red > 0.0 and green <= 0.5
+               for red, green in zip(fields[0::4], fields[1::4])):
+        raise engine.EngineError(
+            f"Start is Spawn Map, but the Fields image '{settings.fields_image.name}' has "
+            f"no spawn region (red) outside the walls (green): paint some red, or choose "
+            f"another Start.")
+
+
+def _export_scale(obj):
+    """The scale mesh_export applied to the local coordinates (None if none)."""
+    scale = obj.matrix_world.to_scale()
+    low, high = min(abs(v) for v in scale), max(abs(v) for v in scale)
+    if low > 0.0 and high - low > 1e-6 * high:
+        return scale
+    return None
+
+
+def seed_center(obj, mesh, location):
+    """(triangle, barycentrics) of the point of the exported mesh nearest `location`
+    (world space), in mesh_export's triangle order."""
+    from mathutils import Matrix, Vector
+    from mathutils.bvhtree import BVHTree
+    from mathutils.interpolate import poly_3d_calc
+    point = obj.matrix_world.inverted() @ Vector(location)
+    scale = _export_scale(obj)
+    if scale is not None:
+        point = Matrix.Diagonal(scale) @ point
+    p = mesh.positions
+    vertices = [(p[3 * i], p[3 * i + 1], p[3 * i + 2]) for i in range(len(p) // 3)]
+    t = mesh.triangles
+    triangles = [(t[3 * i], t[3 * i + 1], t[3 * i + 2]) for i in range(len(t) // 3)]
+    tree = BVHTree.FromPolygons(vertices, triangles, all_triangles=True, epsilon=0.0)
+    nearest, _normal, index, _distance = tree.find_nearest(point)
+    if index is None:
+        return (0, (1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0))
+    corners = [Vector(vertices[v]) for v in triangles[index]]
+    weights = [max(0.0, w) for w in poly_3d_calc(corners, nearest)]
+    total = sum(weights)
+    if not total > 0.0:
+        return (index, (1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0))
+    return (index, tuple(w / total for w in weights))
+
+
+def _seed_radius_in_mesh_units(obj, radius):
+    if _export_scale(obj) is not None:
+        return radius  # the exported mesh carries the scale (rotation keeps lengths)
+    scale = abs(obj.matrix_world.to_scale()[0])
+    return radius / scale if scale > 0.0 else radius
 
 
 def needs_reset(obj):
@@ -180,10 +313,22 @@ def _build(entry, obj, mesh):
     settings = obj.moldtex
     config = config_from_settings(settings)
     note = backend_note(settings)
+    if len(settings.species) < settings.species_count:
+        from .properties import ensure_species  # (properties imports this module)
+        ensure_species(settings)
+    fields = fields_from_settings(settings, config["width"], config["height"])
+    _check_spawn_map(settings, fields)
+    create_config = dict(config)
+    create_config["seed_radius"] = _seed_radius_in_mesh_units(obj, config["seed_radius"])
+    if settings.seed_shape in CENTERED_SHAPES:
+        import bpy
+        scene = bpy.context.scene
+        create_config["seed_center"] = seed_center(obj, mesh, scene.cursor.location)
     surface = engine.Surface(mesh.positions, mesh.triangles, mesh.uvs, mesh.triangle_uvs)
     try:
         surface_info = surface.info()
-        sim = engine.Simulation(surface, config, params_from_settings(settings))
+        sim = engine.Simulation(surface, create_config, params_from_settings(settings),
+                                fields)
     except engine.EngineError as error:
         # The core's message says what failed (out of memory already suggests what to
         # lower); for an unusable device, say where to choose another one.
@@ -195,9 +340,15 @@ def _build(entry, obj, mesh):
         raise
     finally:
         surface.release()  # the simulation holds its own reference
+    try:
+        _push_species(_Holder(sim), settings)
+    except engine.EngineError:
+        sim.release()
+        raise
     if entry.sim is not None:
         entry.sim.release()
     entry.sim = sim
+    entry.create_config = create_config
     entry.config = config
     entry.uv_map = mesh.uv_map
     entry.uv_map_setting = settings.uv_map
@@ -209,6 +360,11 @@ def _build(entry, obj, mesh):
     entry.backend_name = sim.backend_name()
     entry.backend_note = note
     entry.warning = note
+
+
+class _Holder:
+    def __init__(self, sim):
+        self.sim = sim
 
 
 def bake_running_message(entry, what=""):
@@ -270,11 +426,22 @@ def push_params(obj):
     if entry is None or entry.sim is None or entry.baking:
         return  # a running bake keeps the parameters it started with
     entry.sim.set_params(params_from_settings(obj.moldtex))
+    _push_species(entry, obj.moldtex)
+
+
+def push_fields(obj):
+    """Sends the object's Fields image to its live simulation, if any (None clears)."""
+    entry = _registry.get(obj.name) if obj is not None else None
+    if entry is None or entry.sim is None or entry.baking:
+        return
+    entry.sim.set_fields(fields_from_settings(obj.moldtex, entry.sim.width,
+                                              entry.sim.height))
 
 
 def step(entry, obj, steps):
     """Advances the simulation (with the object's current parameters) and caches stats."""
     entry.sim.set_params(params_from_settings(obj.moldtex))
+    _push_species(entry, obj.moldtex)
     entry.sim.step(steps)
     entry.stats = entry.sim.get_stats()
 

@@ -12,6 +12,7 @@ import bpy
 UV_NODE = "Moldtex UV"
 TEXTURE_NODE = "Moldtex Texture"
 RAMP_NODE = "Moldtex Ramp"
+SPECIES_NODE_PREFIX = "Moldtex Species "  # colour by species (2 or more)
 
 # Dark violet-black through amber to bright yellow.
 DEFAULT_RAMP = (
@@ -90,8 +91,50 @@ def setup_material(obj, image, uv_map_name):
     links = tree.links
     links.new(uv.outputs["UV"], texture.inputs["Vector"])
     links.new(texture.outputs["Color"], ramp.inputs["Fac"])
-    links.new(ramp.outputs["Color"], principled.inputs["Base Color"])
+    for node in [n for n in nodes if n.name.startswith(SPECIES_NODE_PREFIX)]:
+        nodes.remove(node)
+    count = int(obj.moldtex.species_count)
+    if count >= 2:
+        mix = _species_mix(tree, obj.moldtex, texture, count, ramp.location)
+        links.new(mix.outputs["Vector"], principled.inputs["Base Color"])
+    else:
+        links.new(ramp.outputs["Color"], principled.inputs["Base Color"])
     return material
+
+
+def _species_mix(tree, settings, texture, count, location):
+    """Species k's channel (R, G, B, A) times its colour, summed; returns the last node."""
+    nodes, links = tree.nodes, tree.links
+    separate = nodes.new("ShaderNodeSeparateColor")
+    separate.name = SPECIES_NODE_PREFIX + "Channels"
+    separate.label = "Moldtex Species Channels"
+    separate.location = (location.x, location.y - 300.0)
+    links.new(texture.outputs["Color"], separate.inputs[0])
+    channels = [separate.outputs[0], separate.outputs[1], separate.outputs[2],
+                texture.outputs["Alpha"]]
+    total = None
+    for index in range(count):
+        color = (tuple(settings.species[index].color) if index < len(settings.species)
+                 else (1.0, 1.0, 1.0))
+        scale = nodes.new("ShaderNodeVectorMath")
+        scale.operation = 'SCALE'
+        scale.name = f"{SPECIES_NODE_PREFIX}{index + 1}"
+        scale.label = f"Moldtex Species {index + 1}"
+        scale.location = (location.x + 180.0, location.y - 300.0 - 160.0 * index)
+        scale.inputs[0].default_value = color
+        links.new(channels[index], scale.inputs["Scale"])
+        if total is None:
+            total = scale
+            continue
+        add = nodes.new("ShaderNodeVectorMath")
+        add.operation = 'ADD'
+        add.name = f"{SPECIES_NODE_PREFIX}Sum {index + 1}"
+        add.label = "Moldtex Species Sum"
+        add.location = (location.x + 360.0, location.y - 300.0 - 160.0 * index)
+        links.new(total.outputs["Vector"], add.inputs[0])
+        links.new(scale.outputs["Vector"], add.inputs[1])
+        total = add
+    return total
 
 
 def sync_uv_map(obj, uv_map_name):

@@ -14,8 +14,8 @@ showing an invalid enum value.
 """
 
 import bpy
-from bpy.props import (BoolProperty, EnumProperty, FloatProperty, IntProperty,
-                       PointerProperty, StringProperty)
+from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty,
+                       FloatVectorProperty, IntProperty, PointerProperty, StringProperty)
 
 from . import engine, live
 
@@ -57,6 +57,96 @@ def _push_params(self, context):
 def _config_changed(self, context):
     # Nothing to push: the panel shows that a Reset is needed.
     pass
+
+
+def _species_count_changed(self, context):
+    # Gives every species up to the new count its own settings (saved), so the panel
+    # can show them; the simulation takes the count on Reset.
+    ensure_species(self)
+
+
+def _push_species(self, context):
+    obj = self.id_data
+    try:
+        live.push_params(obj)
+    except engine.EngineError as error:
+        entry = live.get(obj.name)
+        if entry is not None:
+            entry.notice = str(error)
+        print(f"Moldtex: {error}")
+
+
+def _fields_changed(self, context):
+    obj = self.id_data
+    try:
+        live.push_fields(obj)
+    except engine.EngineError as error:
+        entry = live.get(obj.name)
+        if entry is not None:
+            entry.notice = str(error)
+        print(f"Moldtex: {error}")
+
+
+# Display colours of species 1..4 (red, green, blue, yellow: the image's channels).
+SPECIES_COLORS = ((1.0, 0.25, 0.05), (0.1, 0.9, 0.2), (0.15, 0.35, 1.0), (1.0, 0.85, 0.1))
+
+SEED_SHAPE_ITEMS = [
+    ("RANDOM", "Random", "Agents everywhere, uniformly by area (never inside walls of the "
+                         "Fields image)", 0),
+    ("SPAWN_MAP", "Spawn Map", "Agents where the Fields image's red channel is bright "
+                               "(more agents where brighter)", 1),
+    ("CIRCLE", "Circle", "Agents on a circle around the 3D cursor (measured on the "
+                         "surface), heading inwards", 2),
+    ("BIG_BANG", "Big Bang", "All agents at the 3D cursor, heading every way", 3),
+    ("STARBURST", "Starburst", "Agents on rays from the 3D cursor, out to the radius, "
+                               "heading outwards", 4),
+]
+
+
+def ensure_species(settings):
+    """Makes settings.species hold at least species_count entries; a new entry starts
+    with the object's agent settings and the paper's competing attractions."""
+    species = settings.species
+    while len(species) < settings.species_count:
+        index = len(species)
+        item = species.add()
+        item.name = f"Species {index + 1}"
+        for name in ("movement_speed", "turn_speed", "vision_distance", "vision_angle",
+                     "deposit"):
+            setattr(item, name, getattr(settings, name))
+        item.attraction = tuple(1.0 if k == index else -1.0 for k in range(4))
+        item.color = SPECIES_COLORS[index % len(SPECIES_COLORS)]
+
+
+class MoldtexSpecies(bpy.types.PropertyGroup):
+    """Behaviour of one species (used when Species is 2 or more)."""
+    movement_speed: FloatProperty(
+        name="Movement Speed", default=1.0, min=0.0, max=64.0, soft_min=1.0, soft_max=2.0,
+        description="Texels an agent of this species travels per step", update=_push_species)
+    turn_speed: FloatProperty(
+        name="Turn Speed", default=20.0, min=0.0, max=1000.0, soft_min=10.0, soft_max=50.0,
+        description="How fast agents of this species turn towards what attracts them",
+        update=_push_species)
+    vision_distance: FloatProperty(
+        name="Vision Distance", default=1.0, min=0.0, max=50.0, soft_min=0.4, soft_max=2.0,
+        description="How far ahead this species' sensors are, in units of 10 texels",
+        update=_push_species)
+    vision_angle: FloatProperty(
+        name="Vision Angle", default=30.0, min=0.0, max=180.0, soft_min=10.0,
+        soft_max=50.0, precision=1,
+        description="Angle between the front and side sensors, in degrees",
+        update=_push_species)
+    deposit: FloatProperty(
+        name="Deposit", default=1.0, min=0.0, max=1.0,
+        description="Pheromone this species leaves in its own trail", update=_push_species)
+    attraction: FloatVectorProperty(
+        name="Attraction", size=4, default=(1.0, -1.0, -1.0, -1.0), min=-1.0, max=1.0,
+        description="How much this species follows (+1) or avoids (-1) the trail of "
+                    "species 1, 2, 3 and 4", update=_push_species)
+    color: FloatVectorProperty(
+        name="Color", subtype='COLOR', size=3, default=(1.0, 0.25, 0.05), min=0.0, max=1.0,
+        description="Colour of this species in the material Set Up Material makes (run "
+                    "it again after changing)")
 
 
 # ---- Backend chooser ------------------------------------------------------------------
@@ -226,6 +316,33 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         description="UV map the mold grows in (empty = the mesh's active render UV map)."
                     + _RESET_NOTE,
         update=_config_changed)
+    # ---- species, starting seeds and fields (momas-paper.md §2.5) ----
+    species_count: IntProperty(
+        name="Species", default=1, min=1, max=4,
+        description="Number of competing species, each with its own trail and settings "
+                    "(the image's R, G, B, A channels)." + _RESET_NOTE,
+        update=_species_count_changed)
+    species: CollectionProperty(type=MoldtexSpecies)
+    seed_shape: EnumProperty(
+        name="Start", items=SEED_SHAPE_ITEMS, default="RANDOM",
+        description="Where the agents start." + _RESET_NOTE,
+        update=_config_changed)
+    seed_radius: FloatProperty(
+        name="Radius", default=0.5, min=1e-6, soft_min=0.01, soft_max=10.0,
+        subtype='DISTANCE', unit='LENGTH',
+        description="Radius of the Circle or Starburst, in scene units, measured along "
+                    "the surface from the point nearest the 3D cursor." + _RESET_NOTE,
+        update=_config_changed)
+    seed_rays: IntProperty(
+        name="Rays", default=8, min=1, max=1024,
+        description="Number of Starburst rays." + _RESET_NOTE,
+        update=_config_changed)
+    fields_image: PointerProperty(
+        name="Fields", type=bpy.types.Image,
+        description="Maze image painted in this object's UV space: red = where agents "
+                    "start (Spawn Map), green = walls, blue = attractors (food). Applied "
+                    "when picked and on Reset (after painting it, press Reset)",
+        update=_fields_changed)
     # ---- playback ----
     steps_per_update: IntProperty(
         name="Steps per Update", default=2, min=1, max=1000, soft_max=20,
@@ -291,7 +408,7 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         presets.apply_ramp(self.id_data, stops, interpolation)
 
 
-CLASSES = (MoldtexSettings,)
+CLASSES = (MoldtexSpecies, MoldtexSettings)
 
 
 def register():

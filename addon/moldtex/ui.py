@@ -74,8 +74,8 @@ class MOLDTEX_PT_main(bpy.types.Panel):
         column.operator("moldtex.setup_material", icon='MATERIAL')
 
         if live.needs_reset(obj):
-            _wrapped(layout, "Resolution, agents, seed, backend or UV map changed: press "
-                             "Reset (or Start) to apply.", icon='INFO')
+            _wrapped(layout, "Resolution, agents, seed, backend, UV map, species or start "
+                             "changed: press Reset (or Start) to apply.", icon='INFO')
         if entry is not None and entry.notice:
             _wrapped(layout, entry.notice, icon='INFO')
         if entry is not None and entry.baking:
@@ -174,6 +174,53 @@ class MOLDTEX_PT_setup(_SubPanel, bpy.types.Panel):
         layout.prop(settings, "image")
 
 
+class MOLDTEX_PT_species(_SubPanel, bpy.types.Panel):
+    bl_label = "Species & Start"
+    bl_idname = "MOLDTEX_PT_species"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        settings = context.active_object.moldtex
+        layout = self.layout
+        column = layout.column(align=True)
+        column.use_property_split = True
+        column.label(text="Applied on Reset", icon='FILE_REFRESH')
+        column.prop(settings, "species_count")
+        column.prop(settings, "seed_shape")
+        if settings.seed_shape in {'CIRCLE', 'STARBURST'}:
+            column.prop(settings, "seed_radius")
+        if settings.seed_shape == 'STARBURST':
+            column.prop(settings, "seed_rays")
+        if settings.seed_shape in live.CENTERED_SHAPES:
+            _wrapped(layout, "Centre: the surface point nearest the 3D cursor.",
+                     icon='PIVOT_CURSOR')
+        layout.prop(settings, "fields_image")
+        if settings.seed_shape == 'SPAWN_MAP' and settings.fields_image is None:
+            _wrapped(layout, "Spawn Map needs a Fields image whose red channel marks "
+                             "where agents start.", icon='ERROR')
+        count = settings.species_count
+        if count < 2:
+            return
+        for index in range(min(count, len(settings.species))):
+            item = settings.species[index]
+            box = layout.box()
+            row = box.row()
+            row.label(text=f"Species {index + 1}")
+            row.prop(item, "color", text="")
+            column = box.column(align=True)
+            column.use_property_split = True
+            column.prop(item, "movement_speed")
+            column.prop(item, "turn_speed")
+            column.prop(item, "vision_distance")
+            column.prop(item, "vision_angle")
+            column.prop(item, "deposit")
+            column = box.column(align=True)
+            column.label(text="Attraction to (+1 follow, -1 avoid)")
+            row = column.row(align=True)
+            for other in range(count):
+                row.prop(item, "attraction", index=other, text=f"{other + 1}")
+
+
 def _bake_progress_text(progress):
     if not progress:
         return "starting"
@@ -235,8 +282,8 @@ class MOLDTEX_PT_bake(_SubPanel, bpy.types.Panel):
             _wrapped(layout, entry.bake_summary, icon='INFO')
 
 
-CLASSES = (MOLDTEX_PT_main, MOLDTEX_PT_agents, MOLDTEX_PT_pheromone, MOLDTEX_PT_setup,
-           MOLDTEX_PT_bake)
+CLASSES = (MOLDTEX_PT_main, MOLDTEX_PT_agents, MOLDTEX_PT_pheromone, MOLDTEX_PT_species,
+           MOLDTEX_PT_setup, MOLDTEX_PT_bake)
 
 
 def register():
