@@ -451,11 +451,4 @@ CLASSES = (MOLDTEX_OT_step, MOLDTEX_OT_reset, MOLDTEX_OT_start, MOLDTEX_OT_setup
            MOLDTEX_OT_bake, MOLDTEX_OT_use_baked_sequence)
 
 
-def register():
-    for cls in CLASSES:
-        bpy.utils.register_class(cls)
-
-
-def unregister():
-    for cls in reversed(CLASSES):
-        bpy.utils.unregister_class(cls)
+register, unregister = bpy.utils.register_classes_factory(CLASSES)

@@ -43,15 +43,21 @@ RESOLUTION_ITEMS = [
 ]
 
 
-def _push_params(self, context):
-    obj = self.id_data
+def _push(obj, push):
+    # Sends changed settings to the running simulation; a refusal becomes the panel's
+    # notice instead of an exception inside Blender's property update.
     try:
-        live.push_params(obj)
+        push(obj)
     except engine.EngineError as error:
         entry = live.get(obj.name)
         if entry is not None:
             entry.notice = str(error)
         print(f"Moldtex: {error}")
+
+
+def _push_params(self, context):
+    # self is the object's settings or one species' settings: both belong to the object.
+    _push(self.id_data, live.push_params)
 
 
 def _config_changed(self, context):
@@ -65,26 +71,8 @@ def _species_count_changed(self, context):
     ensure_species(self)
 
 
-def _push_species(self, context):
-    obj = self.id_data
-    try:
-        live.push_params(obj)
-    except engine.EngineError as error:
-        entry = live.get(obj.name)
-        if entry is not None:
-            entry.notice = str(error)
-        print(f"Moldtex: {error}")
-
-
 def _fields_changed(self, context):
-    obj = self.id_data
-    try:
-        live.push_fields(obj)
-    except engine.EngineError as error:
-        entry = live.get(obj.name)
-        if entry is not None:
-            entry.notice = str(error)
-        print(f"Moldtex: {error}")
+    _push(self.id_data, live.push_fields)
 
 
 # Display colours of species 1..4 (red, green, blue, yellow: the image's channels).
@@ -122,27 +110,27 @@ class MoldtexSpecies(bpy.types.PropertyGroup):
     """Behaviour of one species (used when Species is 2 or more)."""
     movement_speed: FloatProperty(
         name="Movement Speed", default=1.0, min=0.0, max=64.0, soft_min=1.0, soft_max=2.0,
-        description="Texels an agent of this species travels per step", update=_push_species)
+        description="Texels an agent of this species travels per step", update=_push_params)
     turn_speed: FloatProperty(
         name="Turn Speed", default=20.0, min=0.0, max=1000.0, soft_min=10.0, soft_max=50.0,
         description="How fast agents of this species turn towards what attracts them",
-        update=_push_species)
+        update=_push_params)
     vision_distance: FloatProperty(
         name="Vision Distance", default=1.0, min=0.0, max=50.0, soft_min=0.4, soft_max=2.0,
         description="How far ahead this species' sensors are, in units of 10 texels",
-        update=_push_species)
+        update=_push_params)
     vision_angle: FloatProperty(
         name="Vision Angle", default=30.0, min=0.0, max=180.0, soft_min=10.0,
         soft_max=50.0, precision=1,
         description="Angle between the front and side sensors, in degrees",
-        update=_push_species)
+        update=_push_params)
     deposit: FloatProperty(
         name="Deposit", default=1.0, min=0.0, max=1.0,
-        description="Pheromone this species leaves in its own trail", update=_push_species)
+        description="Pheromone this species leaves in its own trail", update=_push_params)
     attraction: FloatVectorProperty(
         name="Attraction", size=4, default=(1.0, -1.0, -1.0, -1.0), min=-1.0, max=1.0,
         description="How much this species follows (+1) or avoids (-1) the trail of "
-                    "species 1, 2, 3 and 4", update=_push_species)
+                    "species 1, 2, 3 and 4", update=_push_params)
     color: FloatVectorProperty(
         name="Color", subtype='COLOR', size=3, default=(1.0, 0.25, 0.05), min=0.0, max=1.0,
         description="Colour of this species in the material Set Up Material makes (run "

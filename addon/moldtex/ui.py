@@ -286,11 +286,4 @@ CLASSES = (MOLDTEX_PT_main, MOLDTEX_PT_agents, MOLDTEX_PT_pheromone, MOLDTEX_PT_
            MOLDTEX_PT_setup, MOLDTEX_PT_bake)
 
 
-def register():
-    for cls in CLASSES:
-        bpy.utils.register_class(cls)
-
-
-def unregister():
-    for cls in reversed(CLASSES):
-        bpy.utils.unregister_class(cls)
+register, unregister = bpy.utils.register_classes_factory(CLASSES)
