@@ -159,6 +159,9 @@ class SimParams(ctypes.Structure):
         ("time_step", ctypes.c_float),
         ("substeps", ctypes.c_uint32),
         ("thread_count", ctypes.c_uint32),
+        # Food with hunger (core only for now: no food sources are set from the add-on).
+        ("hunger_rate", ctypes.c_float),
+        ("food_radius", ctypes.c_float),
     ]
 
 

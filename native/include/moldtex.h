@@ -209,6 +209,15 @@ typedef struct moldtex_sim_params {
   float time_step;        /* seconds per step, 1/60 by default; hard (0, 1] */
   uint32_t substeps;      /* deposits along each move (line-integrated trail), 1 .. 64 */
   uint32_t thread_count;  /* 0 = all cores; results do not depend on it */
+  /* Food with hunger (plasmodial-slime-readme.md, "Food Sources"); appended, so a caller
+   * whose struct ends at thread_count gets these defaults (feature off). */
+  float hunger_rate;      /* hunger gained per second, h = min(1, h + hunger_rate *
+                             time_step) each step; 0 (default) = off: food is ignored and
+                             results equal a simulation without food bit for bit;
+                             hard 0 .. 1000 */
+  float food_radius;      /* 3D distance (mesh units) within which an agent eats: its
+                             hunger resets to 0 and, for a finite source, it consumes one
+                             unit; default 0.1; hard 0 .. 1e6 */
 } moldtex_sim_params;
 
 MOLDTEX_API void moldtex_sim_config_init(moldtex_sim_config* config);
@@ -270,6 +279,29 @@ MOLDTEX_API moldtex_status moldtex_sim_get_species_params(moldtex_sim sim, uint3
 MOLDTEX_API moldtex_status moldtex_sim_set_fields(moldtex_sim sim, const float* rgba,
                                                   size_t float_count);
 MOLDTEX_API moldtex_status moldtex_sim_get_config(moldtex_sim sim, moldtex_sim_config* config);
+
+/* Food sources (plasmodial-slime-readme.md, "Food Sources"), active while hunger_rate > 0.
+ * Every agent has a hunger h in [0, 1] (0 at spawn). After its MoMaS turn, a hungry agent
+ * (h > 0) blends its heading toward the nearest source that still has food, at 3D
+ * distance d: w = h * min(1, strength / d^2), heading = normalize((1 - w) * heading +
+ * w * toward), `toward` being the 3D direction to the source projected into the agent's
+ * triangle. Within food_radius it eats instead: h = 0 and, when amount >= 0, one unit is
+ * consumed per eating agent per step (counted exactly, so deterministic on any backend),
+ * clamped at 0. A source with amount 0 neither attracts nor feeds. */
+#define MOLDTEX_MAX_FOOD_SOURCES 64u
+typedef struct moldtex_food_source {
+  float position[3]; /* a point on or near the surface, mesh units */
+  float strength;    /* attractor strength c >= 0 (mesh units squared) */
+  float amount;      /* food left; < 0 = inexhaustible */
+} moldtex_food_source;
+/* Replaces all sources (0 .. MOLDTEX_MAX_FOOD_SOURCES; count 0 clears). Values must be
+ * finite and strength >= 0. Kept across moldtex_sim_reset (amounts are not refilled). */
+MOLDTEX_API moldtex_status moldtex_sim_set_food(moldtex_sim sim, const moldtex_food_source* sources,
+                                                uint32_t count);
+/* Current sources with their remaining amounts: writes min(capacity, count) of them and
+ * the number of sources to *count. */
+MOLDTEX_API moldtex_status moldtex_sim_get_food(moldtex_sim sim, moldtex_food_source* sources,
+                                                uint32_t capacity, uint32_t* count);
 
 /* What the simulation runs on, e.g. "CPU (2 threads)" or "OpenCL: <device>
  * (<platform>)", followed for Auto by why OpenCL was not used. Copies at most
@@ -339,8 +371,8 @@ typedef enum moldtex_image_format {
 MOLDTEX_API moldtex_status moldtex_sim_write_image(moldtex_sim sim, const char* path,
                                                    uint32_t format);
 
-/* A checkpoint holds the whole state: agents (with their species), every species'
- * pheromone, step count, parameters, species parameters and fields. Loading it into a
+/* A checkpoint holds the whole state: agents (with their species and hunger), every species'
+ * pheromone, step count, parameters, species parameters, fields and food. Loading it into a
  * simulation made from the same mesh and config (resolution, agent count, seed, species
  * count) restores that state exactly,
  * so the following steps equal those of an uninterrupted run. Written atomically. */

@@ -124,6 +124,8 @@ void validate_params(const moldtex_sim_params& p) {
   check_range("Evaporation rate", p.evaporation_rate, 0.f, 1000.f, "the paper tested 0.2 to 1");
   check_range("Diffusion rate", p.diffusion_rate, 0.f, 1000.f, "");
   check_range("Time step", p.time_step, 1e-6f, 1.f, "1/60 s reproduces the paper");
+  check_range("Hunger rate", p.hunger_rate, 0.f, 1000.f, "0 turns food off");
+  check_range("Food radius", p.food_radius, 0.f, 1e6f, "mesh units");
   if (p.substeps < 1 || p.substeps > 64)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Substeps must be between 1 and 64");
   if (p.thread_count > 256)
@@ -333,8 +335,44 @@ void Simulation::reset() {
   step_count_ = 0;
 }
 
+void Simulation::set_food(const moldtex_food_source* sources, uint32_t count) {
+  if (count > MTX_MAX_FOOD)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "At most " + std::to_string(MTX_MAX_FOOD) +
+                                             " food sources are supported, got " + std::to_string(count));
+  if (count > 0 && !sources) fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The food sources are NULL");
+  for (uint32_t j = 0; j < count; ++j) {
+    const moldtex_food_source& f = sources[j];
+    for (float v : {f.position[0], f.position[1], f.position[2], f.strength, f.amount})
+      if (!std::isfinite(v))
+        fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+             "Food source " + std::to_string(j) + " has a NaN or infinite value");
+    if (f.strength < 0.f)
+      fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+           "Food source " + std::to_string(j) + " has a negative strength: it must be >= 0");
+  }
+  food_.assign(sources, sources + count);
+}
+
 void Simulation::step(uint32_t steps) {
-  for (uint32_t i = 0; i < steps; ++i) backend_->step(settings_, config_.seed, step_count_++);
+  std::vector<uint32_t> active;  // indices into food_ of sources with food left
+  std::vector<uint32_t> eaters(MTX_MAX_FOOD, 0);
+  for (uint32_t i = 0; i < steps; ++i) {
+    settings_.food.clear();
+    active.clear();
+    if (settings_.params.hunger_rate > 0.f)
+      for (uint32_t j = 0; j < food_.size(); ++j)
+        if (food_[j].amount != 0.f) {
+          active.push_back(j);
+          const moldtex_food_source& f = food_[j];
+          settings_.food.insert(settings_.food.end(), {f.position[0], f.position[1], f.position[2], f.strength});
+        }
+    backend_->step(settings_, config_.seed, step_count_++, eaters.data());
+    // Depletion from exact counts, after the agent pass: the same on every backend.
+    for (size_t a = 0; a < active.size(); ++a) {
+      moldtex_food_source& f = food_[active[a]];
+      if (f.amount > 0.f) f.amount = std::max(0.f, f.amount - static_cast<float>(eaters[a]));
+    }
+  }
   backend_->finish();
 }
 
@@ -382,6 +420,7 @@ void Simulation::save_checkpoint(const std::string& path, const std::vector<Metr
   c.params = settings_.params;
   c.species.assign(settings_.species, settings_.species + MTX_MAX_SPECIES);
   c.fields_rgba = fields_rgba_;
+  c.food = food_;
   c.surface_fingerprint = surface_->fingerprint;
   c.step_count = step_count_;
   c.metrics = metrics;
@@ -405,6 +444,7 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
   if (a.triangle.size() != config_.agent_count || a.b1.size() != a.triangle.size() ||
       a.b2.size() != a.triangle.size() || a.hx.size() != a.triangle.size() ||
       a.hy.size() != a.triangle.size() || a.species.size() != a.triangle.size() ||
+      a.hunger.size() != a.triangle.size() || c.food.size() > MTX_MAX_FOOD ||
       c.state.pheromone.size() != domain_->texel_count() * planes ||
       c.species.size() != MTX_MAX_SPECIES ||
       (!c.fields_rgba.empty() && c.fields_rgba.size() != domain_->texel_count() * 4))
@@ -416,6 +456,13 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
   c.params.thread_count = settings_.params.thread_count;  // a machine setting, not part of the state
   validate_params(c.params);
   for (uint32_t k = 0; k < planes; ++k) validate_species_params(c.species[k]);
+  for (float h : a.hunger)
+    if (!(h >= 0.f && h <= 1.f)) fail(MOLDTEX_ERROR_IO, "The checkpoint " + path + " is damaged");
+  {
+    const std::vector<moldtex_food_source> keep = food_;
+    set_food(c.food.data(), static_cast<uint32_t>(c.food.size()));  // validates
+    food_ = keep;  // the state is taken below, once nothing can refuse any more
+  }
   // Fields first (it may refuse), then the state.
   const moldtex_sim_config saved = config_;
   config_.seed_shape = MOLDTEX_SEED_RANDOM;  // the spawn already happened
@@ -429,6 +476,7 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
   backend_->import_state(c.state);
   settings_.params = c.params;
   for (uint32_t k = 0; k < MTX_MAX_SPECIES; ++k) settings_.species[k] = c.species[k];
+  food_ = c.food;
   step_count_ = c.step_count;
   return c.metrics;
 }

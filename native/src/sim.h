@@ -27,6 +27,9 @@ class Simulation {
   uint32_t species_count() const { return settings_.species_count; }
   // width * height * 4 floats (see moldtex_sim_set_fields), or nullptr to clear.
   void set_fields(const float* rgba);
+  // Food sources (see moldtex_sim_set_food); validated here.
+  void set_food(const moldtex_food_source* sources, uint32_t count);
+  const std::vector<moldtex_food_source>& food() const { return food_; }
   const moldtex_sim_params& params() const { return settings_.params; }
   const moldtex_sim_config& config() const { return config_; }
   const TextureDomain& domain() const { return *domain_; }
@@ -58,6 +61,7 @@ class Simulation {
   // sense, and the spawn weight of each texel (3D area * R, 0 at obstacles).
   std::vector<float> fields_rgba_, field_plane_;
   std::vector<double> spawn_weights_, free_weights_;
+  std::vector<moldtex_food_source> food_;  // with the amounts left
   std::unique_ptr<Backend> backend_;
   std::string why_not_opencl_;  // why Auto chose the CPU
   uint64_t step_count_ = 0;

@@ -137,6 +137,7 @@ void sort_by_tile(const Surface& s, uint32_t width, uint32_t height, Agents& a) 
     const uint32_t to = start[key[i]]++;
     sorted.store(to, a.load(i));
     sorted.species[to] = a.species[i];
+    sorted.hunger[to] = a.hunger[i];
   }
   a = std::move(sorted);
 }

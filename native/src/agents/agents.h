@@ -1,6 +1,6 @@
 // Agent state as a structure of arrays: triangle, two barycentric weights (the third is
-// 1 - b1 - b2), a unit heading in the triangle's local frame, and the species. 21 bytes
-// per agent.
+// 1 - b1 - b2), a unit heading in the triangle's local frame, the species and the
+// hunger in [0, 1] (food with hunger). 25 bytes per agent.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -14,18 +14,20 @@ struct Agents {
   std::vector<uint32_t> triangle;
   std::vector<float> b1, b2, hx, hy;
   std::vector<uint8_t> species;
+  std::vector<float> hunger;
 
   size_t size() const { return triangle.size(); }
   void resize(size_t n) {
     triangle.resize(n);
     species.resize(n);
+    hunger.resize(n);
     b1.resize(n);
     b2.resize(n);
     hx.resize(n);
     hy.resize(n);
   }
   size_t bytes() const { return triangle.capacity() * 4 + (b1.capacity() + b2.capacity() + hx.capacity() + hy.capacity()) * 4 +
-                        species.capacity(); }
+                        species.capacity() + hunger.capacity() * 4; }
 
   Walker load(size_t i) const {
     return Walker{triangle[i], {1.f - b1[i] - b2[i], b1[i], b2[i]}, {hx[i], hy[i]}};

@@ -28,12 +28,15 @@ MomasStepConstants momas_constants(const StepSettings& settings, const TextureDo
   c.height = d.height;
   c.species_count = settings.species_count;
   c.has_fields = settings.has_fields ? 1u : 0u;
+  c.hunger_step = p.hunger_rate * p.time_step;
+  c.food_radius = p.food_radius;
+  c.food_count = c.hunger_step > 0.f ? static_cast<uint32_t>(settings.food.size() / 4) : 0u;
   return c;
 }
 
 mtx_surface_tables surface_tables(const Surface& s, const TextureDomain& d) {
   return mtx_surface_tables{s.frames.data(), s.adjacency.data(), s.corner_uvs.data(),
-                            d.classes.data()};
+                            d.classes.data(), s.frame3d.data(), nullptr, nullptr};
 }
 
 void momas_update_agents(const mtx_surface_tables& tables, const MomasStepConstants& c,
@@ -41,8 +44,10 @@ void momas_update_agents(const mtx_surface_tables& tables, const MomasStepConsta
                          Agents& agents, size_t begin, size_t end) {
   for (size_t i = begin; i < end; ++i) {
     Walker w = agents.load(i);
-    mtx_momas_agent_step(tables, pheromone, field, marks, &w, agents.species[i], i, &c);
+    float hunger = agents.hunger[i];
+    mtx_momas_agent_step(tables, pheromone, field, marks, &w, &hunger, agents.species[i], i, &c);
     agents.store(i, w);
+    agents.hunger[i] = hunger;
   }
 }
 

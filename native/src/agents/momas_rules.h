@@ -18,6 +18,9 @@ struct StepSettings {
   moldtex_species_params species[MTX_MAX_SPECIES]{};
   uint32_t species_count = 1;
   bool has_fields = false;
+  // Food sources with food left, 4 floats each (x, y, z, strength); read while
+  // params.hunger_rate > 0. Filled by the simulation before every step.
+  std::vector<float> food;
 };
 
 MomasStepConstants momas_constants(const StepSettings& settings, const TextureDomain& d,

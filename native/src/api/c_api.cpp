@@ -127,6 +127,14 @@ moldtex_sim_config read_config(const moldtex_sim_config* in) {
   return c;
 }
 
+// moldtex_sim_params before food with hunger (hunger_rate, food_radius): such callers
+// get the defaults, i.e. food off.
+constexpr size_t kSimParamsV1Size = offsetof(moldtex_sim_params, hunger_rate);
+
+moldtex_sim_params read_params(const moldtex_sim_params* in) {
+  return read_struct(in, "moldtex_sim_params", moldtex_sim_params_init, kSimParamsV1Size);
+}
+
 }  // namespace
 
 extern "C" {
@@ -289,6 +297,8 @@ void moldtex_sim_params_init(moldtex_sim_params* p) {
   p->time_step = 1.0f / 60.0f;
   p->substeps = 2;
   p->thread_count = 0;
+  p->hunger_rate = 0.0f;
+  p->food_radius = 0.1f;
 }
 
 moldtex_status moldtex_sim_create(moldtex_surface surface, const moldtex_sim_config* config,
@@ -298,7 +308,7 @@ moldtex_status moldtex_sim_create(moldtex_surface surface, const moldtex_sim_con
     *out = nullptr;
     require(surface != nullptr, "The surface handle is NULL");
     moldtex_sim_config c = read_config(config);
-    moldtex_sim_params p = read_struct(params, "moldtex_sim_params");
+    moldtex_sim_params p = read_params(params);
     auto sim = std::make_shared<moldtex::Simulation>(surface->surface, c, p);
     *out = new moldtex_sim_t{std::move(sim)};
   });
@@ -308,15 +318,19 @@ void moldtex_sim_release(moldtex_sim sim) { delete sim; }
 
 moldtex_status moldtex_sim_set_params(moldtex_sim sim, const moldtex_sim_params* params) {
   return guarded([&] {
-    use(sim).set_params(read_struct(params, "moldtex_sim_params"));
+    use(sim).set_params(read_params(params));
   });
 }
 
 moldtex_status moldtex_sim_get_params(moldtex_sim sim, moldtex_sim_params* params) {
   return guarded([&] {
     use(sim);
-    read_struct(params, "moldtex_sim_params");
-    *params = sim->sim->params();
+    read_params(params);
+    // Write back only as much as the caller's struct holds.
+    const uint32_t caller_size = params->struct_size;
+    const moldtex_sim_params out = sim->sim->params();
+    std::memcpy(params, &out, std::min<size_t>(caller_size, sizeof(out)));
+    params->struct_size = caller_size;
   });
 }
 
@@ -351,6 +365,23 @@ moldtex_status moldtex_sim_set_fields(moldtex_sim sim, const float* rgba, size_t
                           "), got " + std::to_string(float_count));
     }
     s.set_fields(rgba);
+  });
+}
+
+moldtex_status moldtex_sim_set_food(moldtex_sim sim, const moldtex_food_source* sources,
+                                    uint32_t count) {
+  return guarded([&] { use(sim).set_food(sources, count); });
+}
+
+moldtex_status moldtex_sim_get_food(moldtex_sim sim, moldtex_food_source* sources,
+                                    uint32_t capacity, uint32_t* count) {
+  return guarded([&] {
+    require(count != nullptr, "NULL argument");
+    require(sources != nullptr || capacity == 0, "NULL argument");
+    const auto& food = use(sim).food();
+    const size_t n = std::min<size_t>(capacity, food.size());
+    std::copy(food.begin(), food.begin() + static_cast<std::ptrdiff_t>(n), sources);
+    *count = static_cast<uint32_t>(food.size());
   });
 }
 

@@ -24,8 +24,11 @@ class Backend {
   virtual ~Backend() = default;
   // Clears the pheromone and takes these agents (spawned on the host).
   virtual void reset(const Agents& agents) = 0;
-  // May return before the device is done; finish() waits.
-  virtual void step(const StepSettings& settings, uint64_t seed, uint64_t step_index) = 0;
+  // May return before the device is done; finish() waits. While food is active
+  // (momas_constants(...).food_count > 0) `eaters` gets, per source of settings.food, the
+  // number of agents that ate there this step, and the step completes before returning.
+  virtual void step(const StepSettings& settings, uint64_t seed, uint64_t step_index,
+                    uint32_t* eaters) = 0;
   virtual void finish() {}
   virtual void set_thread_count(unsigned threads) = 0;
   // Static field plane (width * height, gutter filled): MTX_OBSTACLE_FIELD at obstacles,

@@ -12,8 +12,9 @@ namespace moldtex {
 namespace {
 
 // Version 2: species (per-agent species, one pheromone plane per species, species
-// parameters) and static fields.
-constexpr char kMagic[8] = {'M', 'T', 'X', 'C', 'K', 'P', 'T', '2'};
+// parameters) and static fields. Version 3: food with hunger (per-agent hunger, food
+// sources with their amounts left, the hunger parameters).
+constexpr char kMagic[8] = {'M', 'T', 'X', 'C', 'K', 'P', 'T', '3'};
 
 struct Writer {
   std::vector<char> bytes;
@@ -65,6 +66,7 @@ void for_each_array(State& s, F&& f) {
   f(s.agents.hx);
   f(s.agents.hy);
   f(s.agents.species);
+  f(s.agents.hunger);
   f(s.pheromone);
 }
 
@@ -80,6 +82,7 @@ void save_checkpoint(const std::string& path, const Checkpoint& c) {
   w.array(c.metrics);
   w.array(c.species);
   w.array(c.fields_rgba);
+  w.array(c.food);
   for_each_array(c.state, [&](const auto& v) { w.array(v); });
   write_file_atomically(path, w.bytes.data(), w.bytes.size());
 }
@@ -102,6 +105,7 @@ Checkpoint load_checkpoint(const std::string& path) {
   r.array(c.metrics);
   r.array(c.species);
   r.array(c.fields_rgba);
+  r.array(c.food);
   for_each_array(c.state, [&](auto& v) { r.array(v); });
   return c;
 }

@@ -28,6 +28,7 @@ struct Checkpoint {
   std::vector<MetricRow> metrics;
   std::vector<moldtex_species_params> species;  // MOLDTEX_MAX_SPECIES entries
   std::vector<float> fields_rgba;               // width * height * 4, or empty
+  std::vector<moldtex_food_source> food;        // with the amounts left
   SimState state;
 };
 

@@ -23,6 +23,8 @@
 #define MTX_NO_NEIGHBOUR 0xffffffffu
 /* Species, each with its own pheromone plane; equal to MOLDTEX_MAX_SPECIES. */
 #define MTX_MAX_SPECIES 4
+/* Food sources; equal to MOLDTEX_MAX_FOOD_SOURCES. */
+#define MTX_MAX_FOOD 64
 /* What an obstacle texel adds to every species' sensing (momas-paper.md §2.5), and the
  * threshold below which a texel's field value marks an obstacle. */
 #define MTX_OBSTACLE_FIELD (-1e9f)
@@ -46,7 +48,9 @@ typedef struct mtx_momas_constants {
   mtx_u32 width, height;
   mtx_u32 species_count;
   mtx_u32 has_fields;  /* 0: the field plane is all zero and is not read */
-  mtx_u32 pad;
+  mtx_u32 food_count;  /* food sources with food left (0 while hunger is off) */
+  float hunger_step;   /* hunger gained per step; 0 = food with hunger is off */
+  float food_radius;   /* 3D distance within which an agent eats */
 } mtx_momas_constants;
 
 MTX_END_NAMESPACE

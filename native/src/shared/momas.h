@@ -20,6 +20,12 @@ typedef struct mtx_surface_tables {
   MTX_GLOBAL const mtx_u32* adjacency;
   MTX_GLOBAL const float* corner_uvs; /* 6 per triangle */
   MTX_GLOBAL const mtx_u8* classes;   /* per texel */
+  /* Food with hunger (read only when k->hunger_step > 0). frame3d: 9 per triangle, the
+   * 3D position of corner 0 and the unit 3D x and y axes of the triangle's frame. food:
+   * 4 per source with food left (x, y, z, strength); eaters: one counter per source. */
+  MTX_GLOBAL const float* frame3d;
+  MTX_GLOBAL const float* food;
+  MTX_GLOBAL mtx_u32* eaters;
 } mtx_surface_tables;
 
 MTX_FN mtx_u32 mtx_texel_of_uv(float u, float v, mtx_u32 width, mtx_u32 height) {
@@ -68,12 +74,55 @@ MTX_FN float mtx_sense(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
                           mtx_walker_texel(s.corner_uvs, &probe, k->width, k->height), species, k);
 }
 
+/* Food with hunger (plasmodial-slime-readme.md, "Food Sources"), after the MoMaS turn:
+ * finds the nearest source with food left; within food_radius the agent eats (hunger 0,
+ * the source's eater counter + 1), otherwise a hungry agent blends its heading toward
+ * the source, projected into its triangle, with weight hunger * min(1, strength / d^2). */
+MTX_FN void mtx_food_steer(mtx_surface_tables s, mtx_walker* w, float* hunger,
+                           const mtx_momas_constants* k) {
+  MTX_GLOBAL const mtx_frame* f = s.frames + w->triangle;
+  MTX_GLOBAL const float* g = s.frame3d + 9 * w->triangle;
+  const float lx = w->bary[1] * f->a + w->bary[2] * f->bx, ly = w->bary[2] * f->by;
+  const float px = g[0] + lx * g[3] + ly * g[6];
+  const float py = g[1] + lx * g[4] + ly * g[7];
+  const float pz = g[2] + lx * g[5] + ly * g[8];
+  mtx_u32 best = 0;
+  float best_d2 = 0.0f;
+  for (mtx_u32 j = 0; j < k->food_count; ++j) {
+    const float dx = s.food[4 * j] - px, dy = s.food[4 * j + 1] - py, dz = s.food[4 * j + 2] - pz;
+    const float d2 = dx * dx + dy * dy + dz * dz;
+    if (j == 0 || d2 < best_d2) {
+      best = j;
+      best_d2 = d2;
+    }
+  }
+  if (best_d2 <= k->food_radius * k->food_radius) {
+    *hunger = 0.0f;
+    MTX_COUNT(s.eaters, best);
+    return;
+  }
+  if (!(*hunger > 0.0f)) return;
+  const float dx = s.food[4 * best] - px, dy = s.food[4 * best + 1] - py,
+              dz = s.food[4 * best + 2] - pz;
+  mtx_vec2 toward;
+  toward.x = dx * g[3] + dy * g[4] + dz * g[5];
+  toward.y = dx * g[6] + dy * g[7] + dz * g[8];
+  if (!(toward.x * toward.x + toward.y * toward.y > 0.0f)) return; /* straight above/below */
+  toward = mtx_unit(toward);
+  const float weight = *hunger * fmin(1.0f, s.food[4 * best + 3] / best_d2);
+  mtx_vec2 h;
+  h.x = (1.0f - weight) * w->heading.x + weight * toward.x;
+  h.y = (1.0f - weight) * w->heading.y + weight * toward.y;
+  if (h.x * h.x + h.y * h.y > 0.0f) w->heading = mtx_unit(h);
+}
+
 /* Updates walker w (agent number `agent`, of species `species`) by one step. `pheromone`
  * holds species_count planes of width * height texels, `marks` as many byte planes;
- * `field` is the static field plane (read only when k->has_fields). */
+ * `field` is the static field plane (read only when k->has_fields); `hunger` is the
+ * agent's hunger, changed only while k->hunger_step > 0. */
 MTX_FN void mtx_momas_agent_step(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
                                  MTX_GLOBAL const float* field, MTX_GLOBAL mtx_u8* marks,
-                                 mtx_walker* w, mtx_u32 species, mtx_u64 agent,
+                                 mtx_walker* w, float* hunger, mtx_u32 species, mtx_u64 agent,
                                  const mtx_momas_constants* k) {
   const float sc = k->sensor_cos[species], ss = k->sensor_sin[species];
   const float left = mtx_sense(s, pheromone, field, w, sc, ss, species, k);
@@ -95,6 +144,10 @@ MTX_FN void mtx_momas_agent_step(mtx_surface_tables s, MTX_GLOBAL const float* p
       side = mtx_rng_float(&rng) < 0.5f ? 1.0f : -1.0f;
     const float turn = side * r * k->max_turn[species];
     w->heading = mtx_unit(mtx_rotate(w->heading, cos(turn), sin(turn)));
+  }
+  if (k->hunger_step > 0.0f) {
+    *hunger = fmin(1.0f, *hunger + k->hunger_step);
+    if (k->food_count > 0) mtx_food_steer(s, w, hunger, k);
   }
 
   /* Move in equal substeps, leaving a deposit after each: a line-integrated trail whose

@@ -17,6 +17,8 @@ typedef ulong mtx_u64;
 #define MTX_CAST(type, value) ((type)(value))
 /* Every writer stores the same value 1, so plain byte stores are enough. */
 #define MTX_MARK(marks, index) ((marks)[index] = (mtx_u8)1)
+/* Integer counters: exact whatever the order of the increments. */
+#define MTX_COUNT(counters, index) atomic_inc((counters) + (index))
 #define MTX_BEGIN_NAMESPACE
 #define MTX_END_NAMESPACE
 #else
@@ -32,11 +34,14 @@ typedef uint64_t mtx_u64;
 #define MTX_CAST(type, value) static_cast<type>(value)
 #define MTX_MARK(marks, index) \
   std::atomic_ref<mtx_u8>((marks)[index]).store(1, std::memory_order_relaxed)
+#define MTX_COUNT(counters, index) \
+  std::atomic_ref<mtx_u32>((counters)[index]).fetch_add(1u, std::memory_order_relaxed)
 #define MTX_BEGIN_NAMESPACE namespace moldtex {
 #define MTX_END_NAMESPACE }
 using std::cos;
 using std::fabs;
 using std::fmax;
+using std::fmin;
 using std::sin;
 using std::sqrt;
 #endif

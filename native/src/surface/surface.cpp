@@ -121,7 +121,7 @@ void validate(const moldtex_mesh_desc& d) {
 
 size_t Surface::bytes() const {
   return positions.capacity() * sizeof(float) + triangles.capacity() * sizeof(uint32_t) +
-         corner_uvs.capacity() * sizeof(float) + frames.capacity() * sizeof(TriangleFrame) +
+         corner_uvs.capacity() * sizeof(float) + frames.capacity() * sizeof(TriangleFrame) + frame3d.capacity() * sizeof(float) +
          adjacency.capacity() * sizeof(AdjacencyCode) + areas.capacity() * sizeof(float) +
          degenerate.capacity() + island.capacity() * sizeof(uint32_t);
 }
@@ -178,6 +178,7 @@ Surface build_surface(const moldtex_mesh_desc& d) {
   // Frames, areas, degeneracy. Sizes are relative to the mesh so that tiny and huge
   // models behave the same.
   s.frames.resize(nt);
+  s.frame3d.assign(9 * static_cast<size_t>(nt), 0.f);
   s.areas.resize(nt);
   s.degenerate.assign(nt, 0);
   double max_edge = 0;
@@ -207,6 +208,15 @@ Surface build_surface(const moldtex_mesh_desc& d) {
     double bx = dot(e2, e1) / a;
     double by = 2.0 * area / a;
     s.frames[t] = make_frame(a, bx, by);
+    {
+      const double k = bx / a;
+      const V3 ey{e2.x - k * e1.x, e2.y - k * e1.y, e2.z - k * e1.z};
+      const double ny = norm(ey);
+      const double iy = ny > 0 ? 1.0 / ny : 0.0;
+      const double v[9] = {p0.x, p0.y, p0.z, e1.x / a, e1.y / a, e1.z / a, ey.x * iy, ey.y * iy, ey.z * iy};
+      float* g = &s.frame3d[9 * static_cast<size_t>(t)];
+      for (int i = 0; i < 9; ++i) g[i] = static_cast<float>(v[i]);
+    }
     s.areas[t] = static_cast<float>(area);
     s.area += area;
     s.uv_area += uv_area;

@@ -36,6 +36,9 @@ struct Surface {
   std::vector<float> corner_uvs;           // 6 per triangle
   // Derived.
   std::vector<TriangleFrame> frames;
+  // 9 per triangle: 3D position of corner 0 and the unit 3D x and y axes of its frame
+  // (zeros for degenerate triangles), so a frame point (x, y) is at p0 + x X + y Y.
+  std::vector<float> frame3d;
   std::vector<AdjacencyCode> adjacency;    // 3 per triangle
   std::vector<float> areas;                // 3D area per triangle
   std::vector<uint8_t> degenerate;         // 1 where the 3D or UV area is ~zero

@@ -35,7 +35,8 @@ void CpuBackend::set_thread_count(unsigned threads) {
     pool_ = std::make_unique<ThreadPool>(threads);
 }
 
-void CpuBackend::step(const StepSettings& settings, uint64_t seed, uint64_t step_index) {
+void CpuBackend::step(const StepSettings& settings, uint64_t seed, uint64_t step_index,
+                      uint32_t* eaters) {
   const TextureDomain& d = *domain_;
   const moldtex_sim_params& p = settings.params;
   const MomasStepConstants c = momas_constants(settings, d, seed, step_index);
@@ -43,7 +44,12 @@ void CpuBackend::step(const StepSettings& settings, uint64_t seed, uint64_t step
   if (step_index % kSortInterval == 0) sort_by_tile(*surface_, d.width, d.height, agents_);
   // 1. Agents sense the field as it was at the start of the step (read-only) and mark
   //    where they deposit: no thread reads what another is writing.
-  const mtx_surface_tables tables = surface_tables(*surface_, d);
+  mtx_surface_tables tables = surface_tables(*surface_, d);
+  if (c.food_count > 0) {
+    std::fill(eaters, eaters + c.food_count, 0u);
+    tables.food = settings.food.data();
+    tables.eaters = eaters;
+  }
   const float* field = c.has_fields ? field_.data() : nullptr;
   pool_->parallel_for(agents_.size(), 1024, [&](size_t begin, size_t end) {
     momas_update_agents(tables, c, pheromone_.data(), field, marks_.data(), agents_, begin, end);

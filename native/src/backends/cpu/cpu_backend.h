@@ -15,7 +15,8 @@ class CpuBackend final : public Backend {
   CpuBackend(std::shared_ptr<const Surface> surface, std::shared_ptr<const TextureDomain> domain,
              uint32_t agent_count, uint32_t species_count, unsigned threads);
   void reset(const Agents& agents) override;
-  void step(const StepSettings& settings, uint64_t seed, uint64_t step_index) override;
+  void step(const StepSettings& settings, uint64_t seed, uint64_t step_index,
+            uint32_t* eaters) override;
   void set_thread_count(unsigned threads) override;
   void set_field(const std::vector<float>& field) override { field_ = field; }
   void read_pheromone(float* out) const override;

@@ -7,8 +7,10 @@ __kernel void momas_agents(__global const mtx_frame* frames, __global const uint
                            __global const float* pheromone, __global const float* field,
                            __global uchar* marks, __global uint* triangle, __global float* b1,
                            __global float* b2, __global float* hx, __global float* hy,
-                           __global const uchar* species,
-                           const mtx_momas_constants k, const uint count) {
+                           __global const uchar* species, __global float* hunger,
+                           __global const float* frame3d, __global const float* food,
+                           __global uint* eaters, const mtx_momas_constants k,
+                           const uint count) {
   const uint i = get_global_id(0);
   if (i >= count) return;
   mtx_surface_tables s;
@@ -16,6 +18,9 @@ __kernel void momas_agents(__global const mtx_frame* frames, __global const uint
   s.adjacency = adjacency;
   s.corner_uvs = corner_uvs;
   s.classes = classes;
+  s.frame3d = frame3d;
+  s.food = food;
+  s.eaters = eaters;
   mtx_walker w;
   w.triangle = triangle[i];
   w.bary[1] = b1[i];
@@ -23,7 +28,9 @@ __kernel void momas_agents(__global const mtx_frame* frames, __global const uint
   w.bary[0] = 1.0f - w.bary[1] - w.bary[2];
   w.heading.x = hx[i];
   w.heading.y = hy[i];
-  mtx_momas_agent_step(s, pheromone, field, marks, &w, (uint)species[i], (ulong)i, &k);
+  float h = hunger[i];
+  mtx_momas_agent_step(s, pheromone, field, marks, &w, &h, (uint)species[i], (ulong)i, &k);
+  hunger[i] = h;
   triangle[i] = w.triangle;
   b1[i] = w.bary[1];
   b2[i] = w.bary[2];

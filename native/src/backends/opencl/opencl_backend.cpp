@@ -39,15 +39,18 @@ struct OpenClBackend::State {
             diffuse_kernel = nullptr;
   // Surface and layout tables (read-only).
   cl_mem frames = nullptr, adjacency = nullptr, corner_uvs = nullptr, classes = nullptr,
-         gutter_texel = nullptr, gutter_source = nullptr;
+         gutter_texel = nullptr, gutter_source = nullptr, frame3d = nullptr;
+  // Food sources (MTX_MAX_FOOD x 4 floats) and their eater counters.
+  cl_mem food = nullptr, eaters = nullptr;
   // State.
   cl_mem triangle = nullptr, b1 = nullptr, b2 = nullptr, hx = nullptr, hy = nullptr,
-         species = nullptr;
+         species = nullptr, hunger = nullptr;
   cl_mem pheromone = nullptr, scratch = nullptr, marks = nullptr, field = nullptr;
 
   ~State() {
-    for (cl_mem m : {frames, adjacency, corner_uvs, classes, gutter_texel, gutter_source, triangle,
-                     b1, b2, hx, hy, species, pheromone, scratch, marks, field})
+    for (cl_mem m : {frames, adjacency, corner_uvs, classes, gutter_texel, gutter_source, frame3d,
+                     food, eaters, triangle, b1, b2, hx, hy, species, hunger, pheromone, scratch,
+                     marks, field})
       if (m) r.clReleaseMemObject(m);
     for (cl_kernel k : {agents_kernel, deposit_kernel, gutter_kernel, diffuse_kernel})
       if (k) r.clReleaseKernel(k);
@@ -126,7 +129,7 @@ OpenClBackend::OpenClBackend(std::shared_ptr<const Surface> surface,
   const Surface& sf = *surface_;
   const TextureDomain& d = *domain_;
   const size_t texels = d.texel_count();
-  const double need = agent_count_ * 21.0 + texels * (9.0 * species_count_ + 5.0) + sf.frames.size() * sizeof(mtx_frame) +
+  const double need = agent_count_ * 25.0 + sf.frame3d.size() * 4.0 + texels * (9.0 * species_count_ + 5.0) + sf.frames.size() * sizeof(mtx_frame) +
                       sf.adjacency.size() * 4.0 + sf.corner_uvs.size() * 4.0 + d.gutter_texel.size() * 8.0;
   if (device_.global_memory && need > 0.9 * static_cast<double>(device_.global_memory))
     fail(MOLDTEX_ERROR_OUT_OF_MEMORY,
@@ -147,6 +150,10 @@ OpenClBackend::OpenClBackend(std::shared_ptr<const Surface> surface,
   s.hx = s.buffer(agent_count_ * 4ull, nullptr, device_bytes_);
   s.hy = s.buffer(agent_count_ * 4ull, nullptr, device_bytes_);
   s.species = s.buffer(agent_count_ * 1ull, nullptr, device_bytes_);
+  s.hunger = s.buffer(agent_count_ * 4ull, nullptr, device_bytes_);
+  s.frame3d = s.buffer(sf.frame3d.size() * 4, sf.frame3d.data(), device_bytes_);
+  s.food = s.buffer(MTX_MAX_FOOD * 4 * 4, nullptr, device_bytes_);
+  s.eaters = s.buffer(MTX_MAX_FOOD * 4, nullptr, device_bytes_);
   s.pheromone = s.buffer(texels * 4 * species_count_, nullptr, device_bytes_);
   s.scratch = s.buffer(texels * 4 * species_count_, nullptr, device_bytes_);
   s.marks = s.buffer(texels * species_count_, nullptr, device_bytes_);
@@ -171,6 +178,7 @@ void OpenClBackend::upload_agents(const Agents& a) {
   write(s.hx, a.hx.data());
   write(s.hy, a.hy.data());
   write(s.species, a.species.data(), 1);
+  write(s.hunger, a.hunger.data());
 }
 
 void OpenClBackend::set_field(const std::vector<float>& field) {
@@ -197,7 +205,8 @@ void OpenClBackend::reset(const Agents& agents) {
   finish();
 }
 
-void OpenClBackend::step(const StepSettings& settings, uint64_t seed, uint64_t step_index) {
+void OpenClBackend::step(const StepSettings& settings, uint64_t seed, uint64_t step_index,
+                         uint32_t* eaters) {
   State& s = *state_;
   const TextureDomain& d = *domain_;
   const moldtex_sim_params& p = settings.params;
@@ -206,13 +215,27 @@ void OpenClBackend::step(const StepSettings& settings, uint64_t seed, uint64_t s
   const cl_uint texels = static_cast<cl_uint>(d.texel_count());
   const cl_uint gutter = static_cast<cl_uint>(d.gutter_texel.size());
 
+  if (c.food_count > 0) {
+    check(s.r.clEnqueueWriteBuffer(s.queue, s.food, CL_FALSE, 0, c.food_count * 16ull,
+                                   settings.food.data(), 0, nullptr, nullptr),
+          "uploading the food sources");
+    const cl_uint zero = 0;
+    check(s.r.clEnqueueFillBuffer(s.queue, s.eaters, &zero, 4, 0, c.food_count * 4ull, 0, nullptr,
+                                  nullptr),
+          "clearing the food counters");
+  }
   cl_kernel k = s.agents_kernel;
   cl_mem agent_args[] = {s.frames, s.adjacency, s.corner_uvs, s.classes, s.pheromone, s.field,
-                         s.marks, s.triangle, s.b1, s.b2, s.hx, s.hy, s.species};
-  for (cl_uint i = 0; i < 13; ++i) s.arg(k, i, agent_args[i]);
-  s.arg(k, 13, c);
-  s.arg(k, 14, static_cast<cl_uint>(agent_count_));
+                         s.marks, s.triangle, s.b1, s.b2, s.hx, s.hy, s.species, s.hunger,
+                         s.frame3d, s.food, s.eaters};
+  for (cl_uint i = 0; i < 17; ++i) s.arg(k, i, agent_args[i]);
+  s.arg(k, 17, c);
+  s.arg(k, 18, static_cast<cl_uint>(agent_count_));
   s.run(k, agent_count_);
+  if (c.food_count > 0)  // the host needs the counts before the next step's food
+    check(s.r.clEnqueueReadBuffer(s.queue, s.eaters, CL_TRUE, 0, c.food_count * 4ull, eaters, 0,
+                                  nullptr, nullptr),
+          "reading the food counters");
 
   s.arg(s.deposit_kernel, 0, s.pheromone);
   s.arg(s.deposit_kernel, 1, s.marks);
@@ -272,6 +295,7 @@ void OpenClBackend::export_state(SimState& out) const {
   read(s.hx, out.agents.hx, agent_count_);
   read(s.hy, out.agents.hy, agent_count_);
   read(s.species, out.agents.species, agent_count_);
+  read(s.hunger, out.agents.hunger, agent_count_);
   read(s.pheromone, out.pheromone, domain_->texel_count() * species_count_);
 }
 

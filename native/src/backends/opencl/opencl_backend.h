@@ -20,7 +20,8 @@ class OpenClBackend final : public Backend {
                 uint32_t agent_count, uint32_t species_count, const cl::Device& device);
   ~OpenClBackend() override;
   void reset(const Agents& agents) override;
-  void step(const StepSettings& settings, uint64_t seed, uint64_t step_index) override;
+  void step(const StepSettings& settings, uint64_t seed, uint64_t step_index,
+            uint32_t* eaters) override;
   void finish() override;
   void set_thread_count(unsigned) override {}
   void set_field(const std::vector<float>& field) override;
