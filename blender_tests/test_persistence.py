@@ -23,13 +23,15 @@ NON_DEFAULTS = {
     "bake_use_scene_range": False, "bake_frame_start": 5, "bake_frame_end": 77,
     "bake_steps_per_frame": 9, "bake_directory": "//elsewhere/", "bake_format": "PNG16",
     "bake_prefix": "rock_", "bake_resume": True,
+    # Food (test_food.py checks the Food collection).
+    "hunger_rate": 2.5, "food_radius": 0.3,
     "ramp_stops": '{"stops": [[0.0, [0.1, 0.2, 0.3, 1.0]], [1.0, [0.9, 0.8, 0.7, 1.0]]], '
                   '"interpolation": "EASE"}',
 }
 # Not stored: shown by get/set from backend_type and the opencl_* properties.
 DERIVED = {"backend"}
-# A collection and a pointer: test_species.py checks that they survive.
-NOT_SCALAR = {"species", "fields_image"}
+# A collection and pointers: test_species.py and test_food.py check that they survive.
+NOT_SCALAR = {"species", "fields_image", "food_collection"}
 
 
 class PersistenceTests(unittest.TestCase):

@@ -159,10 +159,21 @@ class SimParams(ctypes.Structure):
         ("time_step", ctypes.c_float),
         ("substeps", ctypes.c_uint32),
         ("thread_count", ctypes.c_uint32),
-        # Food with hunger (core only for now: no food sources are set from the add-on).
+        # Food with hunger (sources: Simulation.set_food / get_food).
         ("hunger_rate", ctypes.c_float),
         ("food_radius", ctypes.c_float),
     ]
+
+
+class FoodSource(ctypes.Structure):
+    _fields_ = [
+        ("position", ctypes.c_float * 3),
+        ("strength", ctypes.c_float),
+        ("amount", ctypes.c_float),
+    ]
+
+
+MAX_FOOD_SOURCES = 64  # MOLDTEX_MAX_FOOD_SOURCES
 
 
 class SimStats(ctypes.Structure):
@@ -258,6 +269,9 @@ _SIGNATURES = {
     "moldtex_sim_set_species_params": (_status, [_Sim, ctypes.c_uint32, _P(SpeciesParams)]),
     "moldtex_sim_get_species_params": (_status, [_Sim, ctypes.c_uint32, _P(SpeciesParams)]),
     "moldtex_sim_set_fields": (_status, [_Sim, ctypes.c_void_p, ctypes.c_size_t]),
+    "moldtex_sim_set_food": (_status, [_Sim, _P(FoodSource), ctypes.c_uint32]),
+    "moldtex_sim_get_food": (_status, [_Sim, _P(FoodSource), ctypes.c_uint32,
+                                       _P(ctypes.c_uint32)]),
     "moldtex_sim_reset": (_status, [_Sim]),
     "moldtex_sim_step": (_status, [_Sim, ctypes.c_uint32]),
     "moldtex_sim_read_rgba": (_status, [_Sim, ctypes.c_void_p, ctypes.c_size_t]),
@@ -694,6 +708,29 @@ class Simulation:
         address, count = _buffer_address(rgba, ("f",), writable=False)
         _check(_lib.moldtex_sim_set_fields(self.handle, ctypes.c_void_p(address), count),
                "Setting the fields")
+
+    def set_food(self, sources):
+        """Replaces the food sources: a list of (position (x, y, z), strength, amount)
+        in mesh units, amount < 0 = inexhaustible; at most MAX_FOOD_SOURCES; [] clears."""
+        sources = list(sources)
+        count = len(sources)
+        array_type = FoodSource * max(1, count)
+        items = array_type()
+        for item, (position, strength, amount) in zip(items, sources):
+            for k in range(3):
+                item.position[k] = float(position[k])
+            item.strength = float(strength)
+            item.amount = float(amount)
+        _check(_lib.moldtex_sim_set_food(self.handle, items, count), "Setting food sources")
+
+    def get_food(self):
+        """Current food sources as (position, strength, remaining amount) tuples."""
+        items = (FoodSource * MAX_FOOD_SOURCES)()
+        count = ctypes.c_uint32(0)
+        _check(_lib.moldtex_sim_get_food(self.handle, items, MAX_FOOD_SOURCES,
+                                         ctypes.byref(count)), "Reading food sources")
+        return [(tuple(item.position), item.strength, item.amount)
+                for item in items[:min(count.value, MAX_FOOD_SOURCES)]]
 
     def get_config(self):
         c = SimConfig()

@@ -61,6 +61,11 @@ class LiveSim:
         self.bake_progress = {}   # last engine.Bake.progress() (the panel shows it)
         self.bake_cancel_requested = False  # the modal bake cancels on its next tick
         self.bake_summary = ""    # one line about the last bake, for the panel
+        # Food sources last given to the core (food_from_settings' tuples), so that a
+        # step re-sends them only when the Empties or their properties changed.
+        self.food_key = None
+        self.food_names = []      # name of the Empty behind each core food source
+        self.food_dropped = 0     # Empties beyond engine.MAX_FOOD_SOURCES (ignored)
 
     @property
     def baking(self):
@@ -177,7 +182,91 @@ def config_from_settings(settings):
 
 
 def params_from_settings(settings):
-    return {name: getattr(settings, name) for name in PARAM_PROPERTIES}
+    params = {name: getattr(settings, name) for name in PARAM_PROPERTIES}
+    params["hunger_rate"] = settings.hunger_rate
+    obj = settings.id_data
+    factor = _mesh_units_per_scene_unit(obj) if obj is not None else 1.0
+    params["food_radius"] = settings.food_radius * factor
+    return params
+
+
+def _mesh_units_per_scene_unit(obj):
+    """Length in the exported mesh's units of one scene unit on `obj` (see
+    mesh_export: a uniform scale is not applied to the exported mesh)."""
+    return _seed_radius_in_mesh_units(obj, 1.0)
+
+
+FOOD_STRENGTH_PROPERTY = "moldtex_strength"
+FOOD_AMOUNT_PROPERTY = "moldtex_amount"
+
+
+def _number(value, default):
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        return default
+    return value if math.isfinite(value) else default
+
+
+def food_from_settings(obj):
+    """(sources, dropped): sources = [(name, position, strength, amount)] for the Empties
+    in the object's Food collection (sorted by name, at most engine.MAX_FOOD_SOURCES),
+    positions in the exported mesh's coordinates, strength converted from scene units²;
+    dropped = how many Empties were left out."""
+    collection = obj.moldtex.food_collection
+    if collection is None:
+        return [], 0
+    from mathutils import Matrix
+    empties = sorted((o for o in collection.all_objects if o is not None
+                      and o.type == 'EMPTY'), key=lambda o: o.name)
+    dropped = max(0, len(empties) - engine.MAX_FOOD_SOURCES)
+    empties = empties[:engine.MAX_FOOD_SOURCES]
+    to_local = obj.matrix_world.inverted()
+    scale = _export_scale(obj)
+    factor = _mesh_units_per_scene_unit(obj)
+    sources = []
+    for empty in empties:
+        point = to_local @ empty.matrix_world.translation
+        if scale is not None:
+            point = Matrix.Diagonal(scale) @ point
+        strength = max(0.0, _number(empty.get(FOOD_STRENGTH_PROPERTY, 1.0), 1.0))
+        amount = _number(empty.get(FOOD_AMOUNT_PROPERTY, -1.0), -1.0)
+        if amount < 0.0:
+            amount = -1.0
+        sources.append((empty.name, tuple(round(float(v), 6) for v in point),
+                        strength * factor * factor, amount))
+    return sources, dropped
+
+
+def _push_food(entry, obj, fresh):
+    """Sends the Food collection's sources to the core when they changed (fresh: a new
+    simulation). A source whose Empty keeps its name and amount property keeps what is
+    left of its food (moving it or changing its strength does not refill it)."""
+    sources, dropped = food_from_settings(obj)
+    key = tuple(sources)
+    entry.food_dropped = dropped
+    if not fresh and key == entry.food_key:
+        return
+    remaining = {}
+    if not fresh and entry.food_key:
+        current = entry.sim.get_food()
+        for old, now in zip(entry.food_key, current):
+            remaining[(old[0], old[3])] = now[2]
+    entry.sim.set_food([(position, strength, remaining.get((name, amount), amount))
+                        for name, position, strength, amount in sources])
+    entry.food_key = key
+    entry.food_names = [source[0] for source in sources]
+
+
+def food_status(obj):
+    """[(name, remaining amount)] of the live simulation's food (amount < 0 =
+    inexhaustible), or None without a simulation."""
+    entry = _registry.get(obj.name) if obj is not None else None
+    if entry is None or entry.sim is None or entry.baking:
+        return None
+    current = entry.sim.get_food()
+    return [(entry.food_names[i] if i < len(entry.food_names) else f"Source {i + 1}",
+             source[2]) for i, source in enumerate(current)]
 
 
 def species_params_from_settings(settings):
@@ -342,6 +431,9 @@ def _build(entry, obj, mesh):
         surface.release()  # the simulation holds its own reference
     try:
         _push_species(_Holder(sim), settings)
+        holder = LiveSim(entry.name)
+        holder.sim = sim
+        _push_food(holder, obj, fresh=True)
     except engine.EngineError:
         sim.release()
         raise
@@ -360,6 +452,8 @@ def _build(entry, obj, mesh):
     entry.backend_name = sim.backend_name()
     entry.backend_note = note
     entry.warning = note
+    entry.food_key, entry.food_names = holder.food_key, holder.food_names
+    entry.food_dropped = holder.food_dropped
 
 
 class _Holder:
@@ -442,6 +536,7 @@ def step(entry, obj, steps):
     """Advances the simulation (with the object's current parameters) and caches stats."""
     entry.sim.set_params(params_from_settings(obj.moldtex))
     _push_species(entry, obj.moldtex)
+    _push_food(entry, obj, fresh=False)
     entry.sim.step(steps)
     entry.stats = entry.sim.get_stats()
 

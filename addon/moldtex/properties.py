@@ -331,6 +331,29 @@ class MoldtexSettings(bpy.types.PropertyGroup):
                     "start (Spawn Map), green = walls, blue = attractors (food). Applied "
                     "when picked and on Reset (after painting it, press Reset)",
         update=_fields_changed)
+    # ---- food (plasmodial-slime-readme.md, "Food Sources") ----
+    food_collection: PointerProperty(
+        name="Food", type=bpy.types.Collection,
+        description="Collection whose Empties are food sources (up to 64, by name). Each "
+                    "Empty attracts hungry agents to the surface point near it. Custom "
+                    "properties of an Empty (Object Properties ▸ Custom Properties): "
+                    "'moldtex_strength' = attraction, in scene units² (default 1: full "
+                    "pull within 1 unit, weaker as 1/distance² beyond); "
+                    "'moldtex_amount' = units of food, one eaten per agent per step, "
+                    "refilled on Reset (default -1 = never runs out). Moving an Empty "
+                    "moves its food at once")
+    hunger_rate: FloatProperty(
+        name="Hunger Rate", default=0.0, min=0.0, max=1000.0, soft_min=0.0, soft_max=5.0,
+        description="Hunger agents gain per second (60 steps); hungry agents steer "
+                    "towards the nearest food and become sated when they reach it. "
+                    "0 = food is ignored",
+        update=_push_params)
+    food_radius: FloatProperty(
+        name="Food Radius", default=0.1, min=0.0, max=1e6, soft_min=0.0, soft_max=1.0,
+        subtype='DISTANCE', unit='LENGTH',
+        description="Distance (scene units, in 3D) from a food Empty within which an "
+                    "agent eats",
+        update=_push_params)
     # ---- playback ----
     steps_per_update: IntProperty(
         name="Steps per Update", default=2, min=1, max=1000, soft_max=20,

@@ -198,6 +198,7 @@ class MOLDTEX_PT_species(_SubPanel, bpy.types.Panel):
         if settings.seed_shape == 'SPAWN_MAP' and settings.fields_image is None:
             _wrapped(layout, "Spawn Map needs a Fields image whose red channel marks "
                              "where agents start.", icon='ERROR')
+        _draw_food(layout, context.active_object)
         count = settings.species_count
         if count < 2:
             return
@@ -219,6 +220,40 @@ class MOLDTEX_PT_species(_SubPanel, bpy.types.Panel):
             row = column.row(align=True)
             for other in range(count):
                 row.prop(item, "attraction", index=other, text=f"{other + 1}")
+
+
+def _draw_food(layout, obj):
+    settings = obj.moldtex
+    box = layout.box()
+    box.label(text="Food", icon='FORCE_FORCE')
+    column = box.column(align=True)
+    column.use_property_split = True
+    column.prop(settings, "food_collection", text="Collection")
+    column.prop(settings, "hunger_rate")
+    column.prop(settings, "food_radius")
+    if settings.food_collection is None:
+        _wrapped(box, "Pick a collection of Empties: each is a food source "
+                      "(custom properties moldtex_strength, moldtex_amount).", icon='INFO')
+        return
+    status = live.food_status(obj)
+    if status is None:
+        sources, dropped = live.food_from_settings(obj)
+        status = [(name, amount) for name, _position, _strength, amount in sources]
+    else:
+        entry = live.get(obj.name)
+        dropped = entry.food_dropped if entry is not None else 0
+    if not status:
+        _wrapped(box, f"No Empties in '{settings.food_collection.name}'.", icon='ERROR')
+    column = box.column(align=True)
+    for name, amount in status:
+        row = column.row()
+        row.label(text=name, icon='EMPTY_AXIS')
+        row.label(text="∞" if amount < 0 else f"{amount:.0f} left")
+    if dropped:
+        _wrapped(box, f"{dropped} more Empties ignored (at most 64 food sources).",
+                 icon='ERROR')
+    if settings.hunger_rate <= 0.0:
+        _wrapped(box, "Hunger Rate is 0: the agents ignore the food.", icon='INFO')
 
 
 def _bake_progress_text(progress):
