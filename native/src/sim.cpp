@@ -376,11 +376,16 @@ void Simulation::step(uint32_t steps) {
   backend_->finish();
 }
 
+std::vector<float> Simulation::read_field() const {
+  std::vector<float> field(domain_->texel_count() * settings_.species_count);
+  backend_->read_pheromone(field.data());
+  return field;
+}
+
 void Simulation::read_rgba(float* rgba) const {
   const size_t texels = domain_->texel_count();
   const uint32_t planes = settings_.species_count;
-  std::vector<float> field(texels * planes);
-  backend_->read_pheromone(field.data());
+  const std::vector<float> field = read_field();
   const auto& classes = domain_->classes;
   for (size_t i = 0; i < texels; ++i) {
     const float mask = classes[i] == MOLDTEX_TEXEL_OUTSIDE ? 0.f : 1.f;  // alpha = island mask
@@ -400,8 +405,7 @@ void Simulation::read_rgba(float* rgba) const {
 void Simulation::write_image(const std::string& path, moldtex_image_format format) const {
   const size_t texels = domain_->texel_count();
   const uint32_t planes = settings_.species_count;
-  std::vector<float> field(texels * planes);
-  backend_->read_pheromone(field.data());
+  const std::vector<float> field = read_field();
   static const char* const kOne[] = {"Y"};
   static const char* const kMany[] = {"R", "G", "B", "A"};
   std::vector<float> interleaved(texels * planes);
@@ -489,8 +493,7 @@ moldtex_sim_stats Simulation::stats() const {
   s.bytes_in_use = backend_->bytes() + domain_->bytes() + surface_->bytes();
   const size_t texels = domain_->texel_count();
   const uint32_t planes = settings_.species_count;
-  std::vector<float> field(texels * planes);
-  backend_->read_pheromone(field.data());
+  const std::vector<float> field = read_field();
   if (planes == 1) {
     FieldMetrics m = measure(*domain_, field.data());
     s.coverage = m.coverage;

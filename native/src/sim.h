@@ -4,6 +4,7 @@
 #include <atomic>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "backends/backend.h"
 #include "domain/texture_domain.h"
@@ -37,6 +38,8 @@ class Simulation {
   void reset();
   void step(uint32_t steps);
   void read_rgba(float* rgba) const;
+  // The pheromone planes, one per species, as the backend holds them.
+  std::vector<float> read_field() const;
   void read_agents(moldtex_surface_point* out, size_t count) const { backend_->read_agents(out, count); }
   moldtex_sim_stats stats() const;
   std::string backend_name() const {
