@@ -7,6 +7,8 @@ Layout (engine never imports bpy; UI never calls ctypes):
   live.py         live simulations keyed by object name
   properties.py   per-object settings (Object.moldtex)
   operators.py    Start/Pause, Step, Reset, Set Up Material, Bake, Use Baked Sequence
+  brush.py        surface brushes (fields, slime, food) and their stroke history
+  brush_ops.py    the viewport brush tool, scripted strokes, Undo/Redo Stroke
   bake.py         baking image sequences (core bake worker) and their playback
   presets.py      looks: preset menu, saving presets, ramp helpers
   cli.py          headless bake (blender -P cli.py --, blender --command moldtex bake)
@@ -32,15 +34,15 @@ if "live" in locals():
     # Re-enabling after a reload: free what the old module held, then reload all.
     live.free_all()
     for _module in (engine, mesh_export, live, properties, image_io, material, bake,
-                    presets, operators, handlers, ui, cli):
+                    presets, operators, brush, brush_ops, handlers, ui, cli):
         importlib.reload(_module)
 
 import bpy  # noqa: E402
 
 from . import engine, mesh_export, live, properties, image_io, material  # noqa: E402
-from . import bake, presets, operators, handlers, ui, cli  # noqa: E402
+from . import bake, presets, operators, brush, brush_ops, handlers, ui, cli  # noqa: E402
 
-_MODULES = (properties, presets, operators, ui, handlers)
+_MODULES = (properties, brush, presets, operators, brush_ops, ui, handlers)
 _cli_commands = []  # handles of bpy.utils.register_cli_command (Blender 4.2+)
 
 

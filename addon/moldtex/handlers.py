@@ -4,13 +4,14 @@
 import bpy
 from bpy.app.handlers import persistent
 
-from . import image_io, live
+from . import brush, image_io, live
 
 
 @persistent
 def on_load_pre(*_args):
     # Another file replaces every object: nothing live survives.
     live.free_all()
+    brush.forget()
 
 
 @persistent
@@ -22,6 +23,7 @@ def on_depsgraph_update_post(scene, depsgraph=None):
     for name in names:
         if objects.get(name) is None:  # deleted (or renamed)
             live.free(name)
+            brush.forget(name)
     if depsgraph is None:
         return
     for update in depsgraph.updates:
@@ -41,14 +43,19 @@ def on_undo_redo_post(*_args):
 
 @persistent
 def on_save_pre(*_args):
-    # Generated images lose their pixels on reload unless packed.
+    # Generated images (the pheromone, and Fields painted with the brush) lose their
+    # pixels on reload unless packed.
     for obj in bpy.data.objects:
         settings = getattr(obj, "moldtex", None)
-        if settings is not None and settings.image is not None:
+        if settings is None:
+            continue
+        for image in (settings.image, settings.fields_image):
+            if image is None:
+                continue
             try:
-                image_io.pack_for_save(settings.image)
+                image_io.pack_for_save(image)
             except RuntimeError as error:
-                print(f"Moldtex: could not pack '{settings.image.name}': {error}")
+                print(f"Moldtex: could not pack '{image.name}': {error}")
 
 
 _HANDLERS = (

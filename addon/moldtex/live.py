@@ -12,6 +12,8 @@ This module talks to the core only through engine.py.
 
 import array
 import math
+import time
+import zlib
 
 from . import engine
 from .mesh_export import export_object, resolve_uv_map_name
@@ -66,6 +68,10 @@ class LiveSim:
         self.food_key = None
         self.food_names = []      # name of the Empty behind each core food source
         self.food_dropped = 0     # Empties beyond engine.MAX_FOOD_SOURCES (ignored)
+        # Checksum of the fields last given to the core (None = none), and when the
+        # Fields image was last compared with them (poll_fields_image).
+        self.fields_crc = None
+        self.fields_polled = 0.0
 
     @property
     def baking(self):
@@ -440,6 +446,7 @@ def _build(entry, obj, mesh):
     if entry.sim is not None:
         entry.sim.release()
     entry.sim = sim
+    entry.fields_crc = _crc(fields)
     entry.create_config = create_config
     entry.config = config
     entry.uv_map = mesh.uv_map
@@ -528,8 +535,9 @@ def push_fields(obj):
     entry = _registry.get(obj.name) if obj is not None else None
     if entry is None or entry.sim is None or entry.baking:
         return
-    entry.sim.set_fields(fields_from_settings(obj.moldtex, entry.sim.width,
-                                              entry.sim.height))
+    fields = fields_from_settings(obj.moldtex, entry.sim.width, entry.sim.height)
+    entry.sim.set_fields(fields)
+    entry.fields_crc = _crc(fields)
 
 
 def step(entry, obj, steps):
@@ -553,3 +561,45 @@ def uv_map_in_use(obj):
     if entry is not None and entry.sim is not None:
         return entry.uv_map
     return resolve_uv_map_name(obj, obj.moldtex.uv_map) if obj is not None else ""
+
+
+def _crc(pixels):
+    return None if pixels is None else zlib.crc32(memoryview(pixels).cast("B"))
+
+
+def note_fields_pushed(obj, pixels):
+    """Records fields that were given to obj's simulation (by the brush), so that
+    poll_fields_image does not send them again."""
+    entry = _registry.get(obj.name) if obj is not None else None
+    if entry is not None:
+        entry.fields_crc = _crc(pixels)
+
+
+FIELDS_POLL_INTERVAL = 1.0  # seconds between two looks at a repainted Fields image
+
+
+def poll_fields_image(entry, obj):
+    """Sends the Fields image to the running simulation when it was repainted (Texture
+    Paint, the Image Editor, a script) since the core last got it. Looks at most once a
+    FIELDS_POLL_INTERVAL, only at images Blender marks as modified and of the
+    simulation's size (others are resampled, which is slow: Reset applies them).
+    Returns True if new fields were sent."""
+    settings = obj.moldtex
+    image = settings.fields_image
+    if (image is None or entry.sim is None or entry.baking or not image.is_dirty
+            or getattr(settings, "fields_source", 'IMAGE') != 'IMAGE'
+            or tuple(image.size) != (entry.sim.width, entry.sim.height)
+            or image.channels != 4):
+        return False
+    now = time.perf_counter()
+    if now - entry.fields_polled < FIELDS_POLL_INTERVAL:
+        return False
+    entry.fields_polled = now
+    fields = array.array("f", bytes(16 * entry.sim.width * entry.sim.height))
+    image.pixels.foreach_get(fields)
+    crc = _crc(fields)
+    if crc == entry.fields_crc:
+        return False
+    entry.sim.set_fields(fields)
+    entry.fields_crc = crc
+    return True

@@ -179,6 +179,7 @@ class MOLDTEX_OT_start(bpy.types.Operator):
         try:
             entry = live.ensure(obj, context.evaluated_depsgraph_get())
             _report_notice(self, entry)
+            live.poll_fields_image(entry, obj)
             live.step(entry, obj, obj.moldtex.steps_per_update)
             _show(entry, obj)
         except USER_ERRORS as error:

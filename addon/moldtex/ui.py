@@ -6,7 +6,7 @@ import textwrap
 
 import bpy
 
-from . import bake, engine, live, presets
+from . import bake, brush, engine, live, presets
 
 
 # Characters a line of the sidebar shows at its default width next to an icon (seen in
@@ -317,8 +317,54 @@ class MOLDTEX_PT_bake(_SubPanel, bpy.types.Panel):
             _wrapped(layout, entry.bake_summary, icon='INFO')
 
 
+class MOLDTEX_PT_brush(_SubPanel, bpy.types.Panel):
+    bl_label = "Brush"
+    bl_idname = "MOLDTEX_PT_brush"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        obj = context.active_object
+        settings = context.scene.moldtex_brush
+        layout = self.layout
+        row = layout.row(align=True)
+        row.scale_y = 1.4
+        row.operator("moldtex.brush_paint", icon='BRUSH_DATA')
+        layout.prop(settings, "target", expand=False)
+        row = layout.row(align=True)
+        row.prop(settings, "erase", toggle=True, icon='REMOVE' if settings.erase else 'ADD',
+                 text="Erase" if settings.erase else "Add")
+        column = layout.column(align=True)
+        column.use_property_split = True
+        column.prop(settings, "radius")
+        column.prop(settings, "strength")
+        if settings.target in brush.FIELD_CHANNELS:
+            column.prop(settings, "falloff")
+            if getattr(obj.moldtex, "fields_source", 'IMAGE') != 'IMAGE':
+                _wrapped(layout, "Fields come from vertex groups or attributes: the brush "
+                                 "paints only a Fields image.", icon='ERROR')
+            elif obj.moldtex.fields_image is None:
+                _wrapped(layout, "The first stroke makes a Fields image.", icon='INFO')
+        elif settings.target == 'SLIME':
+            column.prop(settings, "agents_per_dab")
+            if obj.moldtex.species_count > 1:
+                column.prop(settings, "species")
+            _wrapped(layout, "Agents join the live simulation (Reset removes them).",
+                     icon='INFO')
+        else:
+            column.prop(settings, "food_strength")
+            column.prop(settings, "food_amount")
+        done, undone = brush.counts(obj.name)
+        row = layout.row(align=True)
+        sub = row.row(align=True)
+        sub.enabled = done > 0
+        sub.operator("moldtex.brush_undo", icon='LOOP_BACK', text=f"Undo ({done})")
+        sub = row.row(align=True)
+        sub.enabled = undone > 0
+        sub.operator("moldtex.brush_redo", icon='LOOP_FORWARDS', text=f"Redo ({undone})")
+
+
 CLASSES = (MOLDTEX_PT_main, MOLDTEX_PT_agents, MOLDTEX_PT_pheromone, MOLDTEX_PT_species,
-           MOLDTEX_PT_setup, MOLDTEX_PT_bake)
+           MOLDTEX_PT_brush, MOLDTEX_PT_setup, MOLDTEX_PT_bake)
 
 
 register, unregister = bpy.utils.register_classes_factory(CLASSES)
