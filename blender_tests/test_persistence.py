@@ -23,6 +23,9 @@ NON_DEFAULTS = {
     "bake_use_scene_range": False, "bake_frame_start": 5, "bake_frame_end": 77,
     "bake_steps_per_frame": 9, "bake_directory": "//elsewhere/", "bake_format": "PNG16",
     "bake_prefix": "rock_", "bake_resume": True,
+    # Fields from vertex groups / attributes (the groups are made in the test).
+    "fields_source": "ATTRIBUTES", "spawn_attribute": "Start Here",
+    "obstacle_attribute": "Walls", "attractor_attribute": "Goal",
     # Food (test_food.py checks the Food collection).
     "hunger_rate": 2.5, "food_radius": 0.3,
     "ramp_stops": '{"stops": [[0.0, [0.1, 0.2, 0.3, 1.0]], [1.0, [0.9, 0.8, 0.7, 1.0]]], '
@@ -50,6 +53,8 @@ class PersistenceTests(unittest.TestCase):
         names = [p.identifier for p in settings.bl_rna.properties
                  if p.identifier not in {"rna_type", "name", "image"} | DERIVED | NOT_SCALAR]
         self.assertEqual(sorted(names), sorted(NON_DEFAULTS))
+        for key in ("spawn_attribute", "obstacle_attribute", "attractor_attribute"):
+            obj.vertex_groups.new(name=NON_DEFAULTS[key])  # empty: fields of zeros
         for key, value in NON_DEFAULTS.items():
             self.assertNotEqual(getattr(settings, key), value, f"{key} default")
             setattr(settings, key, value)

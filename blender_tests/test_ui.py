@@ -133,8 +133,8 @@ class PanelTests(unittest.TestCase):
                                  "image", "bake_use_scene_range", "bake_steps_per_frame",
                                  "bake_directory", "bake_format", "bake_prefix",
                                  "bake_resume", "species_count", "seed_shape",
-                                 "fields_image", "food_collection", "hunger_rate",
-                                 "food_radius"})
+                                 "fields_source", "fields_image", "food_collection",
+                                 "hunger_rate", "food_radius"})
         self.assertIn(("prop_search", "uv_map"), log)
         self.assertIn(("menu", "MOLDTEX_MT_presets"), log)
         buttons = [name for kind, name in log if kind == "operator"]

@@ -258,6 +258,9 @@ _SIGNATURES = {
     "moldtex_surface_trace": (_status, [_Surface, _P(SurfacePoint), _P(ctypes.c_float),
                                         ctypes.c_float, _P(SurfacePoint), _P(ctypes.c_float),
                                         ctypes.c_uint32, _P(ctypes.c_uint32)]),
+    "moldtex_surface_rasterize_corners": (_status, [_Surface, ctypes.c_uint32, ctypes.c_uint32,
+                                                    ctypes.c_void_p, ctypes.c_size_t,
+                                                    ctypes.c_void_p, ctypes.c_size_t]),
     "moldtex_sim_config_init": (None, [_P(SimConfig)]),
     "moldtex_sim_params_init": (None, [_P(SimParams)]),
     "moldtex_sim_create": (_status, [_Surface, _P(SimConfig), _P(SimParams), _P(_Sim)]),
@@ -603,6 +606,26 @@ class Surface:
             n = min(count.value, path_capacity)
             points = [tuple(path[3 * i:3 * i + 3]) for i in range(n)]
         return (end.triangle, tuple(end.bary)), points, count.value
+
+    def rasterize_corners(self, width, height, corner_rgba):
+        """Bakes per-corner values into a width × height RGBA float image over the UV
+        layout (Blender's pixel order, the layout a simulation of that size uses):
+        corner_rgba holds 4 floats for each corner of each triangle (array('f') or numpy
+        float32 of triangle_count*12, corners in the order of `triangles`). Island texels
+        interpolate their triangle's corners, gutter texels copy the texel across the
+        seam, the rest is 0. Returns a new array('f') of width*height*4 floats."""
+        address, count = _buffer_address(corner_rgba, ("f",), writable=False)
+        width, height = int(width), int(height)
+        # Sizes the core refuses get no buffer (so no 4 GiB allocation before the refusal).
+        fits = 8 <= width <= 16384 and 8 <= height <= 16384
+        out = array.array("f", bytes(4 * 4 * width * height if fits else 4))
+        out_address, out_count = _buffer_address(out, ("f",), writable=True)
+        _check(_lib.moldtex_surface_rasterize_corners(self.handle, width, height,
+                                                      ctypes.c_void_p(address), count,
+                                                      ctypes.c_void_p(out_address),
+                                                      out_count),
+               "Rasterizing corner values")
+        return out
 
     def release(self):
         if self._handle is not None and _lib is not None:

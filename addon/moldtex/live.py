@@ -16,7 +16,8 @@ import time
 import zlib
 
 from . import engine
-from .mesh_export import export_object, resolve_uv_map_name
+from .mesh_export import (MeshExportError, export_object, read_corner_fields,
+                          resolve_uv_map_name)
 
 # name -> LiveSim
 _registry = {}
@@ -295,9 +296,21 @@ def _push_species(entry, settings):
         entry.sim.set_species_params(index, params)
 
 
-def fields_from_settings(settings, width, height):
-    """The Fields image as width*height*4 floats (nearest resampling when its size
-    differs), or None without one. Raises engine.EngineError with plain words."""
+# Settings naming the vertex group or attribute of each field channel (R, G, B).
+FIELD_ATTRIBUTES = ("spawn_attribute", "obstacle_attribute", "attractor_attribute")
+FIELD_LABELS = ("Spawn", "Obstacle", "Attractor")
+
+
+def fields_from_settings(settings, width, height, mesh=None, surface=None, depsgraph=None):
+    """The static fields as width*height*4 floats, or None without any. Raises
+    engine.EngineError with plain words.
+
+    Fields Source 'IMAGE': the Fields image (nearest resampling when its size differs).
+    'ATTRIBUTES': the named vertex groups / attributes of the evaluated mesh, baked over
+    the UV layout by the core; mesh (export_object's MeshArrays), surface (an
+    engine.Surface of that mesh) and depsgraph are made here when not given."""
+    if settings.fields_source == 'ATTRIBUTES':
+        return _fields_from_attributes(settings, width, height, mesh, surface, depsgraph)
     image = settings.fields_image
     if image is None:
         return None
@@ -320,6 +333,37 @@ def fields_from_settings(settings, width, height):
     return fields
 
 
+def _fields_from_attributes(settings, width, height, mesh, surface, depsgraph):
+    names = tuple(getattr(settings, name) for name in FIELD_ATTRIBUTES)
+    if not any(names):
+        return None
+    obj = settings.id_data
+    try:
+        if depsgraph is None:
+            import bpy
+            depsgraph = bpy.context.evaluated_depsgraph_get()
+        if mesh is None:
+            mesh = export_object(obj, depsgraph, settings.uv_map)
+        corners = read_corner_fields(obj, depsgraph, mesh, names, FIELD_LABELS)
+    except MeshExportError as error:
+        raise engine.EngineError(str(error), engine.ERROR_INVALID_ARGUMENT) from None
+    # The core's ranges: spawn weight >= 0, attractor 0 .. 1 (the obstacle is a
+    # threshold, any value goes). Interpolation keeps texels within the corners' range.
+    spawn, attractor = corners[0::4], corners[2::4]
+    if min(spawn, default=0.0) < 0.0:
+        corners[0::4] = array.array("f", [value if value > 0.0 else 0.0 for value in spawn])
+    if min(attractor, default=0.0) < 0.0 or max(attractor, default=0.0) > 1.0:
+        corners[2::4] = array.array("f", [min(1.0, max(0.0, value)) for value in attractor])
+    own_surface = surface is None
+    if own_surface:
+        surface = engine.Surface(mesh.positions, mesh.triangles, mesh.uvs, mesh.triangle_uvs)
+    try:
+        return surface.rasterize_corners(width, height, corners)
+    finally:
+        if own_surface:
+            surface.release()
+
+
 def _resample_nearest(source, source_width, source_height, channels, width, height):
     """RGBA floats of width × height from `channels`-channel pixels (nearest texel)."""
     fields = array.array("f", bytes(4 * 4 * width * height))
@@ -339,6 +383,20 @@ def _resample_nearest(source, source_width, source_height, channels, width, heig
 
 def _check_spawn_map(settings, fields):
     if settings.seed_shape != 'SPAWN_MAP':
+        return
+    if settings.fields_source == 'ATTRIBUTES':
+        name = settings.spawn_attribute
+        if not name:
+            raise engine.EngineError(
+                "Start is Spawn Map, but no Spawn vertex group or attribute is set: name "
+                "one whose weights mark where agents start (Moldtex ▸ Species & Start ▸ "
+                "Fields), or choose another Start.")
+        if fields is None or not any(red > 0.0 and green <= 0.5
+                                     for red, green in zip(fields[0::4], fields[1::4])):
+            raise engine.EngineError(
+                f"Start is Spawn Map, but the Spawn source '{name}' is 0 everywhere "
+                f"outside the obstacles: paint some weight into it, or choose another "
+                f"Start.")
         return
     if fields is None:
         raise engine.EngineError(
@@ -404,15 +462,13 @@ def needs_reset(obj):
             or entry.uv_map_setting != settings.uv_map)
 
 
-def _build(entry, obj, mesh):
+def _build(entry, obj, mesh, depsgraph=None):
     settings = obj.moldtex
     config = config_from_settings(settings)
     note = backend_note(settings)
     if len(settings.species) < settings.species_count:
         from .properties import ensure_species  # (properties imports this module)
         ensure_species(settings)
-    fields = fields_from_settings(settings, config["width"], config["height"])
-    _check_spawn_map(settings, fields)
     create_config = dict(config)
     create_config["seed_radius"] = _seed_radius_in_mesh_units(obj, config["seed_radius"])
     if settings.seed_shape in CENTERED_SHAPES:
@@ -421,6 +477,9 @@ def _build(entry, obj, mesh):
         create_config["seed_center"] = seed_center(obj, mesh, scene.cursor.location)
     surface = engine.Surface(mesh.positions, mesh.triangles, mesh.uvs, mesh.triangle_uvs)
     try:
+        fields = fields_from_settings(settings, config["width"], config["height"], mesh,
+                                      surface, depsgraph)
+        _check_spawn_map(settings, fields)
         surface_info = surface.info()
         sim = engine.Simulation(surface, create_config, params_from_settings(settings),
                                 fields)
@@ -514,7 +573,7 @@ def ensure(obj, depsgraph, rebuild=False):
     if uv_map != settings.uv_map:
         # The mesh changed anyway: restart on the UV map the settings ask for now.
         mesh = export_object(obj, depsgraph, settings.uv_map)
-    _build(entry, obj, mesh)
+    _build(entry, obj, mesh, depsgraph)
     _registry[obj.name] = entry
     entry.notice = ("The mesh changed, so the simulation restarted on the new mesh."
                     if restarted else "")
@@ -531,11 +590,27 @@ def push_params(obj):
 
 
 def push_fields(obj):
-    """Sends the object's Fields image to its live simulation, if any (None clears)."""
+    """Sends the object's fields (image or attributes) to its live simulation, if any
+    (None clears)."""
     entry = _registry.get(obj.name) if obj is not None else None
     if entry is None or entry.sim is None or entry.baking:
         return
-    fields = fields_from_settings(obj.moldtex, entry.sim.width, entry.sim.height)
+    settings = obj.moldtex
+    mesh = depsgraph = None
+    if settings.fields_source == 'ATTRIBUTES':
+        import bpy
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        try:
+            mesh = export_object(obj, depsgraph, entry.uv_map)
+        except MeshExportError as error:
+            raise engine.EngineError(str(error), engine.ERROR_INVALID_ARGUMENT) from None
+        if mesh.signature != entry.signature:
+            # Not the mesh the simulation runs on: the next step rebuilds on the new
+            # mesh, and reads the fields then.
+            entry.dirty = True
+            return
+    fields = fields_from_settings(settings, entry.sim.width, entry.sim.height, mesh, None,
+                                  depsgraph)
     entry.sim.set_fields(fields)
     entry.fields_crc = _crc(fields)
 

@@ -10,6 +10,7 @@ simulation is not rebuilt for that.
 
 import array
 import hashlib
+import math
 
 import bpy
 from mathutils import Matrix
@@ -120,3 +121,110 @@ def _read_mesh(obj, mesh, uv_map_name):
     uvs = array.array("f", bytes(4 * 2 * loop_count))
     layer.data.foreach_get("uv", uvs)
     return MeshArrays(positions, triangles, uvs, triangle_uvs, layer.name)
+
+
+# ---- static fields from vertex groups and attributes ----------------------------------
+
+# Colour attributes count by the luminance of the colour as shown (sRGB values, Rec. 709
+# weights): black 0, white 1, a 50 % grey 0.5.
+LUMINANCE = (0.2126, 0.7152, 0.0722)
+_DOMAIN_WORDS = {'POINT': "Vertex", 'CORNER': "Face Corner", 'EDGE': "Edge", 'FACE': "Face",
+                 'CURVE': "Spline", 'INSTANCE': "Instance"}
+
+
+def read_corner_fields(obj, depsgraph, mesh, names, labels=("Spawn", "Obstacle", "Attractor")):
+    """Per-corner RGBA (array('f'), 4 floats for each corner of each triangle of `mesh`,
+    the MeshArrays export_object made of the same evaluated object): channel k holds the
+    values of names[k] ("" = 0), a vertex group (weights, 0 where unassigned) or else a
+    mesh attribute (FLOAT, FLOAT_COLOR or BYTE_COLOR on the Vertex or Face Corner domain;
+    colours by LUMINANCE), read from the evaluated mesh (after modifiers). Raises
+    MeshExportError with words the user can act on."""
+    check_object(obj)
+    evaluated = obj.evaluated_get(depsgraph)
+    data = evaluated.to_mesh()
+    try:
+        if len(data.vertices) != mesh.vertex_count or 2 * len(data.loops) != len(mesh.uvs):
+            raise MeshExportError(
+                f"The mesh of '{obj.name}' changed while its fields were read: press Reset.")
+        corners = array.array("f", bytes(4 * 12 * mesh.triangle_count))
+        for channel, (label, name) in enumerate(zip(labels, names)):
+            if not name:
+                continue
+            values, domain = _named_values(obj, data, name, label)
+            # Corner -> vertex (triangles) or corner -> loop (triangle_uvs: loop indices).
+            index = mesh.triangles if domain == 'POINT' else mesh.triangle_uvs
+            corners[channel::4] = array.array("f", map(values.__getitem__, index))
+        return corners
+    finally:
+        evaluated.to_mesh_clear()
+
+
+def _named_values(obj, data, name, label):
+    """(array('f') of values, 'POINT' or 'CORNER') of a vertex group or attribute."""
+    group = obj.vertex_groups.get(name)
+    if group is not None:
+        return _vertex_group_weights(obj, data, group, label), 'POINT'
+    attribute = data.attributes.get(name)
+    if attribute is None:
+        original = obj.data.attributes.get(name) if obj.data is not None else None
+        if original is not None:
+            raise MeshExportError(
+                f"{label}: the modifiers of '{obj.name}' remove the attribute '{name}': "
+                f"turn off or apply the modifier that drops it, or pick another "
+                f"attribute.")
+        groups = ", ".join(f"'{g.name}'" for g in obj.vertex_groups) or "none"
+        attributes = ", ".join(f"'{a.name}'" for a in data.attributes
+                               if not a.name.startswith(".")) or "none"
+        raise MeshExportError(
+            f"{label}: '{name}' is neither a vertex group of '{obj.name}' nor an attribute "
+            f"of its mesh (vertex groups: {groups}; attributes: {attributes}). Fix the name "
+            f"in Moldtex ▸ Species & Start ▸ Fields, or clear it.")
+    domain, kind = attribute.domain, attribute.data_type
+    if domain not in ('POINT', 'CORNER'):
+        raise MeshExportError(
+            f"{label}: attribute '{name}' is stored per {_DOMAIN_WORDS.get(domain, domain)}; "
+            f"Moldtex reads Vertex or Face Corner attributes: store it on one of those "
+            f"domains (e.g. Geometry Nodes' Store Named Attribute), or use a vertex group.")
+    count = len(attribute.data)
+    if kind == 'FLOAT':
+        values = array.array("f", bytes(4 * count))
+        attribute.data.foreach_get("value", values)
+    elif kind in ('FLOAT_COLOR', 'BYTE_COLOR'):
+        colors = array.array("f", bytes(4 * 4 * count))
+        attribute.data.foreach_get("color_srgb", colors)
+        r, g, b = LUMINANCE
+        values = array.array("f", [r * cr + g * cg + b * cb for cr, cg, cb
+                                   in zip(colors[0::4], colors[1::4], colors[2::4])])
+    else:
+        raise MeshExportError(
+            f"{label}: attribute '{name}' holds {kind.replace('_', ' ').lower()} values; "
+            f"Moldtex reads Float and Color attributes (and vertex groups): convert it, "
+            f"or pick another.")
+    if not all(map(math.isfinite, values)):
+        raise MeshExportError(
+            f"{label}: attribute '{name}' holds values that are not numbers (NaN or "
+            f"infinite): fix them, or pick another attribute.")
+    return values, domain
+
+
+def _vertex_group_weights(obj, data, group, label):
+    """Weights of `group` on the evaluated mesh's vertices (0 where unassigned). Blender
+    has no bulk read of weights: this loop takes 0.04 to 0.12 s per 100,000 vertices
+    (measured on Blender 3.4 and 4.2; more when vertices belong to many groups)."""
+    index = group.index
+    weights = array.array("f", bytes(4 * len(data.vertices)))
+    assigned = 0
+    for vertex in data.vertices:
+        for element in vertex.groups:
+            if element.group == index:
+                weights[vertex.index] = element.weight
+                assigned += 1
+                break
+    if assigned == 0 and data.vertices and obj.data is not None and any(
+            element.group == index for vertex in obj.data.vertices
+            for element in vertex.groups):
+        raise MeshExportError(
+            f"{label}: the modifiers of '{obj.name}' drop the vertex group '{group.name}' "
+            f"(modifiers that rebuild the mesh, such as Remesh, do): turn that modifier "
+            f"off, or apply it and paint the group on the result.")
+    return weights

@@ -80,14 +80,25 @@ SPECIES_COLORS = ((1.0, 0.25, 0.05), (0.1, 0.9, 0.2), (0.15, 0.35, 1.0), (1.0, 0
 
 SEED_SHAPE_ITEMS = [
     ("RANDOM", "Random", "Agents everywhere, uniformly by area (never inside walls of the "
-                         "Fields image)", 0),
-    ("SPAWN_MAP", "Spawn Map", "Agents where the Fields image's red channel is bright "
-                               "(more agents where brighter)", 1),
+                         "Fields)", 0),
+    ("SPAWN_MAP", "Spawn Map", "Agents where the Fields' spawn weight is high (the "
+                               "image's red channel or the Spawn attribute; more agents "
+                               "where higher)", 1),
     ("CIRCLE", "Circle", "Agents on a circle around the 3D cursor (measured on the "
                          "surface), heading inwards", 2),
     ("BIG_BANG", "Big Bang", "All agents at the 3D cursor, heading every way", 3),
     ("STARBURST", "Starburst", "Agents on rays from the 3D cursor, out to the radius, "
                                "heading outwards", 4),
+]
+
+
+# The numbers are what a .blend stores; files from before this setting read as IMAGE.
+FIELDS_SOURCE_ITEMS = [
+    ("IMAGE", "Image", "A Fields image painted in the object's UV space: red = spawn, "
+                       "green = walls, blue = attractors", 0),
+    ("ATTRIBUTES", "Attributes", "Vertex groups or painted attributes (Float or Color, "
+                                 "per vertex or face corner) of the mesh after its "
+                                 "modifiers, named per field", 1),
 ]
 
 
@@ -330,6 +341,28 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         description="Maze image painted in this object's UV space: red = where agents "
                     "start (Spawn Map), green = walls, blue = attractors (food). Applied "
                     "when picked and on Reset (after painting it, press Reset)",
+        update=_fields_changed)
+    fields_source: EnumProperty(
+        name="Fields Source", items=FIELDS_SOURCE_ITEMS, default='IMAGE',
+        description="Where the static fields (spawn weights, walls, attractors) come "
+                    "from. Applied when changed and on Reset",
+        update=_fields_changed)
+    spawn_attribute: StringProperty(
+        name="Spawn", default="",
+        description="Vertex group, or Float or Color attribute (per vertex or face "
+                    "corner; a colour counts by its brightness), whose value is where "
+                    "agents start with Start = Spawn Map (more where higher; below 0 "
+                    "counts as 0). Empty = none. Applied when changed and on Reset",
+        update=_fields_changed)
+    obstacle_attribute: StringProperty(
+        name="Obstacle", default="",
+        description="Vertex group or attribute marking walls no agent enters: where its "
+                    "value is above 0.5. Empty = none. Applied when changed and on Reset",
+        update=_fields_changed)
+    attractor_attribute: StringProperty(
+        name="Attractor", default="",
+        description="Vertex group or attribute attracting every species, 0 to 1 "
+                    "(clamped). Empty = none. Applied when changed and on Reset",
         update=_fields_changed)
     # ---- food (plasmodial-slime-readme.md, "Food Sources") ----
     food_collection: PointerProperty(

@@ -194,10 +194,7 @@ class MOLDTEX_PT_species(_SubPanel, bpy.types.Panel):
         if settings.seed_shape in live.CENTERED_SHAPES:
             _wrapped(layout, "Centre: the surface point nearest the 3D cursor.",
                      icon='PIVOT_CURSOR')
-        layout.prop(settings, "fields_image")
-        if settings.seed_shape == 'SPAWN_MAP' and settings.fields_image is None:
-            _wrapped(layout, "Spawn Map needs a Fields image whose red channel marks "
-                             "where agents start.", icon='ERROR')
+        _draw_fields(layout, context.active_object)
         _draw_food(layout, context.active_object)
         count = settings.species_count
         if count < 2:
@@ -220,6 +217,39 @@ class MOLDTEX_PT_species(_SubPanel, bpy.types.Panel):
             row = column.row(align=True)
             for other in range(count):
                 row.prop(item, "attraction", index=other, text=f"{other + 1}")
+
+
+# prop_search that accepts any typed name (an attribute is not a vertex group) without
+# marking it red; Blender before 3.3 lacks the option.
+_SUGGESTIONS = ({"results_are_suggestions": True}
+                if "results_are_suggestions"
+                in bpy.types.UILayout.bl_rna.functions["prop_search"].parameters.keys()
+                else {})
+
+
+def _draw_fields(layout, obj):
+    settings = obj.moldtex
+    box = layout.box()
+    box.label(text="Fields", icon='MOD_MASK')
+    box.row().prop(settings, "fields_source", expand=True)
+    if settings.fields_source == 'IMAGE':
+        box.prop(settings, "fields_image")
+        if settings.seed_shape == 'SPAWN_MAP' and settings.fields_image is None:
+            _wrapped(box, "Spawn Map needs a Fields image whose red channel marks "
+                          "where agents start.", icon='ERROR')
+        return
+    column = box.column(align=True)
+    column.use_property_split = True
+    for name in live.FIELD_ATTRIBUTES:
+        column.prop_search(settings, name, obj, "vertex_groups", icon='GROUP_VERTEX',
+                           **_SUGGESTIONS)
+    if settings.seed_shape == 'SPAWN_MAP' and not settings.spawn_attribute:
+        _wrapped(box, "Spawn Map needs a Spawn vertex group or attribute.", icon='ERROR')
+    _wrapped(box, "A vertex group, or a Float or Color attribute per vertex or face "
+                  "corner (colours by brightness). Obstacle: walls where above 0.5; "
+                  "Attractor: 0 to 1. Read after modifiers; ones that rebuild the mesh "
+                  "(Remesh) drop vertex groups. After painting, press Reset.",
+             icon='INFO')
 
 
 def _draw_food(layout, obj):

@@ -134,6 +134,19 @@ MOLDTEX_API moldtex_status moldtex_surface_trace(moldtex_surface surface,
                                                  float* path_xyz, uint32_t path_capacity,
                                                  uint32_t* path_count);
 
+/* Bakes values given per triangle corner (triangle_count * 3 corners * 4 floats) into a
+ * width x height RGBA float image over the UV layout (Blender's order, row 0 bottom):
+ * each texel inside a UV island gets the barycentric interpolation of its triangle's
+ * corner values; gutter texels copy the island texel across the seam (as the
+ * simulation's gutter does); texels outside stay 0.
+ * width and height: 8 .. 16384 each, as for a simulation; corner_float_count must be
+ * triangle_count * 12 and every corner value finite; float_count is the capacity of
+ * rgba in floats and must be >= width * height * 4. Corner order: corner k of triangle
+ * t is the k-th index of triangle t in the moldtex_mesh_desc. */
+MOLDTEX_API moldtex_status moldtex_surface_rasterize_corners(moldtex_surface surface,
+    uint32_t width, uint32_t height, const float* corner_rgba, size_t corner_float_count,
+    float* rgba, size_t float_count);
+
 /* ---- simulation (MoMaS, momas-paper.md Algorithm 1) ------------------------------- */
 
 /* Where the simulation runs. */

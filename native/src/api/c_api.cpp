@@ -17,6 +17,7 @@
 #endif
 #include "moldtex.h"
 #include "bake/bake.h"
+#include "domain/corner_raster.h"
 #include "sim.h"
 #include "surface/surface.h"
 
@@ -246,6 +247,17 @@ moldtex_status moldtex_surface_trace(moldtex_surface surface, const moldtex_surf
     end->triangle = w.triangle;
     std::copy(w.bary, w.bary + 3, end->bary);
     if (path_count) *path_count = count;
+  });
+}
+
+moldtex_status moldtex_surface_rasterize_corners(moldtex_surface surface, uint32_t width,
+                                                 uint32_t height, const float* corner_rgba,
+                                                 size_t corner_float_count, float* rgba,
+                                                 size_t float_count) {
+  return guarded([&] {
+    require(surface != nullptr, "The surface handle is NULL");
+    moldtex::rasterize_corners(*surface->surface, width, height, corner_rgba,
+                               corner_float_count, rgba, float_count);
   });
 }
 
