@@ -11,7 +11,7 @@ moldtex_install_packages() {
   # OpenCL: Khronos headers to build the backend, the ICD loader, and PoCL (OpenCL on
   # the CPU) so the OpenCL path really runs here.
   local pkgs=(build-essential cmake pkg-config libgtest-dev libbenchmark-dev libopenimageio-dev
-              opencl-headers ocl-icd-opencl-dev pocl-opencl-icd
+              libembree-dev opencl-headers ocl-icd-opencl-dev pocl-opencl-icd
               blender python3 python3-venv python3-pip)
   local missing=()
   for p in "${pkgs[@]}"; do

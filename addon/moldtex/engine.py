@@ -228,6 +228,37 @@ class OpenCLDeviceInfo(ctypes.Structure):
     ]
 
 
+class RayHit(ctypes.Structure):
+    _fields_ = [
+        ("struct_size", ctypes.c_uint32),
+        ("hit", ctypes.c_uint32),
+        ("point", SurfacePoint),
+        ("distance", ctypes.c_float),
+        ("position", ctypes.c_float * 3),
+        ("uv", ctypes.c_float * 2),
+        ("normal", ctypes.c_float * 3),
+    ]
+
+
+class Brush(ctypes.Structure):
+    _fields_ = [
+        ("struct_size", ctypes.c_uint32),
+        ("center", SurfacePoint),
+        ("radius", ctypes.c_float),
+        ("strength", ctypes.c_float),
+        ("falloff", ctypes.c_float),
+        ("mode", ctypes.c_uint32),
+        ("channel", ctypes.c_uint32),
+        ("value", ctypes.c_float),
+    ]
+
+
+# moldtex_brush_mode values (moldtex.h)
+BRUSH_PAINT = 0
+BRUSH_ERASE = 1   # paint: target 0
+MAX_BRUSH_BATCH = 65535  # batch numbers of moldtex_sim_add_agents are 1 .. this
+
+
 CONFIG_FIELDS = tuple(name for name, _ in SimConfig._fields_ if name != "struct_size")
 SPECIES_FIELDS = tuple(name for name, _ in SpeciesParams._fields_ if name != "struct_size")
 PARAM_FIELDS = tuple(name for name, _ in SimParams._fields_ if name != "struct_size")
@@ -296,6 +327,19 @@ _SIGNATURES = {
     "moldtex_opencl_device_info_init": (None, [_P(OpenCLDeviceInfo)]),
     "moldtex_opencl_device_count": (_status, [_P(ctypes.c_uint32)]),
     "moldtex_opencl_get_device": (_status, [ctypes.c_uint32, _P(OpenCLDeviceInfo)]),
+    "moldtex_ray_hit_init": (None, [_P(RayHit)]),
+    "moldtex_surface_ray_cast": (_status, [_Surface, _P(ctypes.c_float), _P(ctypes.c_float),
+                                           ctypes.c_float, _P(RayHit)]),
+    "moldtex_surface_closest_point": (_status, [_Surface, _P(ctypes.c_float), _P(SurfacePoint),
+                                                _P(ctypes.c_float)]),
+    "moldtex_brush_init": (None, [_P(Brush)]),
+    "moldtex_surface_paint": (_status, [_Surface, ctypes.c_uint32, ctypes.c_uint32,
+                                        ctypes.c_void_p, ctypes.c_size_t, _P(Brush),
+                                        _P(ctypes.c_uint32)]),
+    "moldtex_sim_add_agents": (_status, [_Sim, _P(Brush), ctypes.c_uint32, ctypes.c_uint32]),
+    "moldtex_sim_erase_agents": (_status, [_Sim, _P(Brush), ctypes.c_uint32,
+                                           _P(ctypes.c_uint32)]),
+    "moldtex_sim_undo_agents": (_status, [_Sim, ctypes.c_uint32]),
 }
 
 SEED_RANDOM = 0     # moldtex_seed_shape
@@ -315,6 +359,8 @@ _STRUCT_INITS = (
     ("moldtex_bake_desc_init", BakeDesc),
     ("moldtex_bake_progress_init", BakeProgress),
     ("moldtex_opencl_device_info_init", OpenCLDeviceInfo),
+    ("moldtex_ray_hit_init", RayHit),
+    ("moldtex_brush_init", Brush),
 )
 
 ADDON_DIR = os.path.dirname(os.path.abspath(__file__))
@@ -477,6 +523,43 @@ def default_config():
     return _struct_to_dict(config, CONFIG_FIELDS)
 
 
+BRUSH_FIELDS = ("triangle", "bary", "radius", "strength", "falloff", "mode", "channel", "value")
+
+
+def default_brush():
+    """The core's brush defaults (moldtex_brush_init) as a dict with BRUSH_FIELDS:
+    triangle and bary (3 floats) place the centre; radius (mesh units, measured on the
+    surface), strength, falloff, mode (BRUSH_PAINT / BRUSH_ERASE), channel (RGBA channel
+    for paint, species for agents), value (paint target)."""
+    brush = Brush()
+    _require().moldtex_brush_init(ctypes.byref(brush))
+    return {"triangle": brush.center.triangle, "bary": tuple(brush.center.bary),
+            "radius": brush.radius, "strength": brush.strength, "falloff": brush.falloff,
+            "mode": brush.mode, "channel": brush.channel, "value": brush.value}
+
+
+def _brush(values):
+    """A Brush from a dict of BRUSH_FIELDS; missing keys keep the core's defaults."""
+    brush = Brush()
+    _require().moldtex_brush_init(ctypes.byref(brush))
+    for name, value in values.items():
+        if name not in BRUSH_FIELDS:
+            raise KeyError(f"unknown brush field '{name}'")
+        if name == "triangle":
+            brush.center.triangle = int(value)
+        elif name == "bary":
+            bary = tuple(value)
+            if len(bary) != 3:
+                raise EngineError("A brush's bary needs 3 weights.", ERROR_INVALID_ARGUMENT)
+            for k in range(3):
+                brush.center.bary[k] = float(bary[k])
+        elif name in ("mode", "channel"):
+            setattr(brush, name, int(value))
+        else:
+            setattr(brush, name, float(value))
+    return brush
+
+
 def _decode(raw):
     return raw.decode("utf-8", "replace")
 
@@ -626,6 +709,45 @@ class Surface:
                                                       out_count),
                "Rasterizing corner values")
         return out
+
+    def ray_cast(self, origin, direction, max_distance=float("inf")):
+        """Nearest hit of origin + s * direction (0 <= s <= max_distance, both faces):
+        None on a miss, else a dict with triangle, bary, distance (s), position, uv and
+        normal (unit, by winding). The first call builds the surface's BVH."""
+        hit = RayHit()
+        _lib.moldtex_ray_hit_init(ctypes.byref(hit))
+        _check(_lib.moldtex_surface_ray_cast(self.handle, (ctypes.c_float * 3)(*origin),
+                                             (ctypes.c_float * 3)(*direction),
+                                             float(max_distance), ctypes.byref(hit)),
+               "Casting a ray")
+        if not hit.hit:
+            return None
+        return {"triangle": hit.point.triangle, "bary": tuple(hit.point.bary),
+                "distance": hit.distance, "position": tuple(hit.position),
+                "uv": tuple(hit.uv), "normal": tuple(hit.normal)}
+
+    def closest_point(self, position):
+        """Nearest surface point to a 3D position: (triangle, (b0, b1, b2), distance)."""
+        point = SurfacePoint()
+        distance = ctypes.c_float(0.0)
+        _check(_lib.moldtex_surface_closest_point(self.handle, (ctypes.c_float * 3)(*position),
+                                                  ctypes.byref(point), ctypes.byref(distance)),
+               "Finding the closest point")
+        return point.triangle, tuple(point.bary), distance.value
+
+    def paint(self, width, height, rgba, brush):
+        """One brush dab into an RGBA float image of width x height over the UV layout
+        (array('f') or numpy float32, >= width*height*4 floats, Blender's pixel order),
+        changed in place. brush: dict of BRUSH_FIELDS (see default_brush). Returns the
+        number of texels that changed."""
+        b = _brush(brush)
+        address, count = _buffer_address(rgba, ("f",), writable=True)
+        changed = ctypes.c_uint32(0)
+        _check(_lib.moldtex_surface_paint(self.handle, int(width), int(height),
+                                          ctypes.c_void_p(address), count, ctypes.byref(b),
+                                          ctypes.byref(changed)),
+               "Painting")
+        return changed.value
 
     def release(self):
         if self._handle is not None and _lib is not None:
@@ -830,6 +952,29 @@ class Simulation:
         """Restores a checkpoint made by a simulation of the same mesh and config."""
         _check(_lib.moldtex_sim_load_checkpoint(self.handle, _path_bytes(path)),
                "Loading the checkpoint")
+
+    def add_agents(self, brush, count, batch):
+        """Slime brush: adds `count` agents of species brush["channel"] uniformly over the
+        brush's geodesic disk, tagged `batch` (1..65535, e.g. one per stroke) for
+        undo_agents. Deterministic in (seed, batch, agents of the batch so far)."""
+        b = _brush(brush)
+        _check(_lib.moldtex_sim_add_agents(self.handle, ctypes.byref(b), int(count), int(batch)),
+               "Adding agents")
+
+    def erase_agents(self, brush, batch):
+        """Erase-slime brush: removes the agents in the disk (each with probability
+        strength * falloff weight) and keeps them under `batch`; returns how many."""
+        b = _brush(brush)
+        removed = ctypes.c_uint32(0)
+        _check(_lib.moldtex_sim_erase_agents(self.handle, ctypes.byref(b), int(batch),
+                                             ctypes.byref(removed)),
+               "Erasing agents")
+        return removed.value
+
+    def undo_agents(self, batch):
+        """Undoes a stroke: removes the agents added with `batch`, restores those erased
+        with it."""
+        _check(_lib.moldtex_sim_undo_agents(self.handle, int(batch)), "Undoing a brush stroke")
 
     def release(self):
         if self._handle is not None and _lib is not None:

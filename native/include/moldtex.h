@@ -323,7 +323,8 @@ MOLDTEX_API moldtex_status moldtex_sim_get_backend_name(moldtex_sim sim, char* b
                                                         size_t capacity);
 
 /* Clears the pheromone and respawns the agents from the config's seed and seed shape
- * (a spawn map from the current fields). Fields and species parameters are kept. */
+ * (a spawn map from the current fields). Fields and species parameters are kept; agents
+ * added by slime brushes and the brushes' undo stashes are dropped. */
 MOLDTEX_API moldtex_status moldtex_sim_reset(moldtex_sim sim);
 /* Advances `steps` steps (sense, turn, move, deposit, blur, evaporate). */
 MOLDTEX_API moldtex_status moldtex_sim_step(moldtex_sim sim, uint32_t steps);
@@ -356,7 +357,7 @@ MOLDTEX_API moldtex_status moldtex_sim_read_agents(moldtex_sim sim,
 typedef struct moldtex_sim_stats {
   uint32_t struct_size;
   uint64_t step_count;     /* steps since create or reset */
-  uint32_t agent_count;
+  uint32_t agent_count;    /* live agents (the slime brushes add and erase some) */
   uint64_t bytes_in_use;   /* memory held by the simulation and its surface */
   double coverage;         /* momas-paper.md Eq. 1: mean pheromone over the islands,
                               weighted by 3D area; with several species the mean over
@@ -388,7 +389,10 @@ MOLDTEX_API moldtex_status moldtex_sim_write_image(moldtex_sim sim, const char* 
  * pheromone, step count, parameters, species parameters, fields and food. Loading it into a
  * simulation made from the same mesh and config (resolution, agent count, seed, species
  * count) restores that state exactly,
- * so the following steps equal those of an uninterrupted run. Written atomically. */
+ * so the following steps equal those of an uninterrupted run. Written atomically.
+ * The live agents are saved whatever their number (slime brushes change it; a checkpoint
+ * may hold 0 .. 2^26 agents), but not the brush batches: after loading, every agent
+ * counts as spawned (batch 0) and moldtex_sim_undo_agents has nothing to undo. */
 MOLDTEX_API moldtex_status moldtex_sim_save_checkpoint(moldtex_sim sim, const char* path);
 MOLDTEX_API moldtex_status moldtex_sim_load_checkpoint(moldtex_sim sim, const char* path);
 
@@ -463,6 +467,92 @@ MOLDTEX_API moldtex_status moldtex_opencl_device_count(uint32_t* count);
 /* Device number `index` (0 .. count-1) of that list. */
 MOLDTEX_API moldtex_status moldtex_opencl_get_device(uint32_t index,
                                                      moldtex_opencl_device_info* info);
+
+/* ---- spatial --------------------------------------------------------------------- */
+
+/* Ray casts and closest points through Embree 3. The first query on a surface builds a
+ * BVH that is kept with the surface handle and freed by moldtex_surface_release.
+ * Triangles the surface treats as degenerate (zero 3D or UV area, see
+ * moldtex_surface_info) are not in it, so every answer is a point that brushes and
+ * moldtex_surface_trace accept. Both queries are thread-safe on one surface handle. */
+typedef struct moldtex_ray_hit {
+  uint32_t struct_size;
+  uint32_t hit;                  /* 1 if the ray met the surface, else 0 (the rest is 0) */
+  moldtex_surface_point point;   /* triangle and barycentrics (corner 0,1,2) of the nearest hit */
+  float distance;                /* ray parameter s of the hit: origin + s * direction */
+  float position[3];             /* 3D point of the hit */
+  float uv[2];                   /* UV of the hit */
+  float normal[3];               /* unit geometric normal of the hit triangle (by winding) */
+} moldtex_ray_hit;
+MOLDTEX_API void moldtex_ray_hit_init(moldtex_ray_hit* hit);
+/* Nearest hit of origin + s*direction, 0 <= s <= max_distance (max_distance may be
+ * INFINITY), front and back faces alike. origin and direction must be finite, direction
+ * non-zero (any length: s is in units of it), max_distance >= 0. A miss returns
+ * MOLDTEX_OK with hit->hit == 0. */
+MOLDTEX_API moldtex_status moldtex_surface_ray_cast(moldtex_surface surface,
+    const float origin[3], const float direction[3], float max_distance, moldtex_ray_hit* hit);
+/* Nearest point of the surface to `position` (3D, finite), exact (each candidate
+ * triangle's closest point in double precision); its 3D distance in *distance (may be
+ * NULL). */
+MOLDTEX_API moldtex_status moldtex_surface_closest_point(moldtex_surface surface,
+    const float position[3], moldtex_surface_point* point, float* distance);
+
+/* ---- brushes --------------------------------------------------------------------- */
+
+/* A brush dab: a geodesic disk around `center`. Distances d are path lengths along
+ * straightest paths from the centre (moldtex_surface_trace's walk, across seams into
+ * every island the disk reaches; at open boundaries the paths bounce). The weight of a
+ * point is w(d / radius) with w(x) = 1 for x <= 1 - falloff, then a smoothstep down to 0
+ * at x = 1, and 0 beyond. */
+typedef enum moldtex_brush_mode { MOLDTEX_BRUSH_PAINT = 0, MOLDTEX_BRUSH_ERASE = 1 } moldtex_brush_mode;
+typedef struct moldtex_brush {
+  uint32_t struct_size;
+  moldtex_surface_point center;  /* where the dab lands (e.g. a ray hit); not on a
+                                    zero-area triangle */
+  float radius;                  /* geodesic radius in mesh units, > 0 and < 1e30 */
+  float strength;                /* [0,1]: fraction of the way to the target at full weight */
+  float falloff;                 /* [0,1]: 0 hard disk; 1 weight falls smoothly to 0 at the rim */
+  uint32_t mode;                 /* moldtex_brush_mode (paint only; the agent calls ignore it) */
+  uint32_t channel;              /* paint: RGBA channel 0..3; agents: species index */
+  float value;                   /* paint target for PAINT (ERASE targets 0); finite */
+} moldtex_brush;
+/* radius 0.1, strength 1, falloff 0.5, PAINT, channel 0, value 1, centre (0, 1/3 each). */
+MOLDTEX_API void moldtex_brush_init(moldtex_brush* brush);
+
+/* One dab into a caller-owned RGBA float image (Blender's order, row 0 bottom) of
+ * width x height (1 .. 65536 each; float_count >= width * height * 4) laid over the
+ * surface's UV layout. Every texel reached by the disk (a texel holding a point of the
+ * surface at d <= radius, found by sampling half a texel apart; a radius above 512
+ * texel widths is sampled more coarsely, so that a dab stays cheap, and may miss
+ * texels) moves toward the target once, with the smallest d that reaches it:
+ * v += (target - v) * strength * w(d / radius). Texels are found with the simulation's
+ * rule (texel = floor(uv * size)); gutter texels outside the islands are not touched.
+ * *changed (may be NULL) = number of texels whose value changed. */
+MOLDTEX_API moldtex_status moldtex_surface_paint(moldtex_surface surface, uint32_t width,
+    uint32_t height, float* rgba, size_t float_count, const moldtex_brush* brush, uint32_t* changed);
+
+/* Slime brush: adds `count` agents of species brush->channel (< species_count), uniform
+ * over the disk (each walks from the centre at a uniform angle for radius * sqrt(u)),
+ * headings uniform, hunger 0, tagged with `batch` (1..65535; e.g. one per stroke). Agent
+ * k of a batch depends only on (config seed, batch, k) (k counts the batch's agents
+ * added before), so re-applying the same dabs after moldtex_sim_undo_agents gives the
+ * same agents, on any backend and thread count. The total may not exceed 2^26 agents.
+ * moldtex_sim_stats.agent_count reports the live count. */
+MOLDTEX_API moldtex_status moldtex_sim_add_agents(moldtex_sim sim, const moldtex_brush* brush,
+    uint32_t count, uint32_t batch);
+/* Erase-slime brush: removes each agent standing within the disk (d <= radius) with
+ * probability strength * w(d / radius), drawn deterministically (so with strength 1 and
+ * falloff 0: exactly the agents in the disk), and keeps them, with their whole state,
+ * under `batch` so moldtex_sim_undo_agents can put them back. *removed (may be NULL) =
+ * how many. It may remove every agent: a simulation with 0 agents steps (the pheromone
+ * only blurs and evaporates). */
+MOLDTEX_API moldtex_status moldtex_sim_erase_agents(moldtex_sim sim, const moldtex_brush* brush,
+    uint32_t batch, uint32_t* removed);
+/* Undo of a brush stroke: removes the live agents added with `batch` and puts back those
+ * erased with `batch` (they resume where they were, after the other agents), then
+ * forgets the batch. A batch with nothing to undo is not an error. moldtex_sim_reset
+ * drops every brush agent and every stash (back to config.agent_count spawned agents). */
+MOLDTEX_API moldtex_status moldtex_sim_undo_agents(moldtex_sim sim, uint32_t batch);
 
 #ifdef __cplusplus
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "backends/cpu/cpu_backend.h"
+#include "brush/brush.h"
 #ifdef MOLDTEX_HAVE_OPENCL
 #include "backends/opencl/opencl_backend.h"
 #endif
@@ -332,7 +333,103 @@ void Simulation::reset() {
     spec.texel_weights = &free_weights_;
   ThreadPool pool(settings_.params.thread_count);
   backend_->reset(spawn_agents(*surface_, spec, pool));
+  batches_.clear();  // brush agents and stashes go with the old agents
   step_count_ = 0;
+}
+
+namespace {
+
+void check_batch(uint32_t batch) {
+  if (batch < 1 || batch > 65535)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "The brush batch must be between 1 and 65535 (0 marks the agents spawned at reset), got " +
+             std::to_string(batch));
+}
+
+// Appends `from` to `to`.
+void append_agents(Agents& to, const Agents& from) {
+  const size_t n = to.size();
+  to.resize(n + from.size());
+  for (size_t i = 0; i < from.size(); ++i) to.copy_from(n + i, from, i);
+}
+
+}  // namespace
+
+void Simulation::add_agents(const moldtex_brush& brush, uint32_t count, uint32_t batch) {
+  validate_brush(*surface_, brush);
+  check_batch(batch);
+  if (brush.channel >= settings_.species_count)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "The brush species (channel) is " + std::to_string(brush.channel) + " but the simulation has " +
+             std::to_string(settings_.species_count) + " species");
+  const size_t live = backend_->agent_count();
+  if (live + count > kMaxAgents)
+    fail(MOLDTEX_ERROR_TOO_LARGE, "Adding " + std::to_string(count) + " agents to " + std::to_string(live) +
+                                      " would pass the limit of " + std::to_string(kMaxAgents) + " agents");
+  if (count == 0) return;
+  BrushBatch& record = batches_[batch];
+  Agents agents;
+  backend_->export_agents(agents);
+  ThreadPool pool(settings_.params.thread_count);
+  append_agents(agents, place_disk_agents(*surface_, brush, count, config_.seed,
+                                          static_cast<uint16_t>(batch), record.added, pool));
+  backend_->import_agents(agents);
+  record.added += count;
+}
+
+uint32_t Simulation::erase_agents(const moldtex_brush& brush, uint32_t batch) {
+  validate_brush(*surface_, brush);
+  check_batch(batch);
+  Agents agents;
+  backend_->export_agents(agents);
+  BrushBatch& record = batches_[batch];
+  const std::vector<uint8_t> remove =
+      erase_mask(*surface_, brush, agents, domain_->width, domain_->height, config_.seed,
+                 static_cast<uint16_t>(batch), record.erase_dabs++);
+  Agents kept, erased;
+  size_t removed = 0;
+  for (uint8_t r : remove) removed += r;
+  if (removed == 0) return 0;
+  kept.resize(agents.size() - removed);
+  erased.resize(removed);
+  for (size_t i = 0, k = 0, e = 0; i < agents.size(); ++i) {
+    if (remove[i])
+      erased.copy_from(e++, agents, i);
+    else
+      kept.copy_from(k++, agents, i);
+  }
+  const size_t stashed = record.erased.size();
+  append_agents(record.erased, erased);
+  try {
+    backend_->import_agents(kept);
+  } catch (...) {
+    record.erased.resize(stashed);  // the agents are still live
+    throw;
+  }
+  return static_cast<uint32_t>(removed);
+}
+
+void Simulation::undo_agents(uint32_t batch) {
+  check_batch(batch);
+  auto it = batches_.find(batch);
+  Agents agents;
+  backend_->export_agents(agents);
+  size_t keep = 0;
+  for (uint16_t b : agents.batch) keep += b != batch;
+  const size_t restore = it == batches_.end() ? 0 : it->second.erased.size();
+  if (keep + restore > kMaxAgents)
+    fail(MOLDTEX_ERROR_TOO_LARGE, "Undoing this stroke would pass the limit of " + std::to_string(kMaxAgents) +
+                                      " agents");
+  if (keep != agents.size() || restore > 0) {
+    Agents next;
+    next.resize(keep + restore);
+    size_t k = 0;
+    for (size_t i = 0; i < agents.size(); ++i)
+      if (agents.batch[i] != batch) next.copy_from(k++, agents, i);
+    for (size_t i = 0; i < restore; ++i) next.copy_from(k++, it->second.erased, i);
+    backend_->import_agents(next);
+  }
+  if (it != batches_.end()) batches_.erase(it);
 }
 
 void Simulation::set_food(const moldtex_food_source* sources, uint32_t count) {
@@ -445,7 +542,8 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
          "number of species: bake from the start");
   const Agents& a = c.state.agents;
   const uint32_t planes = config_.species_count;
-  if (a.triangle.size() != config_.agent_count || a.b1.size() != a.triangle.size() ||
+  // The agent count may differ from the config's: slime brushes add and erase agents.
+  if (a.triangle.size() > kMaxAgents || a.b1.size() != a.triangle.size() ||
       a.b2.size() != a.triangle.size() || a.hx.size() != a.triangle.size() ||
       a.hy.size() != a.triangle.size() || a.species.size() != a.triangle.size() ||
       a.hunger.size() != a.triangle.size() || c.food.size() > MTX_MAX_FOOD ||
@@ -477,7 +575,9 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
     throw;
   }
   config_ = saved;
+  c.state.agents.batch.assign(c.state.agents.size(), 0);  // brush batches are not saved
   backend_->import_state(c.state);
+  batches_.clear();
   settings_.params = c.params;
   for (uint32_t k = 0; k < MTX_MAX_SPECIES; ++k) settings_.species[k] = c.species[k];
   food_ = c.food;

@@ -2,6 +2,7 @@
 // the evolving state.
 #pragma once
 #include <atomic>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -52,6 +53,11 @@ class Simulation {
   void save_checkpoint(const std::string& path, const std::vector<MetricRow>& metrics) const;
   // Restores state and parameters; returns the metrics stored with them.
   std::vector<MetricRow> load_checkpoint(const std::string& path);
+  // Slime brushes (see moldtex_sim_add_agents / erase_agents / undo_agents); `brush` is
+  // read with its defaults, validated here.
+  void add_agents(const moldtex_brush& brush, uint32_t count, uint32_t batch);
+  uint32_t erase_agents(const moldtex_brush& brush, uint32_t batch);
+  void undo_agents(uint32_t batch);
   // Set while a bake owns the simulation; the C API refuses other calls meanwhile.
   std::atomic<bool> busy{false};
 
@@ -66,6 +72,14 @@ class Simulation {
   std::vector<double> spawn_weights_, free_weights_;
   std::vector<moldtex_food_source> food_;  // with the amounts left
   std::unique_ptr<Backend> backend_;
+  // What each brush batch did, for undo: how many agents it added (the placement index
+  // of its next agent) and the agents it erased, with their whole state.
+  struct BrushBatch {
+    uint64_t added = 0;
+    uint64_t erase_dabs = 0;
+    Agents erased;
+  };
+  std::map<uint32_t, BrushBatch> batches_;
   std::string why_not_opencl_;  // why Auto chose the CPU
   uint64_t step_count_ = 0;
 };

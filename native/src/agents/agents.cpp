@@ -135,9 +135,7 @@ void sort_by_tile(const Surface& s, uint32_t width, uint32_t height, Agents& a) 
   sorted.resize(n);
   for (size_t i = 0; i < n; ++i) {
     const uint32_t to = start[key[i]]++;
-    sorted.store(to, a.load(i));
-    sorted.species[to] = a.species[i];
-    sorted.hunger[to] = a.hunger[i];
+    sorted.copy_from(to, a, i);
   }
   a = std::move(sorted);
 }

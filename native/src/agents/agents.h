@@ -1,6 +1,8 @@
 // Agent state as a structure of arrays: triangle, two barycentric weights (the third is
 // 1 - b1 - b2), a unit heading in the triangle's local frame, the species and the
-// hunger in [0, 1] (food with hunger). 25 bytes per agent.
+// hunger in [0, 1] (food with hunger), and the brush batch that added it (0 = spawned
+// at reset; host-side bookkeeping of the slime brushes, never read by the step).
+// 27 bytes per agent.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -15,10 +17,12 @@ struct Agents {
   std::vector<float> b1, b2, hx, hy;
   std::vector<uint8_t> species;
   std::vector<float> hunger;
+  std::vector<uint16_t> batch;
 
   size_t size() const { return triangle.size(); }
   void resize(size_t n) {
     triangle.resize(n);
+    batch.resize(n);
     species.resize(n);
     hunger.resize(n);
     b1.resize(n);
@@ -27,7 +31,7 @@ struct Agents {
     hy.resize(n);
   }
   size_t bytes() const { return triangle.capacity() * 4 + (b1.capacity() + b2.capacity() + hx.capacity() + hy.capacity()) * 4 +
-                        species.capacity() + hunger.capacity() * 4; }
+                        species.capacity() + hunger.capacity() * 4 + batch.capacity() * 2; }
 
   Walker load(size_t i) const {
     return Walker{triangle[i], {1.f - b1[i] - b2[i], b1[i], b2[i]}, {hx[i], hy[i]}};
@@ -38,6 +42,13 @@ struct Agents {
     b2[i] = w.bary[2];
     hx[i] = w.heading.x;
     hy[i] = w.heading.y;
+  }
+  // Everything about agent i of `from` into slot i here.
+  void copy_from(size_t i, const Agents& from, size_t j) {
+    store(i, from.load(j));
+    species[i] = from.species[j];
+    hunger[i] = from.hunger[j];
+    batch[i] = from.batch[j];
   }
 };
 

@@ -17,12 +17,16 @@
 #endif
 #include "moldtex.h"
 #include "bake/bake.h"
+#include "brush/brush.h"
 #include "domain/corner_raster.h"
 #include "sim.h"
+#include "spatial/spatial.h"
 #include "surface/surface.h"
 
 struct moldtex_surface_t {
   std::shared_ptr<const moldtex::Surface> surface;
+  // Embree BVH for ray casts and closest points, built on the first query.
+  std::unique_ptr<moldtex::SpatialIndex> spatial;
 };
 struct moldtex_sim_t {
   std::shared_ptr<moldtex::Simulation> sim;  // shared with a running bake
@@ -156,7 +160,8 @@ moldtex_status moldtex_surface_create(const moldtex_mesh_desc* desc, moldtex_sur
     *out = nullptr;
     moldtex_mesh_desc d = read_struct(desc, "moldtex_mesh_desc");
     auto surface = std::make_shared<const moldtex::Surface>(moldtex::build_surface(d));
-    *out = new moldtex_surface_t{std::move(surface)};
+    auto spatial = std::make_unique<moldtex::SpatialIndex>(surface);
+    *out = new moldtex_surface_t{std::move(surface), std::move(spatial)};
   });
 }
 
@@ -588,6 +593,133 @@ moldtex_status moldtex_opencl_get_device(uint32_t index, moldtex_opencl_device_i
     moldtex::fail(MOLDTEX_ERROR_UNAVAILABLE, "This build of Moldtex has no OpenCL support");
 #endif
   });
+}
+
+// ---- spatial --------------------------------------------------------------------------
+
+void moldtex_ray_hit_init(moldtex_ray_hit* hit) {
+  if (!hit) return;
+  std::memset(hit, 0, sizeof(*hit));
+  hit->struct_size = sizeof(*hit);
+}
+
+moldtex_status moldtex_surface_ray_cast(moldtex_surface surface, const float origin[3],
+                                        const float direction[3], float max_distance,
+                                        moldtex_ray_hit* hit) {
+  return guarded([&] {
+    require(surface != nullptr, "The surface handle is NULL");
+    require(origin != nullptr && direction != nullptr, "The ray origin or direction is NULL");
+    moldtex_ray_hit out = read_struct(hit, "moldtex_ray_hit", moldtex_ray_hit_init);
+    double length2 = 0;
+    for (int k = 0; k < 3; ++k) {
+      require(std::isfinite(origin[k]), "The ray origin must be finite");
+      require(std::isfinite(direction[k]), "The ray direction must be finite");
+      length2 += double(direction[k]) * direction[k];
+    }
+    require(length2 > 0, "The ray direction must not be zero");
+    require(!std::isnan(max_distance) && max_distance >= 0.f,
+            "The ray's maximum distance must be >= 0 (INFINITY for no limit)");
+    const moldtex::Surface& s = *surface->surface;
+    const moldtex::RayHitResult r = surface->spatial->ray_cast(origin, direction, max_distance);
+    const uint32_t size = out.struct_size;
+    std::memset(&out, 0, sizeof(out));
+    out.struct_size = size;
+    if (r.hit) {
+      out.hit = 1;
+      out.point.triangle = r.triangle;
+      std::copy(r.bary, r.bary + 3, out.point.bary);
+      out.distance = r.distance;
+      s.evaluate(r.triangle, r.bary, out.position, out.uv);
+      const float* p[3];
+      for (int c = 0; c < 3; ++c) p[c] = &s.positions[3 * s.triangles[3 * r.triangle + c]];
+      double e1[3], e2[3];
+      for (int k = 0; k < 3; ++k) {
+        e1[k] = double(p[1][k]) - p[0][k];
+        e2[k] = double(p[2][k]) - p[0][k];
+      }
+      const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                           e1[0] * e2[1] - e1[1] * e2[0]};
+      const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      for (int k = 0; k < 3; ++k) out.normal[k] = len > 0 ? static_cast<float>(n[k] / len) : 0.f;
+    }
+    *hit = out;
+  });
+}
+
+moldtex_status moldtex_surface_closest_point(moldtex_surface surface, const float position[3],
+                                             moldtex_surface_point* point, float* distance) {
+  return guarded([&] {
+    require(surface != nullptr, "The surface handle is NULL");
+    require(position != nullptr && point != nullptr, "The position or the output point is NULL");
+    for (int k = 0; k < 3; ++k) require(std::isfinite(position[k]), "The position must be finite");
+    const moldtex::ClosestPointResult r = surface->spatial->closest_point(position);
+    point->triangle = r.triangle;
+    std::copy(r.bary, r.bary + 3, point->bary);
+    if (distance) *distance = static_cast<float>(r.distance);
+  });
+}
+
+// ---- brushes ---------------------------------------------------------------------------
+
+void moldtex_brush_init(moldtex_brush* brush) {
+  if (!brush) return;
+  std::memset(brush, 0, sizeof(*brush));
+  brush->struct_size = sizeof(*brush);
+  brush->center.triangle = 0;
+  brush->center.bary[0] = brush->center.bary[1] = brush->center.bary[2] = 1.0f / 3.0f;
+  brush->radius = 0.1f;
+  brush->strength = 1.0f;
+  brush->falloff = 0.5f;
+  brush->mode = MOLDTEX_BRUSH_PAINT;
+  brush->channel = 0;
+  brush->value = 1.0f;
+}
+
+moldtex_status moldtex_surface_paint(moldtex_surface surface, uint32_t width, uint32_t height,
+                                     float* rgba, size_t float_count, const moldtex_brush* brush,
+                                     uint32_t* changed) {
+  return guarded([&] {
+    if (changed) *changed = 0;
+    require(surface != nullptr, "The surface handle is NULL");
+    require(rgba != nullptr, "The RGBA image is NULL");
+    if (width < 1 || height < 1 || width > 65536 || height > 65536)
+      moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+                    "The image size " + std::to_string(width) + " x " + std::to_string(height) +
+                        " is outside 1 .. 65536 texels per side");
+    const size_t need = static_cast<size_t>(width) * height * 4;
+    if (float_count < need)
+      moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+                    "The RGBA image is too small: it needs width * height * 4 floats (" +
+                        std::to_string(need) + "), got " + std::to_string(float_count));
+    const moldtex_brush b = read_struct(brush, "moldtex_brush", moldtex_brush_init);
+    const moldtex::Surface& s = *surface->surface;
+    moldtex::validate_brush(s, b);
+    require(b.channel < 4, "The brush channel must be 0 (R), 1 (G), 2 (B) or 3 (A)");
+    const uint32_t n = moldtex::paint_dab(s, width, height, rgba, b);
+    if (changed) *changed = n;
+  });
+}
+
+moldtex_status moldtex_sim_add_agents(moldtex_sim sim, const moldtex_brush* brush, uint32_t count,
+                                      uint32_t batch) {
+  return guarded([&] {
+    moldtex::Simulation& s = use(sim);
+    s.add_agents(read_struct(brush, "moldtex_brush", moldtex_brush_init), count, batch);
+  });
+}
+
+moldtex_status moldtex_sim_erase_agents(moldtex_sim sim, const moldtex_brush* brush, uint32_t batch,
+                                        uint32_t* removed) {
+  return guarded([&] {
+    if (removed) *removed = 0;
+    moldtex::Simulation& s = use(sim);
+    const uint32_t n = s.erase_agents(read_struct(brush, "moldtex_brush", moldtex_brush_init), batch);
+    if (removed) *removed = n;
+  });
+}
+
+moldtex_status moldtex_sim_undo_agents(moldtex_sim sim, uint32_t batch) {
+  return guarded([&] { use(sim).undo_agents(batch); });
 }
 
 }  // extern "C"

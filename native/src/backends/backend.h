@@ -40,8 +40,14 @@ class Backend {
   virtual size_t agent_count() const = 0;
   virtual size_t bytes() const = 0;
   virtual std::string name() const = 0;  // e.g. "CPU (2 threads)"
+  // The whole state. import_state takes any number of agents (0 .. 2^26); agents
+  // without batch tags get tag 0.
   virtual void export_state(SimState& state) const = 0;
   virtual void import_state(const SimState& state) = 0;
+  // Only the agents (with species, hunger and batch tags); the pheromone stays. The
+  // slime brushes edit agents this way: export, edit on the host, import.
+  virtual void export_agents(Agents& agents) const = 0;
+  virtual void import_agents(const Agents& agents) = 0;
 };
 
 }  // namespace moldtex

@@ -12,6 +12,9 @@ MTX_BEGIN_NAMESPACE
 
 #define MTX_RNG_SPAWN 1
 #define MTX_RNG_STEER 2
+/* Slime brushes (host only): agents placed by moldtex_sim_add_agents, erase draws. */
+#define MTX_RNG_BRUSH 3
+#define MTX_RNG_ERASE 4
 
 /* SplitMix64 finaliser: a well-tested 64-bit mixing function. */
 MTX_FN mtx_u64 mtx_mix64(mtx_u64 x) {

@@ -10,11 +10,10 @@ namespace moldtex {
 constexpr uint64_t kSortInterval = 16;
 
 CpuBackend::CpuBackend(std::shared_ptr<const Surface> surface,
-                       std::shared_ptr<const TextureDomain> domain, uint32_t agent_count,
+                       std::shared_ptr<const TextureDomain> domain, uint32_t /*agent_count: reset brings them*/,
                        uint32_t species_count, unsigned threads)
     : surface_(std::move(surface)),
       domain_(std::move(domain)),
-      agent_count_(agent_count),
       species_count_(species_count),
       pool_(std::make_unique<ThreadPool>(threads)) {
   const size_t n = domain_->texel_count() * species_count_;
@@ -27,7 +26,12 @@ void CpuBackend::reset(const Agents& agents) {
   std::fill(pheromone_.begin(), pheromone_.end(), 0.f);
   std::fill(scratch_.begin(), scratch_.end(), 0.f);
   std::fill(marks_.begin(), marks_.end(), 0);
+  import_agents(agents);
+}
+
+void CpuBackend::import_agents(const Agents& agents) {
   agents_ = agents;
+  agents_.batch.resize(agents_.size(), 0);
 }
 
 void CpuBackend::set_thread_count(unsigned threads) {
@@ -87,7 +91,7 @@ void CpuBackend::export_state(SimState& s) const {
 }
 
 void CpuBackend::import_state(const SimState& s) {
-  agents_ = s.agents;
+  import_agents(s.agents);
   pheromone_ = s.pheromone;
   std::fill(marks_.begin(), marks_.end(), 0);
 }

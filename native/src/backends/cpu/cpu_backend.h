@@ -21,16 +21,18 @@ class CpuBackend final : public Backend {
   void set_field(const std::vector<float>& field) override { field_ = field; }
   void read_pheromone(float* out) const override;
   void read_agents(moldtex_surface_point* out, size_t count) const override;
-  size_t agent_count() const override { return agent_count_; }
+  size_t agent_count() const override { return agents_.size(); }
   size_t bytes() const override;
   std::string name() const override;
   void export_state(SimState& state) const override;
   void import_state(const SimState& state) override;
+  void export_agents(Agents& agents) const override { agents = agents_; }
+  void import_agents(const Agents& agents) override;
 
  private:
   std::shared_ptr<const Surface> surface_;
   std::shared_ptr<const TextureDomain> domain_;
-  uint32_t agent_count_, species_count_;
+  uint32_t species_count_;
   std::unique_ptr<ThreadPool> pool_;
   Agents agents_;
   std::vector<float> pheromone_, scratch_;  // species_count_ planes each

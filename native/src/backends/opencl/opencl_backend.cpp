@@ -144,13 +144,7 @@ OpenClBackend::OpenClBackend(std::shared_ptr<const Surface> surface,
   s.classes = s.buffer(texels, d.classes.data(), device_bytes_);
   s.gutter_texel = s.buffer(d.gutter_texel.size() * 4, d.gutter_texel.data(), device_bytes_);
   s.gutter_source = s.buffer(d.gutter_source.size() * 4, d.gutter_source.data(), device_bytes_);
-  s.triangle = s.buffer(agent_count_ * 4ull, nullptr, device_bytes_);
-  s.b1 = s.buffer(agent_count_ * 4ull, nullptr, device_bytes_);
-  s.b2 = s.buffer(agent_count_ * 4ull, nullptr, device_bytes_);
-  s.hx = s.buffer(agent_count_ * 4ull, nullptr, device_bytes_);
-  s.hy = s.buffer(agent_count_ * 4ull, nullptr, device_bytes_);
-  s.species = s.buffer(agent_count_ * 1ull, nullptr, device_bytes_);
-  s.hunger = s.buffer(agent_count_ * 4ull, nullptr, device_bytes_);
+  reserve_agents(agent_count_);
   s.frame3d = s.buffer(sf.frame3d.size() * 4, sf.frame3d.data(), device_bytes_);
   s.food = s.buffer(MTX_MAX_FOOD * 4 * 4, nullptr, device_bytes_);
   s.eaters = s.buffer(MTX_MAX_FOOD * 4, nullptr, device_bytes_);
@@ -166,9 +160,50 @@ std::string OpenClBackend::name() const {
   return "OpenCL: " + device_.name + " (" + device_.platform_name + ")";
 }
 
-void OpenClBackend::upload_agents(const Agents& a) {
+void OpenClBackend::reserve_agents(size_t count) {
+  if (count <= agent_capacity_ && state_->triangle) return;
   State& s = *state_;
+  const double need = static_cast<double>(device_bytes_) +
+                      (static_cast<double>(count) - static_cast<double>(agent_capacity_)) * 25.0;
+  if (device_.global_memory && need > 0.9 * static_cast<double>(device_.global_memory))
+    fail(MOLDTEX_ERROR_OUT_OF_MEMORY,
+         "The agents would need about " + std::to_string(static_cast<long long>(need / (1 << 20))) +
+             " MiB but " + device_.name + " has " +
+             std::to_string(static_cast<long long>(device_.global_memory >> 20)) +
+             " MiB: use fewer agents or the CPU backend");
+  // Room for a brush stroke's worth of growth without reallocating at every dab.
+  const size_t capacity = agent_capacity_ == 0 ? count : std::max(count, agent_capacity_ + agent_capacity_ / 4);
+  // New buffers first: if one cannot be had, the old ones (and the agents) stay.
+  const size_t sizes[7] = {4, 4, 4, 4, 4, 1, 4};
+  cl_mem fresh[7] = {};
+  size_t fresh_bytes = 0;
+  try {
+    for (int i = 0; i < 7; ++i) fresh[i] = s.buffer(capacity * sizes[i], nullptr, fresh_bytes);
+  } catch (...) {
+    for (cl_mem m : fresh)
+      if (m) s.r.clReleaseMemObject(m);
+    throw;
+  }
+  cl_mem* slots[7] = {&s.triangle, &s.b1, &s.b2, &s.hx, &s.hy, &s.species, &s.hunger};
+  for (int i = 0; i < 7; ++i) {
+    if (*slots[i]) {
+      s.r.clReleaseMemObject(*slots[i]);
+      device_bytes_ -= std::max<size_t>(agent_capacity_ * sizes[i], 4);
+    }
+    *slots[i] = fresh[i];
+  }
+  device_bytes_ += fresh_bytes;
+  agent_capacity_ = capacity;
+}
+
+void OpenClBackend::import_agents(const Agents& a) {
+  State& s = *state_;
+  reserve_agents(a.size());
+  agent_count_ = static_cast<uint32_t>(a.size());
+  batch_ = a.batch;
+  batch_.resize(a.size(), 0);
   auto write = [&](cl_mem m, const void* data, size_t element = 4) {
+    if (agent_count_ == 0) return;  // a zero-sized write is invalid
     check(s.r.clEnqueueWriteBuffer(s.queue, m, CL_TRUE, 0, agent_count_ * element, data, 0, nullptr, nullptr),
           "uploading the agents");
   };
@@ -192,7 +227,7 @@ void OpenClBackend::set_field(const std::vector<float>& field) {
 void OpenClBackend::reset(const Agents& agents) {
   State& s = *state_;
   // Spawning is a one-off: done on the host with the CPU backend's code, then uploaded.
-  upload_agents(agents);
+  import_agents(agents);
   const size_t texels = domain_->texel_count() * species_count_;
   const float zero = 0.f;
   const cl_uchar zero8 = 0;
@@ -280,28 +315,38 @@ void OpenClBackend::read_pheromone(float* out) const {
         "reading the pheromone");
 }
 
-void OpenClBackend::export_state(SimState& out) const {
+namespace {
+template <class V>
+void read_buffer(const cl::Runtime& r, cl_command_queue queue, cl_mem m, V& v, size_t count) {
+  v.resize(count);
+  if (count)
+    check(r.clEnqueueReadBuffer(queue, m, CL_TRUE, 0, count * sizeof(v[0]), v.data(), 0, nullptr,
+                                nullptr),
+          "reading the state");
+}
+}  // namespace
+
+void OpenClBackend::export_agents(Agents& out) const {
   const State& s = *state_;
-  auto read = [&](cl_mem m, auto& v, size_t count) {
-    v.resize(count);
-    if (count)
-      check(s.r.clEnqueueReadBuffer(s.queue, m, CL_TRUE, 0, count * sizeof(v[0]), v.data(), 0,
-                                    nullptr, nullptr),
-            "reading the state");
-  };
-  read(s.triangle, out.agents.triangle, agent_count_);
-  read(s.b1, out.agents.b1, agent_count_);
-  read(s.b2, out.agents.b2, agent_count_);
-  read(s.hx, out.agents.hx, agent_count_);
-  read(s.hy, out.agents.hy, agent_count_);
-  read(s.species, out.agents.species, agent_count_);
-  read(s.hunger, out.agents.hunger, agent_count_);
-  read(s.pheromone, out.pheromone, domain_->texel_count() * species_count_);
+  read_buffer(s.r, s.queue, s.triangle, out.triangle, agent_count_);
+  read_buffer(s.r, s.queue, s.b1, out.b1, agent_count_);
+  read_buffer(s.r, s.queue, s.b2, out.b2, agent_count_);
+  read_buffer(s.r, s.queue, s.hx, out.hx, agent_count_);
+  read_buffer(s.r, s.queue, s.hy, out.hy, agent_count_);
+  read_buffer(s.r, s.queue, s.species, out.species, agent_count_);
+  read_buffer(s.r, s.queue, s.hunger, out.hunger, agent_count_);
+  out.batch = batch_;
+}
+
+void OpenClBackend::export_state(SimState& out) const {
+  export_agents(out.agents);
+  read_buffer(state_->r, state_->queue, state_->pheromone, out.pheromone,
+              domain_->texel_count() * species_count_);
 }
 
 void OpenClBackend::import_state(const SimState& in) {
   State& s = *state_;
-  upload_agents(in.agents);
+  import_agents(in.agents);
   check(s.r.clEnqueueWriteBuffer(s.queue, s.pheromone, CL_TRUE, 0, in.pheromone.size() * 4,
                                  in.pheromone.data(), 0, nullptr, nullptr),
         "restoring the pheromone");

@@ -4,6 +4,7 @@
 #pragma once
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "agents/agents.h"
 #include "backends/backend.h"
@@ -32,14 +33,21 @@ class OpenClBackend final : public Backend {
   std::string name() const override;
   void export_state(SimState& state) const override;
   void import_state(const SimState& state) override;
+  void export_agents(Agents& agents) const override;
+  void import_agents(const Agents& agents) override;
 
  private:
-  void upload_agents(const Agents& agents);
+  // Makes the agent buffers hold at least `count` agents (reallocating, contents lost).
+  void reserve_agents(size_t count);
 
   struct State;
   std::shared_ptr<const Surface> surface_;
   std::shared_ptr<const TextureDomain> domain_;
   uint32_t agent_count_, species_count_;
+  size_t agent_capacity_ = 0;  // agents the device buffers hold
+  // Brush batch tag of each agent. Kept on the host: the device never reorders agents,
+  // so agent i on the device is always tag i here.
+  std::vector<uint16_t> batch_;
   cl::Device device_;
   size_t device_bytes_ = 0;
   std::unique_ptr<State> state_;
