@@ -44,13 +44,13 @@ def view3d():
             return window, area, region
 
 
-def call(operator, *args):
+def call(operator, *args, **kwargs):
     window, area, region = view3d()
     override = {"window": window, "screen": window.screen, "area": area, "region": region}
     if hasattr(bpy.context, "temp_override"):
         with bpy.context.temp_override(**override):
-            return operator(*args)
-    return operator(override, *args)
+            return operator(*args, **kwargs)
+    return operator(override, *args, **kwargs)
 
 
 def check(condition, message):
@@ -107,7 +107,7 @@ def _tick():
     if phase == "setup":
         for o in list(bpy.data.objects):
             bpy.data.objects.remove(o, do_unlink=True)
-        call(bpy.ops.mesh.primitive_plane_add, 'EXEC_DEFAULT', False, size=2.0)
+        call(bpy.ops.mesh.primitive_plane_add, 'EXEC_DEFAULT', size=2.0)
         obj = bpy.context.view_layer.objects.active
         obj.name = "Canvas"
         obj.moldtex.resolution = str(RESOLUTION)

@@ -134,7 +134,9 @@ class PanelTests(unittest.TestCase):
                                  "bake_directory", "bake_format", "bake_prefix",
                                  "bake_resume", "species_count", "seed_shape",
                                  "fields_source", "fields_image", "food_collection",
-                                 "hunger_rate", "food_radius"})
+                                 "hunger_rate", "food_radius",
+                                 # the Brush panel (scene settings; obstacle target)
+                                 "target", "erase", "radius", "strength", "falloff"})
         self.assertIn(("prop_search", "uv_map"), log)
         self.assertIn(("menu", "MOLDTEX_MT_presets"), log)
         buttons = [name for kind, name in log if kind == "operator"]
@@ -165,6 +167,31 @@ class PanelTests(unittest.TestCase):
 
         obj.moldtex.seed += 1
         self.assertIn("press Reset", labels(draw_all(self, obj)))
+
+    def test_brush_panel_follows_the_target(self):
+        obj = h.add_primitive("torus")
+        h.configure(obj, agents=2000)
+        settings = bpy.context.scene.moldtex_brush
+        settings.target = 'SLIME'
+        obj.moldtex.species_count = 2
+        shown = [name for kind, name in draw_all(self, obj) if kind == "prop"]
+        self.assertIn("agents_per_dab", shown)
+        self.assertIn("species", shown)
+        self.assertNotIn("falloff", shown)
+        settings.target = 'FOOD'
+        shown = [name for kind, name in draw_all(self, obj) if kind == "prop"]
+        self.assertIn("food_strength", shown)
+        self.assertIn("food_amount", shown)
+        # A stroke shows up on the Undo button.
+        settings.target = 'OBSTACLE'
+        h.activate(obj)
+        self.assertEqual(bpy.ops.moldtex.brush_stroke(stroke=[
+            {"name": "", "location": (0.0, 0.0, 0.0), "direction": (0.0, 0.0, 0.0)}]),
+            {'FINISHED'})
+        buttons = [name for kind, name in draw_all(self, obj) if kind == "operator"]
+        self.assertIn("Undo (1)", buttons)
+        self.assertIn("Redo (0)", buttons)
+        settings.target = 'OBSTACLE'
 
     def test_engine_load_error_is_shown(self):
         engine = h.engine()

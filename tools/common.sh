@@ -12,7 +12,8 @@ moldtex_install_packages() {
   # the CPU) so the OpenCL path really runs here.
   local pkgs=(build-essential cmake pkg-config libgtest-dev libbenchmark-dev libopenimageio-dev
               libembree-dev opencl-headers ocl-icd-opencl-dev pocl-opencl-icd
-              blender python3 python3-venv python3-pip)
+              blender python3 python3-venv python3-pip
+              xvfb xauth)  # a virtual X server for the interactive brush-tool check
   local missing=()
   for p in "${pkgs[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

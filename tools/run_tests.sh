@@ -14,6 +14,11 @@ echo "== Blender tests on $(blender --version 2>/dev/null | head -n1)"
 blender -b --factory-startup --python-exit-code 1 \
   -P "$MOLDTEX_ROOT/blender_tests/run_all.py" -- --addon-dir "$MOLDTEX_BUILD/addon"
 
+echo "== Viewport brush tool with simulated mouse and keys (Blender's interface under Xvfb)"
+timeout 300 xvfb-run -a -s "-screen 0 1600x1000x24" blender --factory-startup --enable-event-simulate \
+  --python-exit-code 1 -P "$MOLDTEX_ROOT/blender_tests/gui_brush.py" -- \
+  --addon-dir "$MOLDTEX_BUILD/addon"
+
 BPY_PYTHON="$(moldtex_bpy_python)"
 echo "== Blender tests on bpy $("$BPY_PYTHON" -c 'import bpy; print(bpy.app.version_string)' 2>/dev/null)"
 "$BPY_PYTHON" "$MOLDTEX_ROOT/blender_tests/run_all.py" --addon-dir "$MOLDTEX_BUILD/addon"
