@@ -83,6 +83,7 @@ class BrushTests(unittest.TestCase):
         for collection in list(bpy.data.collections):
             bpy.data.collections.remove(collection)
         self.folder = tempfile.mkdtemp(prefix="moldtex_brush_")
+        bpy.context.scene.cursor.location = (0.0, 0.0, 0.0)
 
     def tearDown(self):
         shutil.rmtree(self.folder, ignore_errors=True)
@@ -209,6 +210,22 @@ class BrushTests(unittest.TestCase):
         self.assertEqual(collection.all_objects[0]["moldtex_amount"], 500.0)
         self.assertEqual(bpy.ops.moldtex.brush_undo(), {'FINISHED'})
         self.assertEqual(len(collection.all_objects), 0)
+
+    def test_food_at_the_3d_cursor_lands_on_the_surface(self):
+        obj = _plane()
+        _brush(target='OBSTACLE')
+        bpy.context.scene.cursor.location = (0.3, -0.2, 0.7)  # above the plane
+        h.activate(obj)
+        self.assertEqual(bpy.ops.moldtex.food_at_cursor(), {'FINISHED'})
+        empties = list(obj.moldtex.food_collection.all_objects)
+        self.assertEqual(len(empties), 1)
+        # The nearest surface point: straight below the cursor.
+        self.assertLess((empties[0].matrix_world.translation
+                         - Vector((0.3, -0.2, 0.0))).length, 1e-5)
+        self.assertEqual(bpy.context.scene.moldtex_brush.target, 'OBSTACLE',
+                         "the brush settings are left as they were")
+        self.assertEqual(bpy.ops.moldtex.brush_undo(), {'FINISHED'})
+        self.assertEqual(len(obj.moldtex.food_collection.all_objects), 0)
 
     def test_a_stroke_that_misses_is_refused(self):
         obj = _plane()

@@ -85,6 +85,34 @@ scripts; works in background mode)"""
         return {'FINISHED'}
 
 
+class MOLDTEX_OT_food_at_cursor(bpy.types.Operator):
+    """Place a food Empty on the surface point nearest the 3D cursor (one brush stroke: Undo Stroke removes it)"""
+    bl_idname = "moldtex.food_at_cursor"
+    bl_label = "Food at 3D Cursor"
+    bl_options = {'REGISTER'}
+
+    def execute(self, context):
+        settings = context.scene.moldtex_brush
+        target, erase = settings.target, settings.erase
+        settings.target, settings.erase = 'FOOD', False
+        try:
+            obj = _object(context, "")
+            stroke = brush.Stroke(context, obj)
+            hit = stroke.dab(tuple(context.scene.cursor.location), (0.0, 0.0, 0.0),
+                             force=True)
+            message = stroke.finish()
+        except brush.USER_ERRORS as error:
+            self.report({'ERROR'}, str(error))
+            return {'CANCELLED'}
+        finally:
+            settings.target, settings.erase = target, erase
+        if message or hit is None:
+            self.report({'WARNING'}, message or "No surface point found.")
+            return {'CANCELLED'}
+        _tag_redraw(context)
+        return {'FINISHED'}
+
+
 class _HistoryOperator:
     bl_options = {'REGISTER'}
     object_name: StringProperty(name="Object", default="")
@@ -303,6 +331,7 @@ ends"""
         _tag_redraw(context)
 
 
-CLASSES = (MoldtexStrokePoint, MOLDTEX_OT_brush_stroke, MOLDTEX_OT_brush_undo,
+CLASSES = (MoldtexStrokePoint, MOLDTEX_OT_brush_stroke, MOLDTEX_OT_food_at_cursor,
+           MOLDTEX_OT_brush_undo,
            MOLDTEX_OT_brush_redo, MOLDTEX_OT_brush_paint)
 register, unregister = bpy.utils.register_classes_factory(CLASSES)

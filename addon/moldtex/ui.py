@@ -259,6 +259,7 @@ def _draw_food(layout, obj):
     column = box.column(align=True)
     column.use_property_split = True
     column.prop(settings, "food_collection", text="Collection")
+    box.operator("moldtex.food_at_cursor", icon='PIVOT_CURSOR')
     column.prop(settings, "hunger_rate")
     column.prop(settings, "food_radius")
     if settings.food_collection is None:
