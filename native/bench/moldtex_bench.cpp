@@ -13,9 +13,17 @@
 // Counters: agent_steps_per_s (agents x steps per wall second) and texel_updates_per_s
 // (texels x steps per wall second: the blur/evaporation pass touches every texel).
 // Every timed step ends with the device finished (moldtex_sim_step waits for it).
+//
+// Brush cases (what one interactive dab costs), on the 2048^2 sphere:
+//   PaintDab/<radius in texels>   one moldtex_surface_paint dab into an RGBA image
+//   RayCast                       moldtex_surface_ray_cast of rays through the sphere
+//   AddAgents/1M+2000             one slime dab (2000 agents) on a 1M-agent CPU sim, undone
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <vector>
 #include <cstdlib>
 #include <map>
 #include <memory>
@@ -128,7 +136,87 @@ void BM_Sphere(benchmark::State& state, moldtex_backend backend, const char* key
   RunSteps(state, GetCase(key, mtx::make_uv_sphere(64, 32, 1.0), 2048, 2048, 1000000, backend));
 }
 
+// ---- brushes ----
+
+mtx::SurfacePtr& SphereSurface() {
+  static mtx::SurfacePtr surface;
+  if (!surface) {
+    moldtex_status st;
+    surface = mtx::create_surface(mtx::make_uv_sphere(64, 32, 1.0), &st);
+    if (!surface) std::exit(1);
+  }
+  return surface;
+}
+
+// Radius in texels -> mesh units on the 2048^2 lat-long sphere: the equator's 2048
+// texels span 2 pi, so a texel is ~pi/1024 wide there.
+void BM_PaintDab(benchmark::State& state) {
+  const uint32_t size = 2048;
+  static std::vector<float> image(size_t(size) * size * 4, 0.f);
+  moldtex_brush brush;
+  moldtex_brush_init(&brush);
+  brush.center = {100, {0.3f, 0.3f, 0.4f}};  // near the equator
+  brush.radius = float(state.range(0)) * 3.14159265f / 1024.f;
+  brush.falloff = 0.5f;
+  uint32_t changed = 0;
+  for (auto _ : state) {
+    brush.mode = brush.mode == MOLDTEX_BRUSH_PAINT ? MOLDTEX_BRUSH_ERASE : MOLDTEX_BRUSH_PAINT;
+    if (moldtex_surface_paint(SphereSurface().get(), size, size, image.data(), image.size(), &brush,
+                              &changed) != MOLDTEX_OK) {
+      state.SkipWithError(moldtex_last_error());
+      break;
+    }
+  }
+  state.counters["texels_changed"] = changed;
+}
+
+void BM_RayCast(benchmark::State& state) {
+  moldtex_ray_hit hit;
+  moldtex_ray_hit_init(&hit);
+  int64_t i = 0, hits = 0;
+  for (auto _ : state) {
+    const float a = float(i++ % 997) * 0.0063f;
+    const float origin[3] = {3.f * std::cos(a), 3.f * std::sin(a), 0.5f};
+    const float direction[3] = {-origin[0], -origin[1], -0.5f};
+    moldtex_surface_ray_cast(SphereSurface().get(), origin, direction, 1e30f, &hit);
+    hits += hit.hit;
+  }
+  state.counters["rays_per_s"] = benchmark::Counter(double(state.iterations()),
+                                                    benchmark::Counter::kIsRate);
+  state.counters["hit_fraction"] = double(hits) / double(std::max<int64_t>(1, state.iterations()));
+}
+
+void BM_AddAgents(benchmark::State& state) {
+  Case* c = GetCase("sphere-cpu", mtx::make_uv_sphere(64, 32, 1.0), 2048, 2048, 1000000,
+                    MOLDTEX_BACKEND_CPU);
+  if (!c->sim) {
+    state.SkipWithError(c->error.c_str());
+    for (auto _ : state) {
+    }
+    return;
+  }
+  moldtex_brush brush;
+  moldtex_brush_init(&brush);
+  brush.center = {100, {0.3f, 0.3f, 0.4f}};
+  brush.radius = 0.1f;
+  for (auto _ : state) {
+    if (moldtex_sim_add_agents(c->sim.get(), &brush, 2000, 1) != MOLDTEX_OK) {
+      state.SkipWithError(moldtex_last_error());
+      break;
+    }
+    state.PauseTiming();
+    moldtex_sim_undo_agents(c->sim.get(), 1);
+    state.ResumeTiming();
+  }
+}
+
 }  // namespace
+
+BENCHMARK(BM_PaintDab)->Name("PaintDab")->Arg(8)->Arg(32)->Arg(128)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RayCast)->Name("RayCast")->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_AddAgents)->Name("AddAgents/1M+2000")->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 
 BENCHMARK_CAPTURE(BM_Plane, cpu, MOLDTEX_BACKEND_CPU, "plane-cpu")
     ->Name("PlaneCpu/1024x1024/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
