@@ -177,9 +177,10 @@ class PanelTests(unittest.TestCase):
         shown = [name for kind, name in draw_all(self, obj) if kind == "prop"]
         self.assertIn("agents_per_dab", shown)
         self.assertIn("species", shown)
-        self.assertNotIn("falloff", shown)
+        self.assertIn("falloff", shown)  # erasing slime fades towards the rim
         settings.target = 'FOOD'
         shown = [name for kind, name in draw_all(self, obj) if kind == "prop"]
+        self.assertNotIn("falloff", shown)  # an Empty is placed or removed whole
         self.assertIn("food_strength", shown)
         self.assertIn("food_amount", shown)
         # A stroke shows up on the Undo button.

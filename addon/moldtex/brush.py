@@ -65,10 +65,12 @@ class MoldtexBrushSettings(bpy.types.PropertyGroup):
     strength: FloatProperty(
         name="Strength", default=1.0, min=0.0, max=1.0, subtype='FACTOR',
         description="How far one dab moves the painted values towards full (or, erasing, "
-                    "towards zero); for slime and food erasing, the chance to remove")
+                    "towards zero); erasing slime, the chance that an agent under the "
+                    "brush centre is removed (times the falloff towards the rim)")
     falloff: FloatProperty(
         name="Falloff", default=0.5, min=0.0, max=1.0, subtype='FACTOR',
-        description="0 = hard edge; 1 = the effect fades smoothly from the centre to the rim")
+        description="0 = hard edge; 1 = the effect fades smoothly from the centre to the "
+                    "rim (fields and slime; food is placed or removed whole)")
     agents_per_dab: IntProperty(
         name="Agents per Dab", default=2000, min=1, max=1_000_000,
         description="Agents a slime dab adds, spread evenly over the brush disk")

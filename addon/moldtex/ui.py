@@ -367,9 +367,10 @@ class MOLDTEX_PT_brush(_SubPanel, bpy.types.Panel):
         column = layout.column(align=True)
         column.use_property_split = True
         column.prop(settings, "radius")
-        column.prop(settings, "strength")
-        if settings.target in brush.FIELD_CHANNELS:
+        if settings.target != 'FOOD':  # an Empty is placed or removed whole
+            column.prop(settings, "strength")
             column.prop(settings, "falloff")
+        if settings.target in brush.FIELD_CHANNELS:
             if getattr(obj.moldtex, "fields_source", 'IMAGE') != 'IMAGE':
                 _wrapped(layout, "Fields come from vertex groups or attributes: the brush "
                                  "paints only a Fields image.", icon='ERROR')
