@@ -63,6 +63,32 @@ def add_primitive(kind):
     return activate(obj)
 
 
+def subdivided_plane():
+    """A 2 × 2 plane at the origin, z = 0, cut into 16 × 16 quads (vertex columns at
+    x = -1, -0.875, ..., 1); UVs from the primitive fill [0, 1]²: u = (x + 1) / 2,
+    v = (y + 1) / 2. Active."""
+    bpy.ops.mesh.primitive_plane_add(size=2.0, calc_uvs=True, location=(0.0, 0.0, 0.0))
+    obj = activate(bpy.context.active_object)
+    bpy.ops.object.mode_set(mode='EDIT')
+    bpy.ops.mesh.select_all(action='SELECT')
+    bpy.ops.mesh.subdivide(number_cuts=15)
+    bpy.ops.object.mode_set(mode='OBJECT')
+    return obj
+
+
+def agent_positions(obj):
+    """3D (mesh) positions of every agent of obj's live simulation."""
+    from moldtex.mesh_export import export_object
+    mesh = export_object(obj, bpy.context.evaluated_depsgraph_get(), "")
+    surface = engine().Surface(mesh.positions, mesh.triangles, mesh.uvs, mesh.triangle_uvs)
+    try:
+        sim = live().get(obj.name).sim
+        agents = sim.read_agents(sim.get_stats()["agent_count"])
+        return [surface.evaluate(triangle, bary)[0] for triangle, bary in agents]
+    finally:
+        surface.release()
+
+
 def mesh_object(name, vertices, faces, with_uvs=True):
     """A mesh object from raw data, linked to the scene and active."""
     mesh = bpy.data.meshes.new(name)

@@ -19,14 +19,7 @@ DOWN = (0.0, 0.0, -1.0)
 
 
 def _plane():
-    """A 2 × 2 plane at z = 0 (UVs from the primitive: u = (x + 1) / 2, v = (y + 1) / 2),
-    cut into 16 × 16 quads."""
-    bpy.ops.mesh.primitive_plane_add(size=2.0, calc_uvs=True, location=(0.0, 0.0, 0.0))
-    obj = h.activate(bpy.context.active_object)
-    bpy.ops.object.mode_set(mode='EDIT')
-    bpy.ops.mesh.select_all(action='SELECT')
-    bpy.ops.mesh.subdivide(number_cuts=15)
-    bpy.ops.object.mode_set(mode='OBJECT')
+    obj = h.subdivided_plane()
     h.configure(obj, resolution=str(RESOLUTION), agents=4000)
     return obj
 
@@ -58,19 +51,6 @@ def _channel(image, channel):
 def _texel_centre(index, width, height):
     x, y = index % width, index // width
     return (-1.0 + 2.0 * (x + 0.5) / width, -1.0 + 2.0 * (y + 0.5) / height)
-
-
-def _agent_positions(obj):
-    from moldtex.mesh_export import export_object
-    mesh = export_object(obj, bpy.context.evaluated_depsgraph_get(), "")
-    surface = h.engine().Surface(mesh.positions, mesh.triangles, mesh.uvs,
-                                 mesh.triangle_uvs)
-    try:
-        entry = h.live().get(obj.name)
-        agents = entry.sim.read_agents(entry.sim.get_stats()["agent_count"])
-        return [surface.evaluate(triangle, bary)[0] for triangle, bary in agents]
-    finally:
-        surface.release()
 
 
 def _inside(positions, centre, radius):
@@ -110,7 +90,7 @@ class BrushTests(unittest.TestCase):
         # The obstacle reaches the simulation: after 150 steps no agent stands in it
         # (a margin of one texel for agents on the rim's partly painted texels).
         h.run(obj, 150)
-        positions = _agent_positions(obj)
+        positions = h.agent_positions(obj)
         self.assertEqual(_inside(positions, (0.2, -0.1), 0.3 - TEXEL), 0)
         self.assertGreater(len(positions), 3900)
 
@@ -141,17 +121,17 @@ class BrushTests(unittest.TestCase):
         obj.moldtex.seed_shape = 'SPAWN_MAP'
         h.activate(obj)
         self.assertEqual(bpy.ops.moldtex.reset(), {'FINISHED'})
-        positions = _agent_positions(obj)
+        positions = h.agent_positions(obj)
         # Every agent starts in a painted texel: within the radius plus one texel.
         self.assertEqual(_inside(positions, (-0.5, -0.5), 0.2 + 1.5 * TEXEL), len(positions))
 
     def test_slime_adds_agents_in_the_disk_and_undo_removes_them(self):
         obj = _plane()
         h.run(obj, 1)
-        before = _agent_positions(obj)
+        before = h.agent_positions(obj)
         _brush(target='SLIME', radius=0.2, agents_per_dab=500)
         self.assertEqual(_stroke(obj, (0.5, 0.5), (0.5, 0.3)), {'FINISHED'})
-        after = _agent_positions(obj)
+        after = h.agent_positions(obj)
         self.assertEqual(len(after), len(before) + 1000)
         # Nothing moved (no step in between): the new agents are exactly the increase
         # inside the two disks (radius measured on the surface: flat, so Euclidean).
@@ -160,9 +140,9 @@ class BrushTests(unittest.TestCase):
                        or math.dist(p[:2], (0.5, 0.3)) <= 0.2 + 1e-4)
         self.assertEqual(in_disks(after) - in_disks(before), 1000)
         self.assertEqual(bpy.ops.moldtex.brush_undo(), {'FINISHED'})
-        self.assertEqual(sorted(_agent_positions(obj)), sorted(before))
+        self.assertEqual(sorted(h.agent_positions(obj)), sorted(before))
         self.assertEqual(bpy.ops.moldtex.brush_redo(), {'FINISHED'})
-        self.assertEqual(sorted(_agent_positions(obj)), sorted(after),
+        self.assertEqual(sorted(h.agent_positions(obj)), sorted(after),
                          "redo places the same agents again")
         # The simulation goes on with them.
         self.assertEqual(bpy.ops.moldtex.step(steps=5), {'FINISHED'})
@@ -172,16 +152,16 @@ class BrushTests(unittest.TestCase):
     def test_slime_erase_and_undo(self):
         obj = _plane()
         h.run(obj, 1)
-        before = _agent_positions(obj)
+        before = h.agent_positions(obj)
         inside = _inside(before, (0.0, 0.0), 0.4)
         self.assertGreater(inside, 300)  # ~4000 * pi 0.16 / 4 = 500 expected
         _brush(target='SLIME', erase=True, radius=0.4)
         self.assertEqual(_stroke(obj, (0.0, 0.0)), {'FINISHED'})
-        after = _agent_positions(obj)
+        after = h.agent_positions(obj)
         self.assertEqual(len(after), len(before) - inside)
         self.assertEqual(_inside(after, (0.0, 0.0), 0.4 - 1e-4), 0)
         self.assertEqual(bpy.ops.moldtex.brush_undo(), {'FINISHED'})
-        self.assertEqual(sorted(_agent_positions(obj)), sorted(before))
+        self.assertEqual(sorted(h.agent_positions(obj)), sorted(before))
         # Reset drops what the brush did; undoing a stroke of the old run then says so.
         self.assertEqual(bpy.ops.moldtex.brush_redo(), {'FINISHED'})
         self.assertEqual(bpy.ops.moldtex.reset(), {'FINISHED'})
@@ -258,7 +238,7 @@ class BrushTests(unittest.TestCase):
         entry.fields_polled = 0.0
         self.assertFalse(live.poll_fields_image(entry, obj), "unchanged: not sent again")
         self.assertEqual(bpy.ops.moldtex.step(steps=150), {'FINISHED'})
-        positions = _agent_positions(obj)
+        positions = h.agent_positions(obj)
         # 150 steps of 1 texel carry agents 2.3 units from x = 0.5: without the new wall
         # many would be on the left (seen when the poll is skipped); with it, none.
         self.assertEqual(sum(1 for p in positions if p[0] < 0.0), 0)

@@ -13,29 +13,9 @@ TEXEL = 2.0 / RESOLUTION  # one texel's 3D length: the UVs fill [0, 1]² on a 2 
 
 
 def _plane():
-    """A 2 × 2 plane (UVs from the primitive fill [0, 1]²) cut into 16 × 16 quads, so
-    vertex columns lie at x = -1, -0.875, ..., 0, ..., 1."""
-    bpy.ops.mesh.primitive_plane_add(size=2.0, calc_uvs=True)
-    obj = h.activate(bpy.context.active_object)
-    bpy.ops.object.mode_set(mode='EDIT')
-    bpy.ops.mesh.select_all(action='SELECT')
-    bpy.ops.mesh.subdivide(number_cuts=15)
-    bpy.ops.object.mode_set(mode='OBJECT')
+    obj = h.subdivided_plane()
     h.configure(obj, resolution=str(RESOLUTION), agents=3000)
     return obj
-
-
-def _agent_positions(obj):
-    """3D (mesh) positions of the live simulation's agents."""
-    from moldtex.mesh_export import export_object
-    mesh = export_object(obj, bpy.context.evaluated_depsgraph_get(), "")
-    surface = h.engine().Surface(mesh.positions, mesh.triangles, mesh.uvs,
-                                 mesh.triangle_uvs)
-    try:
-        agents = h.live().get(obj.name).sim.read_agents(obj.moldtex.agent_count)
-        return [surface.evaluate(triangle, bary)[0] for triangle, bary in agents]
-    finally:
-        surface.release()
 
 
 def _reset(obj):
@@ -78,18 +58,18 @@ class FieldAttributeTests(unittest.TestCase):
         self.assertEqual(max(fields[2::4]), 0.0)
         limit = -CELL / 2 - TEXEL
         entry = _reset(obj)
-        start = min(p[0] for p in _agent_positions(obj))
+        start = min(p[0] for p in h.agent_positions(obj))
         print(f"  spawned: leftmost agent at x = {start:.4f}")
         self.assertGreater(start, limit)
         # After 5 steps agents still crowd the wall (they spawned up to it); by step
         # 150 they have turned away from it (they sense -1e9 there).
         self.assertEqual(bpy.ops.moldtex.step(steps=5), {'FINISHED'})
-        early = min(p[0] for p in _agent_positions(obj))
+        early = min(p[0] for p in h.agent_positions(obj))
         print(f"  after 5 steps: leftmost agent at x = {early:.4f}")
         self.assertGreater(early, limit)
         self.assertEqual(bpy.ops.moldtex.step(steps=145), {'FINISHED'})
         self.assertEqual(entry.stats["step_count"], 150)
-        xs = [p[0] for p in _agent_positions(obj)]
+        xs = [p[0] for p in h.agent_positions(obj)]
         print(f"  after 150 steps: leftmost agent at x = {min(xs):.4f} (wall edge "
               f"{-CELL / 2:.4f}, limit {limit:.4f}), {len(xs)} agents, "
               f"{sum(1 for x in xs if x < 0.0)} left of 0, "
@@ -115,7 +95,7 @@ class FieldAttributeTests(unittest.TestCase):
         obj.moldtex.spawn_attribute = "spawn"
         obj.moldtex.seed_shape = 'SPAWN_MAP'
         _reset(obj)
-        positions = _agent_positions(obj)
+        positions = h.agent_positions(obj)
         low = 0.5 - TEXEL
         worst = min(min(p[0], p[1]) for p in positions)
         print(f"\n  spawn attribute: {len(positions)} agents, lowest x or y {worst:.4f} "

@@ -16,14 +16,7 @@ CORNER = (0.9, 0.9, 0.0)
 
 
 def _plane():
-    """A 2 × 2 plane (UVs from the primitive) cut into 16 × 16 quads."""
-    bpy.ops.mesh.primitive_plane_add(size=2.0, calc_uvs=True)
-    obj = h.activate(bpy.context.active_object)
-    bpy.ops.object.mode_set(mode='EDIT')
-    bpy.ops.mesh.select_all(action='SELECT')
-    bpy.ops.mesh.subdivide(number_cuts=15)
-    bpy.ops.object.mode_set(mode='OBJECT')
-    return obj
+    return h.subdivided_plane()
 
 
 def _food(location=CORNER, strength=16.0, amount=None):
