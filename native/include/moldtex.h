@@ -296,7 +296,7 @@ MOLDTEX_API moldtex_status moldtex_sim_get_config(moldtex_sim sim, moldtex_sim_c
 /* Food sources (plasmodial-slime-readme.md, "Food Sources"), active while hunger_rate > 0.
  * Every agent has a hunger h in [0, 1] (0 at spawn). After its MoMaS turn, a hungry agent
  * (h > 0) blends its heading toward the nearest source that still has food, at 3D
- * distance d: w = h * min(1, strength / d^2), heading = normalize((1 - w) * heading +
+ * distance d: w = min(1, h^8 * strength / d^2), heading = normalize((1 - w) * heading +
  * w * toward), `toward` being the 3D direction to the source projected into the agent's
  * triangle. Within food_radius it eats instead: h = 0 and, when amount >= 0, one unit is
  * consumed per eating agent per step (counted exactly, so deterministic on any backend),

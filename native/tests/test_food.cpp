@@ -85,15 +85,18 @@ TEST_P(Food, HungryAgentsGatherAtTheSource) {
   const auto off = RunFood(s.get(), c, 0.f, -1.f);
   ASSERT_EQ(fed.size(), 5u);
   ASSERT_EQ(off.size(), 5u);
-  // Measured (CPU / OpenCL): hungry 3.98 -> 0.65 / 0.68 -> 0.51 / 0.52 -> 0.38 / 0.37 at
-  // steps 0, 50, 150, 300; without hunger 3.98 -> 3.77 .. 4.20. Tolerances: the gathering
-  // must be strong (below a quarter of the start by step 50) and keep going (each later
-  // mean no more than 0.05 above the previous: the standard error of a 4000-agent mean
-  // is ~0.01); without hunger a uniform spread stays uniform (within 15%).
-  EXPECT_LT(fed[1], 0.25 * fed[0]);
+  std::printf("mean distance with hunger %.3f %.3f %.3f %.3f, without %.3f %.3f %.3f %.3f\n",
+              fed[0], fed[1], fed[2], fed[3], off[0], off[1], off[2], off[3]);
+  // Measured (CPU / OpenCL), with Plasmodial Slime's weight |F| h^8: hungry 3.98 ->
+  // 0.98 / 1.04 -> 0.64 / 0.68 -> 0.60 / 0.63 at steps 0, 50, 150, 300; without hunger
+  // 3.98 -> 3.77 .. 4.20. Tolerances: the gathering must be strong (below 30% of the start
+  // by step 50, 20% by step 300) and keep going (each later mean no more than 0.05 above
+  // the previous: the standard error of a 4000-agent mean is ~0.01); without hunger a
+  // uniform spread stays uniform (within 15%).
+  EXPECT_LT(fed[1], 0.3 * fed[0]);
   EXPECT_LT(fed[2], fed[1] + 0.05);
   EXPECT_LT(fed[3], fed[2] + 0.05);
-  EXPECT_LT(fed[3], 0.15 * fed[0]);
+  EXPECT_LT(fed[3], 0.2 * fed[0]);
   for (int k = 1; k <= 3; ++k) {
     EXPECT_NEAR(off[k], off[0], 0.15 * off[0]) << "step index " << k;
     EXPECT_LT(fed[k], 0.3 * off[k]) << "step index " << k;
@@ -110,13 +113,15 @@ TEST_P(Food, FiniteSourceEmptiesAndStopsAttracting) {
   const auto d = RunFood(s.get(), c, 4.f, 20000.f, &amounts);
   ASSERT_EQ(d.size(), 5u);
   ASSERT_EQ(amounts.size(), 4u);
-  // Measured (CPU / OpenCL): 440 / 902 units left at step 50 with the agents gathered
-  // (mean distance 0.65 / 0.68), empty by step 150; then the agents spread again (mean
-  // 4.1 .. 4.4 / 3.3 .. 4.4, as without food: about 4). Tolerances: gathered below 1,
-  // spread again above 2.5 (over three times the gathered mean) at 150, 300 and 600.
+  std::printf("left %.0f %.0f, mean distance %.3f %.3f %.3f %.3f %.3f\n", amounts[0],
+              amounts[1], d[0], d[1], d[2], d[3], d[4]);
+  // Measured (CPU / OpenCL): 8704 / 8202 units left at step 50 with the agents gathered
+  // (mean distance 0.98 / 1.04), empty by step 150; then the agents spread again (mean
+  // 4.7 .. 5.2 / 3.8 .. 5.5, as without food: about 4). Tolerances: gathered below 1.3
+  // (a third of the start), spread again above 2.5 at 150, 300 and 600.
   EXPECT_GT(amounts[0], 0.f);
   EXPECT_LT(amounts[0], 20000.f);
-  EXPECT_LT(d[1], 1.0);
+  EXPECT_LT(d[1], 1.3);
   for (int k = 1; k <= 3; ++k) {
     EXPECT_EQ(amounts[k], 0.f) << "an emptied source stays empty (amount clamped at 0)";
     EXPECT_GT(d[k + 1], 2.5) << "an empty source no longer attracts; step index " << k + 1;

@@ -77,7 +77,7 @@ MTX_FN float mtx_sense(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
 /* Food with hunger (plasmodial-slime-readme.md, "Food Sources"), after the MoMaS turn:
  * finds the nearest source with food left; within food_radius the agent eats (hunger 0,
  * the source's eater counter + 1), otherwise a hungry agent blends its heading toward
- * the source, projected into its triangle, with weight hunger * min(1, strength / d^2). */
+ * the source, projected into its triangle, with weight min(1, hunger^8 strength / d^2). */
 MTX_FN void mtx_food_steer(mtx_surface_tables s, mtx_walker* w, float* hunger,
                            const mtx_momas_constants* k) {
   MTX_GLOBAL const mtx_frame* f = s.frames + w->triangle;
@@ -109,7 +109,11 @@ MTX_FN void mtx_food_steer(mtx_surface_tables s, mtx_walker* w, float* hunger,
   toward.y = dx * g[6] + dy * g[7] + dz * g[8];
   if (!(toward.x * toward.x + toward.y * toward.y > 0.0f)) return; /* straight above/below */
   toward = mtx_unit(toward);
-  const float weight = *hunger * fmin(1.0f, s.food[4 * best + 3] / best_d2);
+  /* Plasmodial Slime's blend weight |F| (1 - fullness)^8 = |F| hunger^8, clamped: the
+   * pull is felt only when quite hungry. Heading vectors are blended, not angles, so no
+   * jump where angles wrap around. */
+  const float h2 = *hunger * *hunger, h4 = h2 * h2;
+  const float weight = fmin(1.0f, h4 * h4 * s.food[4 * best + 3] / best_d2);
   mtx_vec2 h;
   h.x = (1.0f - weight) * w->heading.x + weight * toward.x;
   h.y = (1.0f - weight) * w->heading.y + weight * toward.y;
