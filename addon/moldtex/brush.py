@@ -214,9 +214,10 @@ def write_image(image, pixels):
     image.update()
 
 
-def push_fields(obj, pixels, width, height):
-    """Sends painted fields to the object's live simulation (if any). Returns a message
-    when the core refuses them (e.g. an empty spawn map), else ""."""
+def push_fields(obj, pixels, width, height, final=True):
+    """Sends painted fields to the object's live simulation (if any). An image of
+    another size than the simulation is resampled (slow), so only when final. Returns a
+    message when the core refuses them (e.g. an empty spawn map), else ""."""
     entry = live.get(obj.name)
     if entry is None or entry.sim is None or entry.baking:
         return ""
@@ -224,7 +225,7 @@ def push_fields(obj, pixels, width, height):
         if (entry.sim.width, entry.sim.height) == (width, height):
             entry.sim.set_fields(pixels)
             live.note_fields_pushed(obj, pixels)
-        else:
+        elif final:
             live.push_fields(obj)  # resamples to the simulation's size
     except engine.EngineError as error:
         return str(error)
@@ -293,18 +294,18 @@ class _FieldsEdit:
         self.changed += hit["surface"].paint(width, height, self.pixels, brush)
         now = time.perf_counter()
         if now - self._last_push >= _PUSH_INTERVAL:
-            self._show(obj)
+            self._show(obj, final=False)
             self._last_push = now
 
-    def _show(self, obj):
+    def _show(self, obj, final):
         image = bpy.data.images.get(self.image_name)
         if image is None or tuple(image.size) != self.size:
             return
         write_image(image, self.pixels)
-        self.message = push_fields(obj, self.pixels, *self.size)
+        self.message = push_fields(obj, self.pixels, *self.size, final=final)
 
     def finish(self, obj):
-        self._show(obj)
+        self._show(obj, final=True)
         self.after = zlib.compress(self.pixels.tobytes(), 1)
         self.pixels = None  # the image holds them now
         return self.changed > 0
