@@ -12,6 +12,24 @@
 #include "shared/walk.h"
 #endif
 
+/* Compile-time specialisation. The C++ build keeps every feature in and decides per step
+ * from the constants. The OpenCL backend builds one program per combination in use, with
+ * -DMTX_FOOD=0 while food with hunger is off (k->hunger_step <= 0), -DMTX_FIELDS=0 while
+ * there are no fields (k->has_fields == 0) and -DMTX_SPECIES=n (n == k->species_count),
+ * so its agent kernel carries only the code it runs. Each switch only drops work whose
+ * run-time condition is false, so every variant computes the same results. */
+#ifndef MTX_FOOD
+#define MTX_FOOD 1
+#endif
+#ifndef MTX_FIELDS
+#define MTX_FIELDS 1
+#endif
+#ifdef MTX_SPECIES
+#define MTX_SPECIES_COUNT(k) MTX_CAST(mtx_u32, MTX_SPECIES)
+#else
+#define MTX_SPECIES_COUNT(k) ((k)->species_count)
+#endif
+
 MTX_BEGIN_NAMESPACE
 
 /* Read-only surface and layout tables, as both backends hold them. */
@@ -53,15 +71,15 @@ MTX_FN float mtx_sensed_value(MTX_GLOBAL const float* pheromone, MTX_GLOBAL cons
                               mtx_u32 texel, mtx_u32 species, const mtx_momas_constants* k) {
   const mtx_u32 texels = mtx_texel_count(k);
   float v = 0.0f;
-  for (mtx_u32 p = 0; p < k->species_count; ++p)
+  for (mtx_u32 p = 0; p < MTX_SPECIES_COUNT(k); ++p)
     v += k->attraction[MTX_MAX_SPECIES * species + p] * pheromone[p * texels + texel];
-  if (k->has_fields) v += field[texel];
+  if (MTX_FIELDS && k->has_fields) v += field[texel];
   return v;
 }
 
 MTX_FN int mtx_is_obstacle(MTX_GLOBAL const float* field, mtx_u32 texel,
                            const mtx_momas_constants* k) {
-  return k->has_fields && field[texel] < MTX_OBSTACLE_THRESHOLD;
+  return MTX_FIELDS && k->has_fields && field[texel] < MTX_OBSTACLE_THRESHOLD;
 }
 
 MTX_FN float mtx_sense(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
@@ -149,7 +167,7 @@ MTX_FN void mtx_momas_agent_step(mtx_surface_tables s, MTX_GLOBAL const float* p
     const float turn = side * r * k->max_turn[species];
     w->heading = mtx_unit(mtx_rotate(w->heading, cos(turn), sin(turn)));
   }
-  if (k->hunger_step > 0.0f) {
+  if (MTX_FOOD && k->hunger_step > 0.0f) {
     *hunger = fmin(1.0f, *hunger + k->hunger_step);
     if (k->food_count > 0) mtx_food_steer(s, w, hunger, k);
   }

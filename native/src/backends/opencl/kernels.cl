@@ -1,6 +1,8 @@
 /* kernels.cl — the OpenCL program. The host prepends shared/portable.h, constants.h,
  * rng.h, walk.h, momas.h and field.h (the same sources the CPU backend compiles as
- * C++), so these kernels only unpack buffers and call the shared functions. */
+ * C++), so these kernels only unpack buffers and call the shared functions. The host
+ * builds it once per feature combination in use (-DMTX_FOOD, -DMTX_FIELDS, -DMTX_SPECIES;
+ * see momas.h), so the agent kernel carries only the code it runs. */
 
 __kernel void momas_agents(__global const mtx_frame* frames, __global const uint* adjacency,
                            __global const float* corner_uvs, __global const uchar* classes,
@@ -28,9 +30,15 @@ __kernel void momas_agents(__global const mtx_frame* frames, __global const uint
   w.bary[0] = 1.0f - w.bary[1] - w.bary[2];
   w.heading.x = hx[i];
   w.heading.y = hy[i];
-  float h = hunger[i];
-  mtx_momas_agent_step(s, pheromone, field, marks, &w, &h, (uint)species[i], (ulong)i, &k);
-  hunger[i] = h;
+  /* Per-agent hunger and species are loaded only by the variants that use them. */
+  float h = MTX_FOOD ? hunger[i] : 0.0f;
+#if defined(MTX_SPECIES) && MTX_SPECIES == 1
+  const uint sp = 0;
+#else
+  const uint sp = species[i];
+#endif
+  mtx_momas_agent_step(s, pheromone, field, marks, &w, &h, sp, (ulong)i, &k);
+  if (MTX_FOOD) hunger[i] = h;
   triangle[i] = w.triangle;
   b1[i] = w.bary[1];
   b2[i] = w.bary[2];

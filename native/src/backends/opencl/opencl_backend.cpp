@@ -28,15 +28,40 @@ void check(cl_int err, const char* what) {
   fail(MOLDTEX_ERROR_UNAVAILABLE, std::string("OpenCL failed while ") + what + ": " + cl::error_name(err));
 }
 
+// Builds the program (shared/*.h and kernels.cl) with the given -D options.
+cl_program build_program(const cl::Runtime& r, cl_context context, const cl::Device& device,
+                         const std::string& defines) {
+  cl_int err = CL_SUCCESS;
+  const char* source = cl::program_source().c_str();
+  cl_program program = r.clCreateProgramWithSource(context, 1, &source, nullptr, &err);
+  check(err, "loading the kernels");
+  const std::string options = "-cl-std=CL1.2 " + defines;
+  err = r.clBuildProgram(program, 1, &device.device, options.c_str(), nullptr, nullptr);
+  if (err != CL_SUCCESS) {
+    size_t size = 0;
+    r.clGetProgramBuildInfo(program, device.device, CL_PROGRAM_BUILD_LOG, 0, nullptr, &size);
+    std::string log(size, '\0');
+    r.clGetProgramBuildInfo(program, device.device, CL_PROGRAM_BUILD_LOG, size, log.data(), nullptr);
+    r.clReleaseProgram(program);
+    if (log.size() > 2000) log.resize(2000);
+    fail(MOLDTEX_ERROR_UNAVAILABLE, "The OpenCL kernels did not build on " + device.name + " (" +
+                                        cl::error_name(err) + "): " + log);
+  }
+  return program;
+}
+
 }  // namespace
 
 struct OpenClBackend::State {
   const cl::Runtime& r = cl::runtime();
   cl_context context = nullptr;
   cl_command_queue queue = nullptr;
-  cl_program program = nullptr;
-  cl_kernel agents_kernel = nullptr, deposit_kernel = nullptr, gutter_kernel = nullptr,
-            diffuse_kernel = nullptr;
+  // The agent kernel is specialised (shared/momas.h): one program per combination of
+  // food with hunger on/off and fields on/off, index (food ? 1 : 0) | (fields ? 2 : 0),
+  // each built on first use. The other kernels come from the first program built.
+  cl_program programs[4] = {};
+  cl_kernel agent_kernels[4] = {};
+  cl_kernel deposit_kernel = nullptr, gutter_kernel = nullptr, diffuse_kernel = nullptr;
   // Surface and layout tables (read-only).
   cl_mem frames = nullptr, adjacency = nullptr, corner_uvs = nullptr, classes = nullptr,
          gutter_texel = nullptr, gutter_source = nullptr, frame3d = nullptr;
@@ -52,9 +77,12 @@ struct OpenClBackend::State {
                      food, eaters, triangle, b1, b2, hx, hy, species, hunger, pheromone, scratch,
                      marks, field})
       if (m) r.clReleaseMemObject(m);
-    for (cl_kernel k : {agents_kernel, deposit_kernel, gutter_kernel, diffuse_kernel})
+    for (cl_kernel k : agent_kernels)
       if (k) r.clReleaseKernel(k);
-    if (program) r.clReleaseProgram(program);
+    for (cl_kernel k : {deposit_kernel, gutter_kernel, diffuse_kernel})
+      if (k) r.clReleaseKernel(k);
+    for (cl_program p : programs)
+      if (p) r.clReleaseProgram(p);
     if (queue) r.clReleaseCommandQueue(queue);
     if (context) r.clReleaseContext(context);
   }
@@ -103,26 +131,14 @@ OpenClBackend::OpenClBackend(std::shared_ptr<const Surface> surface,
   s.queue = r.clCreateCommandQueue(s.context, device_.device, 0, &err);
   check(err, "creating a command queue");
 
-  const char* source = cl::program_source().c_str();
-  s.program = r.clCreateProgramWithSource(s.context, 1, &source, nullptr, &err);
-  check(err, "loading the kernels");
-  err = r.clBuildProgram(s.program, 1, &device_.device, "-cl-std=CL1.2", nullptr, nullptr);
-  if (err != CL_SUCCESS) {
-    size_t size = 0;
-    r.clGetProgramBuildInfo(s.program, device_.device, CL_PROGRAM_BUILD_LOG, 0, nullptr, &size);
-    std::string log(size, '\0');
-    r.clGetProgramBuildInfo(s.program, device_.device, CL_PROGRAM_BUILD_LOG, size, log.data(), nullptr);
-    if (log.size() > 2000) log.resize(2000);
-    fail(MOLDTEX_ERROR_UNAVAILABLE, "The OpenCL kernels did not build on " + device_.name + " (" +
-                                        cl::error_name(err) + "): " + log);
-  }
-  s.agents_kernel = r.clCreateKernel(s.program, "momas_agents", &err);
-  check(err, "creating the agent kernel");
-  s.deposit_kernel = r.clCreateKernel(s.program, "apply_deposits", &err);
+  // The variant a new simulation runs (no food, no fields) now, so that a build failure
+  // shows here; the others when first needed.
+  agent_kernel(false, false);
+  s.deposit_kernel = r.clCreateKernel(s.programs[0], "apply_deposits", &err);
   check(err, "creating the deposit kernel");
-  s.gutter_kernel = r.clCreateKernel(s.program, "fill_gutter", &err);
+  s.gutter_kernel = r.clCreateKernel(s.programs[0], "fill_gutter", &err);
   check(err, "creating the gutter kernel");
-  s.diffuse_kernel = r.clCreateKernel(s.program, "diffuse_evaporate", &err);
+  s.diffuse_kernel = r.clCreateKernel(s.programs[0], "diffuse_evaporate", &err);
   check(err, "creating the diffusion kernel");
 
   // Refuse up front what cannot fit, with the numbers, rather than failing mid-step.
@@ -155,6 +171,22 @@ OpenClBackend::OpenClBackend(std::shared_ptr<const Surface> surface,
 }
 
 OpenClBackend::~OpenClBackend() = default;
+
+cl_kernel OpenClBackend::agent_kernel(bool food, bool fields) {
+  State& s = *state_;
+  const int v = (food ? 1 : 0) | (fields ? 2 : 0);
+  if (!s.agent_kernels[v]) {
+    if (!s.programs[v])
+      s.programs[v] = build_program(s.r, s.context, device_,
+                                    "-DMTX_SPECIES=" + std::to_string(species_count_) +
+                                        " -DMTX_FOOD=" + (food ? "1" : "0") +
+                                        " -DMTX_FIELDS=" + (fields ? "1" : "0"));
+    cl_int err = CL_SUCCESS;
+    s.agent_kernels[v] = s.r.clCreateKernel(s.programs[v], "momas_agents", &err);
+    check(err, "creating the agent kernel");
+  }
+  return s.agent_kernels[v];
+}
 
 std::string OpenClBackend::name() const {
   return "OpenCL: " + device_.name + " (" + device_.platform_name + ")";
@@ -259,7 +291,8 @@ void OpenClBackend::step(const StepSettings& settings, uint64_t seed, uint64_t s
                                   nullptr),
           "clearing the food counters");
   }
-  cl_kernel k = s.agents_kernel;
+  // The same conditions as the run-time tests in shared/momas.h.
+  cl_kernel k = agent_kernel(c.hunger_step > 0.0f, c.has_fields != 0);
   cl_mem agent_args[] = {s.frames, s.adjacency, s.corner_uvs, s.classes, s.pheromone, s.field,
                          s.marks, s.triangle, s.b1, s.b2, s.hx, s.hy, s.species, s.hunger,
                          s.frame3d, s.food, s.eaters};

@@ -39,6 +39,9 @@ class OpenClBackend final : public Backend {
  private:
   // Makes the agent buffers hold at least `count` agents (reallocating, contents lost).
   void reserve_agents(size_t count);
+  // The agent kernel specialised for food with hunger on/off and fields on/off (and this
+  // simulation's species count), built on first use.
+  cl_kernel agent_kernel(bool food, bool fields);
 
   struct State;
   std::shared_ptr<const Surface> surface_;
