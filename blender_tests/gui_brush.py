@@ -7,7 +7,7 @@ Simulated events need Blender's interface and --enable-event-simulate; headless:
 
   xvfb-run -a -s "-screen 0 1600x1000x24" blender --factory-startup \
       --enable-event-simulate --python-exit-code 1 -P blender_tests/gui_brush.py -- \
-      --addon-dir build/addon
+      --addon-dir build/addon [--screenshot /tmp/moldtex_brush.png]
 
 Exits 0 when every check passed, 1 otherwise. Not part of run_all.py (background mode
 has no window, so no modal tool and no events).
@@ -24,6 +24,8 @@ import bpy
 argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 parser = argparse.ArgumentParser()
 parser.add_argument("--addon-dir", required=True)
+parser.add_argument("--screenshot", default="",
+                    help="save a screenshot of the window with the tool active here")
 ARGS = parser.parse_args(argv)
 
 sys.path.insert(0, os.path.abspath(ARGS.addon_dir))
@@ -148,6 +150,18 @@ def _tick():
         check(green_at(obj, 0.0, -0.3) == 0.0, "nothing painted away from it")
         check(brush.counts("Canvas") == (1, 0), f"one stroke recorded "
               f"({brush.counts('Canvas')})")
+        if ARGS.screenshot:
+            window, area, region = view3d()
+            space = area.spaces.active
+            space.show_region_ui = True
+            for other in area.regions:
+                if other.type == 'UI':
+                    try:
+                        other.active_panel_category = "Moldtex"
+                    except (AttributeError, TypeError):
+                        pass
+            call(bpy.ops.screen.screenshot, filepath=ARGS.screenshot)
+            space.show_region_ui = False
         simulate('Z', 'PRESS', ctrl=True)
         simulate('Z', 'RELEASE', ctrl=True)
         STATE["phase"] = "undone"
