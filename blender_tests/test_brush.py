@@ -225,6 +225,18 @@ class BrushTests(unittest.TestCase):
         self.assertEqual(bpy.ops.moldtex.brush_undo(), {'FINISHED'})
         self.assertEqual(len(obj.moldtex.food_collection.all_objects), 0)
 
+    def test_the_brush_follows_an_edited_mesh(self):
+        obj = _plane()
+        _brush(target='OBSTACLE', radius=0.1)
+        self.assertEqual(_stroke(obj, (0.8, 0.0)), {'FINISHED'})
+        # Shrink the mesh itself to x in [-0.5, 0.5]: x = 0.8 is off the surface now.
+        for vertex in obj.data.vertices:
+            vertex.co.x *= 0.5
+        obj.data.update()
+        bpy.context.view_layer.update()
+        self.assertEqual(_stroke(obj, (0.8, 0.0)), {'CANCELLED'})
+        self.assertEqual(_stroke(obj, (0.4, 0.0)), {'FINISHED'})
+
     def test_a_stroke_that_misses_is_refused(self):
         obj = _plane()
         _brush(target='OBSTACLE')

@@ -88,26 +88,40 @@ class MoldtexBrushSettings(bpy.types.PropertyGroup):
 # ---- where the brush lands ---------------------------------------------------------
 
 class _SurfaceCache:
-    """The core surface of an object's exported mesh, rebuilt when the mesh changes."""
+    """The core surface of an object's exported mesh. Exporting costs time on big
+    meshes, so the mesh is read again only after its geometry changed (handlers.py
+    calls invalidate), its UV map setting or its non-uniform scale changed; a new
+    surface is built only when the exported data really differ."""
 
     def __init__(self):
-        self.items = {}  # object name -> (signature, engine.Surface, uv setting)
+        self.items = {}  # object name -> [signature, engine.Surface, key, valid]
 
     def get(self, obj, depsgraph, uv_map):
-        mesh = export_object(obj, depsgraph, uv_map)
+        data = obj.data
+        key = (uv_map, tuple(live._export_scale(obj) or ()), obj.as_pointer(),
+               data.as_pointer(), len(data.vertices), len(data.polygons))
         cached = self.items.get(obj.name)
+        if cached is not None and cached[3] and cached[2] == key:
+            return cached[1]
+        mesh = export_object(obj, depsgraph, uv_map)
         if cached is not None and cached[0] == mesh.signature:
-            return cached[1], mesh
+            cached[2], cached[3] = key, True
+            return cached[1]
         if cached is not None:
             cached[1].release()
         surface = engine.Surface(mesh.positions, mesh.triangles, mesh.uvs,
                                  mesh.triangle_uvs)
-        self.items[obj.name] = (mesh.signature, surface)
-        return surface, mesh
+        self.items[obj.name] = [mesh.signature, surface, key, True]
+        return surface
+
+    def invalidate(self, name=None):
+        for item_name, cached in self.items.items():
+            if name is None or item_name == name:
+                cached[3] = False
 
     def clear(self):
-        for _signature, surface in self.items.values():
-            surface.release()
+        for cached in self.items.values():
+            cached[1].release()
         self.items.clear()
 
 
@@ -139,7 +153,7 @@ def cast(obj, depsgraph, origin, direction):
     """Where a world-space ray meets obj's surface: dict with triangle, bary, position
     (mesh space), world (world space), normal (world space) and the surface; or None.
     direction (0, 0, 0) means: the surface point nearest `origin`."""
-    surface, _mesh = _surfaces.get(obj, depsgraph, _uv_map_setting(obj))
+    surface = _surfaces.get(obj, depsgraph, _uv_map_setting(obj))
     to_mesh = world_to_mesh(obj)
     o = to_mesh @ Vector(origin)
     d = to_mesh.to_3x3() @ Vector(direction)
@@ -266,6 +280,12 @@ def forget(name=None):
         cached = _surfaces.items.pop(name, None)
         if cached is not None:
             cached[1].release()
+
+
+def mesh_changed(name=None):
+    """The mesh of one object (or of any) may have changed: read it again before the
+    next dab."""
+    _surfaces.invalidate(name)
 
 
 def counts(name):

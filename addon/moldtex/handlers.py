@@ -16,6 +16,10 @@ def on_load_pre(*_args):
 
 @persistent
 def on_depsgraph_update_post(scene, depsgraph=None):
+    if depsgraph is not None:
+        for update in depsgraph.updates:
+            if update.is_updated_geometry and isinstance(update.id, bpy.types.Object):
+                brush.mesh_changed(update.id.name)
     names = live.names()
     if not names:
         return
@@ -39,6 +43,7 @@ def on_undo_redo_post(*_args):
         if bpy.data.objects.get(name) is None:
             live.free(name)
     live.mark_dirty()
+    brush.mesh_changed()
 
 
 @persistent
