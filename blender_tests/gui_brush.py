@@ -122,6 +122,9 @@ def _tick():
         rv3d.view_rotation = Quaternion((1.0, 0.0, 0.0, 0.0))  # looking down -Z
         rv3d.view_location = (0.0, 0.0, 0.0)
         rv3d.view_distance = 3.0
+        if ARGS.screenshot:  # show the painted fields over the pheromone material
+            call(bpy.ops.moldtex.setup_material)
+            space.shading.type = 'MATERIAL'
         settings = bpy.context.scene.moldtex_brush
         settings.target = 'OBSTACLE'
         settings.erase = False

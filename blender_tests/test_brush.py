@@ -237,6 +237,32 @@ class BrushTests(unittest.TestCase):
         self.assertEqual(_stroke(obj, (0.8, 0.0)), {'CANCELLED'})
         self.assertEqual(_stroke(obj, (0.4, 0.0)), {'FINISHED'})
 
+    def test_show_fields_lays_the_painted_fields_over_the_pheromone(self):
+        from moldtex import material
+        obj = _plane()
+        h.activate(obj)
+        self.assertEqual(bpy.ops.moldtex.setup_material(), {'FINISHED'})
+        tree = obj.active_material.node_tree
+        overlay = tree.nodes[material.OVERLAY_NODE]
+        principled = next(n for n in tree.nodes if n.type == 'BSDF_PRINCIPLED')
+        link = principled.inputs["Base Color"].links[0]
+        self.assertEqual(link.from_node, overlay)
+        self.assertEqual(tuple(overlay.inputs[1].default_value), (0.0, 0.0, 0.0),
+                         "off by default: the pheromone colour is unchanged")
+        _brush(target='OBSTACLE', radius=0.2)
+        self.assertEqual(_stroke(obj, (0.0, 0.0)), {'FINISHED'})
+        fields = tree.nodes[material.FIELDS_NODE]
+        self.assertEqual(fields.image, obj.moldtex.fields_image)
+        obj.moldtex.show_fields = True
+        for value in overlay.inputs[1].default_value:
+            self.assertAlmostEqual(value, material.OVERLAY_STRENGTH, places=6)
+        obj.moldtex.show_fields = False
+        self.assertEqual(tuple(overlay.inputs[1].default_value), (0.0, 0.0, 0.0))
+        # Set Up Material again adds nothing.
+        count = len(tree.nodes)
+        self.assertEqual(bpy.ops.moldtex.setup_material(), {'FINISHED'})
+        self.assertEqual(len(tree.nodes), count)
+
     def test_a_stroke_that_misses_is_refused(self):
         obj = _plane()
         _brush(target='OBSTACLE')

@@ -29,7 +29,9 @@ class MaterialTests(unittest.TestCase):
         self.assertIs(obj.active_material, material)
         principled = next(n for n in nodes if n.type == 'BSDF_PRINCIPLED')
         link = principled.inputs["Base Color"].links[0]
-        self.assertEqual(link.from_node.name, "Moldtex Ramp")
+        self.assertEqual(link.from_node.name, "Moldtex Fields Overlay")
+        # The pheromone colour enters the overlay as its base (Show Fields adds to it).
+        self.assertEqual(link.from_node.inputs[2].links[0].from_node.name, "Moldtex Ramp")
         uv_node = nodes["Moldtex UV"]
         self.assertEqual(uv_node.uv_map, "UVMap")
         self.assertEqual(nodes["Moldtex Texture"].inputs["Vector"].links[0].from_node,

@@ -25,7 +25,7 @@ NON_DEFAULTS = {
     "bake_prefix": "rock_", "bake_resume": True,
     # Fields from vertex groups / attributes (the groups are made in the test).
     "fields_source": "ATTRIBUTES", "spawn_attribute": "Start Here",
-    "obstacle_attribute": "Walls", "attractor_attribute": "Goal",
+    "obstacle_attribute": "Walls", "attractor_attribute": "Goal", "show_fields": True,
     # Food (test_food.py checks the Food collection).
     "hunger_rate": 2.5, "food_radius": 0.3,
     "ramp_stops": '{"stops": [[0.0, [0.1, 0.2, 0.3, 1.0]], [1.0, [0.9, 0.8, 0.7, 1.0]]], '

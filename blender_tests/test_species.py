@@ -103,7 +103,8 @@ class SpeciesTests(unittest.TestCase):
         obj.moldtex.species_count = 2
         self.assertEqual(bpy.ops.moldtex.setup_material(), {'FINISHED'})
         nodes = obj.active_material.node_tree.nodes
-        base = next(n for n in nodes if n.type == 'BSDF_PRINCIPLED').inputs["Base Color"]
+        # Base Color comes through the fields overlay, whose base input is the colour.
+        base = nodes["Moldtex Fields Overlay"].inputs[2]
         self.assertTrue(base.links[0].from_node.name.startswith("Moldtex Species"))
         obj.moldtex.species_count = 1  # back to the ramp
         self.assertEqual(bpy.ops.moldtex.setup_material(), {'FINISHED'})

@@ -136,7 +136,8 @@ class PanelTests(unittest.TestCase):
                                  "fields_source", "fields_image", "food_collection",
                                  "hunger_rate", "food_radius",
                                  # the Brush panel (scene settings; obstacle target)
-                                 "target", "erase", "radius", "strength", "falloff"})
+                                 "target", "erase", "radius", "strength", "falloff",
+                                 "show_fields"})
         self.assertIn(("prop_search", "uv_map"), log)
         self.assertIn(("menu", "MOLDTEX_MT_presets"), log)
         buttons = [name for kind, name in log if kind == "operator"]

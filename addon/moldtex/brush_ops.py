@@ -207,6 +207,10 @@ ends"""
             return {'CANCELLED'}
         self.stroke = None
         self.cursor = None
+        # Painting fields: lay them over the pheromone while the tool runs.
+        self.shown_before = obj.moldtex.show_fields
+        if context.scene.moldtex_brush.target in brush.FIELD_CHANNELS:
+            obj.moldtex.show_fields = True
         self.handle = bpy.types.SpaceView3D.draw_handler_add(
             _draw_cursor, (self,), 'WINDOW', 'POST_VIEW')
         context.window_manager.modal_handler_add(self)
@@ -320,6 +324,9 @@ ends"""
         self._finish(context)
 
     def _finish(self, context):
+        obj = bpy.data.objects.get(getattr(self, "obj_name", ""))
+        if obj is not None and hasattr(self, "shown_before"):
+            obj.moldtex.show_fields = self.shown_before
         if getattr(self, "handle", None) is not None:
             bpy.types.SpaceView3D.draw_handler_remove(self.handle, 'WINDOW')
             self.handle = None

@@ -2,7 +2,9 @@
 """Set Up Material: wires the pheromone image into the object's material.
 
 UV Map ▸ Image Texture ▸ Color Ramp ▸ Principled BSDF Base Color. The user's nodes are
-kept; our nodes are found again by name, so running it twice adds nothing.
+kept; our nodes are found again by name, so running it twice adds nothing. On the way
+to Base Color the Fields image can be laid over the pheromone (Show Fields: walls
+green, attractors blue, spawn regions red), so that what the brush paints is seen.
 """
 
 import json
@@ -13,6 +15,9 @@ UV_NODE = "Moldtex UV"
 TEXTURE_NODE = "Moldtex Texture"
 RAMP_NODE = "Moldtex Ramp"
 SPECIES_NODE_PREFIX = "Moldtex Species "  # colour by species (2 or more)
+FIELDS_NODE = "Moldtex Fields"
+OVERLAY_NODE = "Moldtex Fields Overlay"  # base colour + fields colour * strength
+OVERLAY_STRENGTH = 0.6
 
 # Dark violet-black through amber to bright yellow.
 DEFAULT_RAMP = (
@@ -95,11 +100,40 @@ def setup_material(obj, image, uv_map_name):
         nodes.remove(node)
     count = int(obj.moldtex.species_count)
     if count >= 2:
-        mix = _species_mix(tree, obj.moldtex, texture, count, ramp.location)
-        links.new(mix.outputs["Vector"], principled.inputs["Base Color"])
+        base = _species_mix(tree, obj.moldtex, texture, count, ramp.location).outputs["Vector"]
     else:
-        links.new(ramp.outputs["Color"], principled.inputs["Base Color"])
+        base = ramp.outputs["Color"]
+    fields, fields_created = _node(nodes, FIELDS_NODE, "ShaderNodeTexImage",
+                                   "Moldtex Fields")
+    overlay, _ = _node(nodes, OVERLAY_NODE, "ShaderNodeVectorMath", "Moldtex Fields Overlay")
+    overlay.operation = 'MULTIPLY_ADD'
+    if fields_created:
+        fields.interpolation = 'Closest'
+        fields.location = (texture.location.x, texture.location.y + 300.0)
+        overlay.location = (principled.location.x - 180.0, principled.location.y + 260.0)
+    links.new(uv.outputs["UV"], fields.inputs["Vector"])
+    links.new(fields.outputs["Color"], overlay.inputs[0])
+    links.new(base, overlay.inputs[2])
+    links.new(overlay.outputs["Vector"], principled.inputs["Base Color"])
+    show_fields(obj, obj.moldtex.show_fields)
     return material
+
+
+def show_fields(obj, show):
+    """Lays the object's Fields image over the pheromone in its Moldtex material, or
+    takes it off (strength 0 gives the pheromone colour unchanged). False if the
+    material has no Moldtex nodes (Set Up Material makes them)."""
+    fields, overlay = moldtex_node(obj, FIELDS_NODE), moldtex_node(obj, OVERLAY_NODE)
+    if fields is None or overlay is None:
+        return False
+    image = obj.moldtex.fields_image
+    if fields.image != image:
+        fields.image = image
+    if image is not None and image.colorspace_settings.name != 'Non-Color':
+        image.colorspace_settings.name = 'Non-Color'
+    strength = OVERLAY_STRENGTH if show and image is not None else 0.0
+    overlay.inputs[1].default_value = (strength, strength, strength)
+    return True
 
 
 def _species_mix(tree, settings, texture, count, location):
@@ -191,7 +225,8 @@ def preset_ramp(obj):
 
 
 def moldtex_node(obj, name):
-    """One of our nodes (UV_NODE, TEXTURE_NODE, RAMP_NODE) in obj's active material."""
+    """One of our nodes (UV_NODE, TEXTURE_NODE, RAMP_NODE, FIELDS_NODE, OVERLAY_NODE)
+    in obj's active material."""
     material = obj.active_material if obj is not None else None
     if material is None or material.node_tree is None:
         return None

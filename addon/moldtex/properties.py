@@ -73,6 +73,13 @@ def _species_count_changed(self, context):
 
 def _fields_changed(self, context):
     _push(self.id_data, live.push_fields)
+    from . import material  # (material does not import this module)
+    material.show_fields(self.id_data, self.show_fields)
+
+
+def _show_fields_changed(self, context):
+    from . import material
+    material.show_fields(self.id_data, self.show_fields)
 
 
 # Display colours of species 1..4 (red, green, blue, yellow: the image's channels).
@@ -342,6 +349,12 @@ class MoldtexSettings(bpy.types.PropertyGroup):
                     "start (Spawn Map), green = walls, blue = attractors (food). Applied "
                     "when picked and on Reset (after painting it, press Reset)",
         update=_fields_changed)
+    show_fields: BoolProperty(
+        name="Show Fields", default=False,
+        description="Lay the Fields image over the pheromone in the Moldtex material "
+                    "(walls green, attractors blue, spawn red), e.g. while painting them "
+                    "with the brush. Renders show it too while it is on",
+        update=_show_fields_changed)
     fields_source: EnumProperty(
         name="Fields Source", items=FIELDS_SOURCE_ITEMS, default='IMAGE',
         description="Where the static fields (spawn weights, walls, attractors) come "

@@ -360,6 +360,7 @@ class MOLDTEX_PT_brush(_SubPanel, bpy.types.Panel):
         row = layout.row(align=True)
         row.scale_y = 1.4
         row.operator("moldtex.brush_paint", icon='BRUSH_DATA')
+        row.prop(obj.moldtex, "show_fields", text="", icon='HIDE_OFF')
         layout.prop(settings, "target", expand=False)
         row = layout.row(align=True)
         row.prop(settings, "erase", toggle=True, icon='REMOVE' if settings.erase else 'ADD',
