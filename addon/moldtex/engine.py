@@ -162,6 +162,8 @@ class SimParams(ctypes.Structure):
         # Food with hunger (sources: Simulation.set_food / get_food).
         ("hunger_rate", ctypes.c_float),
         ("food_radius", ctypes.c_float),
+        # Sensing square radius in texels; 0 = one texel (the default).
+        ("sensor_size", ctypes.c_uint32),
     ]
 
 

@@ -231,6 +231,11 @@ typedef struct moldtex_sim_params {
   float food_radius;      /* 3D distance (mesh units) within which an agent eats: its
                              hunger resets to 0 and, for a finite source, it consumes one
                              unit; default 0.1; hard 0 .. 1e6 */
+  /* Sensing kernel; appended, so a caller whose struct ends at food_radius gets 0. */
+  uint32_t sensor_size;   /* r in texels: each sensor sums the (2r+1)^2 texels around the
+                             texel under it, clamped to the texture, as MoMaS' reference
+                             code does; 0 (default) = that one texel, bit for bit as before
+                             the field existed; hard 0 .. 4 */
 } moldtex_sim_params;
 
 MOLDTEX_API void moldtex_sim_config_init(moldtex_sim_config* config);

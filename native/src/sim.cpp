@@ -129,6 +129,9 @@ void validate_params(const moldtex_sim_params& p) {
   check_range("Food radius", p.food_radius, 0.f, 1e6f, "mesh units");
   if (p.substeps < 1 || p.substeps > 64)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Substeps must be between 1 and 64");
+  if (p.sensor_size > 4)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "Sensor size must be between 0 (one texel) and 4 (a 9x9 texel square)");
   if (p.thread_count > 256)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Thread count must be between 0 (all cores) and 256");
 }

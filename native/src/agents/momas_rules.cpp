@@ -30,6 +30,7 @@ MomasStepConstants momas_constants(const StepSettings& settings, const TextureDo
   c.has_fields = settings.has_fields ? 1u : 0u;
   c.hunger_step = p.hunger_rate * p.time_step;
   c.food_radius = p.food_radius;
+  c.sensor_size = p.sensor_size;
   c.food_count = c.hunger_step > 0.f ? static_cast<uint32_t>(settings.food.size() / 4) : 0u;
   return c;
 }

@@ -133,7 +133,8 @@ moldtex_sim_config read_config(const moldtex_sim_config* in) {
 }
 
 // moldtex_sim_params before food with hunger (hunger_rate, food_radius): such callers
-// get the defaults, i.e. food off.
+// get the defaults, i.e. food off (and, like callers that end at food_radius, the
+// single-texel sensor).
 constexpr size_t kSimParamsV1Size = offsetof(moldtex_sim_params, hunger_rate);
 
 moldtex_sim_params read_params(const moldtex_sim_params* in) {
@@ -316,6 +317,7 @@ void moldtex_sim_params_init(moldtex_sim_params* p) {
   p->thread_count = 0;
   p->hunger_rate = 0.0f;
   p->food_radius = 0.1f;
+  p->sensor_size = 0;
 }
 
 moldtex_status moldtex_sim_create(moldtex_surface surface, const moldtex_sim_config* config,

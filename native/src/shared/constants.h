@@ -51,6 +51,7 @@ typedef struct mtx_momas_constants {
   mtx_u32 food_count;  /* food sources with food left (0 while hunger is off) */
   float hunger_step;   /* hunger gained per step; 0 = food with hunger is off */
   float food_radius;   /* 3D distance within which an agent eats */
+  mtx_u32 sensor_size; /* sensing square radius r in texels: (2r+1)^2 texels; 0 = one */
 } mtx_momas_constants;
 
 MTX_END_NAMESPACE

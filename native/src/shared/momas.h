@@ -88,8 +88,20 @@ MTX_FN float mtx_sense(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
   mtx_walker probe = *from;
   probe.heading = mtx_rotate(probe.heading, c, sn);
   mtx_walk(s.frames, s.adjacency, &probe, k->sensor_length[species], 0, 0);
-  return mtx_sensed_value(pheromone, field,
-                          mtx_walker_texel(s.corner_uvs, &probe, k->width, k->height), species, k);
+  const mtx_u32 texel = mtx_walker_texel(s.corner_uvs, &probe, k->width, k->height);
+  const int r = MTX_CAST(int, k->sensor_size);
+  if (r == 0) return mtx_sensed_value(pheromone, field, texel, species, k);
+  /* MoMaS' square kernel: the sum over the (2r+1)^2 texels around the sensor texel,
+   * clamped to the texture (texels outside every island hold 0). */
+  const int cx = MTX_CAST(int, texel % k->width), cy = MTX_CAST(int, texel / k->width);
+  const int w = MTX_CAST(int, k->width), h = MTX_CAST(int, k->height);
+  const int x0 = cx - r < 0 ? 0 : cx - r, x1 = cx + r >= w ? w - 1 : cx + r;
+  const int y0 = cy - r < 0 ? 0 : cy - r, y1 = cy + r >= h ? h - 1 : cy + r;
+  float v = 0.0f;
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x)
+      v += mtx_sensed_value(pheromone, field, MTX_CAST(mtx_u32, y * w + x), species, k);
+  return v;
 }
 
 /* Food with hunger (plasmodial-slime-readme.md, "Food Sources"), after the MoMaS turn:
