@@ -18,7 +18,7 @@ class LiveParameterTests(unittest.TestCase):
         sim = h.live().get(obj.name).sim
         changes = {"movement_speed": 1.5, "turn_speed": 37.5, "vision_distance": 0.7,
                    "vision_angle": 42.0, "evaporation_rate": 0.8, "diffusion_rate": 33.0,
-                   "deposit": 0.9, "substeps": 3, "thread_count": 1}
+                   "deposit": 0.9, "substeps": 3, "thread_count": 1, "sensor_size": 2}
         for key, value in changes.items():
             setattr(obj.moldtex, key, value)
             # No step in between: the update callback alone must have sent it.

@@ -11,7 +11,7 @@ import helpers as h
 
 NON_DEFAULTS = {
     "movement_speed": 1.75, "turn_speed": 33.0, "vision_distance": 1.6,
-    "vision_angle": 41.5, "evaporation_rate": 0.3, "diffusion_rate": 25.0,
+    "vision_angle": 41.5, "sensor_size": 2, "evaporation_rate": 0.3, "diffusion_rate": 25.0,
     "deposit": 0.8, "substeps": 5, "agent_count": 12345, "resolution": "512",
     "seed": 987654, "steps_per_update": 7, "uv_map": "UVMap", "thread_count": 1,
     # What the Backend chooser stores (test_opencl checks the chooser itself).

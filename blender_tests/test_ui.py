@@ -127,7 +127,8 @@ class PanelTests(unittest.TestCase):
         log = draw_all(self, obj)
         shown = {name for kind, name in log if kind == "prop"}
         self.assertEqual(shown, {"movement_speed", "turn_speed", "vision_distance",
-                                 "vision_angle", "evaporation_rate", "diffusion_rate",
+                                 "vision_angle", "sensor_size", "evaporation_rate",
+                                 "diffusion_rate",
                                  "deposit", "substeps", "resolution", "agent_count",
                                  "seed", "backend", "steps_per_update", "thread_count",
                                  "image", "bake_use_scene_range", "bake_steps_per_frame",

@@ -24,7 +24,7 @@ _registry = {}
 
 PARAM_PROPERTIES = ("movement_speed", "turn_speed", "vision_distance", "vision_angle",
                     "evaporation_rate", "diffusion_rate", "deposit", "substeps",
-                    "thread_count")
+                    "thread_count", "sensor_size")
 CONFIG_PROPERTIES = ("resolution", "agent_count", "seed", "uv_map", "backend_type",
                      "opencl_platform", "opencl_device", "opencl_device_name",
                      "opencl_platform_name", "species_count", "seed_shape", "seed_radius",

@@ -255,6 +255,12 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         description="Angle between the front and side sensors, in degrees (ϑs). "
                     "Larger = thicker trails",
         update=_push_params)
+    sensor_size: IntProperty(
+        name="Sensor Size", default=0, min=0, max=4,
+        description="Each sensor sums a (2r + 1)² texel square around its point (the "
+                    "MoMaS reference's kernel); 0 = the single texel under it. 2 gives "
+                    "the paper's Fig. 8c: coverage falls as evaporation rises",
+        update=_push_params)
     # ---- pheromone ----
     evaporation_rate: FloatProperty(
         name="Evaporation", default=0.5, min=0.0, max=1000.0, soft_min=0.2, soft_max=1.0,

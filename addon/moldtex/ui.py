@@ -131,6 +131,7 @@ class MOLDTEX_PT_agents(_SubPanel, bpy.types.Panel):
         column.prop(settings, "turn_speed")
         column.prop(settings, "vision_distance")
         column.prop(settings, "vision_angle")
+        column.prop(settings, "sensor_size")
 
 
 class MOLDTEX_PT_pheromone(_SubPanel, bpy.types.Panel):
