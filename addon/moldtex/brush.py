@@ -28,7 +28,8 @@ from bpy.props import (BoolProperty, EnumProperty, FloatProperty, IntProperty)
 from mathutils import Matrix, Vector
 
 from . import engine, live
-from .mesh_export import MeshExportError, export_object
+from .mesh_export import (MeshExportError, export_object, export_scale,
+                          length_in_mesh_units, world_to_mesh)
 
 TARGETS = (
     ('OBSTACLE', "Obstacle", "Walls no agent enters (green channel of the Fields image)",
@@ -98,7 +99,7 @@ class _SurfaceCache:
 
     def get(self, obj, depsgraph, uv_map):
         data = obj.data
-        key = (uv_map, tuple(live._export_scale(obj) or ()), obj.as_pointer(),
+        key = (uv_map, tuple(export_scale(obj) or ()), obj.as_pointer(),
                data.as_pointer(), len(data.vertices), len(data.polygons))
         cached = self.items.get(obj.name)
         if cached is not None and cached[3] and cached[2] == key:
@@ -126,20 +127,6 @@ class _SurfaceCache:
 
 
 _surfaces = _SurfaceCache()
-
-
-def world_to_mesh(obj):
-    """4x4 matrix from world space to the exported mesh's coordinates (mesh_export:
-    local coordinates, with a non-uniform object scale applied)."""
-    matrix = obj.matrix_world.inverted()
-    scale = live._export_scale(obj)
-    if scale is not None:
-        matrix = Matrix.Diagonal((scale[0], scale[1], scale[2], 1.0)) @ matrix
-    return matrix
-
-
-def radius_in_mesh_units(obj, radius):
-    return live._seed_radius_in_mesh_units(obj, radius)
 
 
 def _uv_map_setting(obj):
@@ -181,7 +168,7 @@ def cast(obj, depsgraph, origin, direction):
 def _brush_dict(obj, settings, hit, channel, erase):
     brush = engine.default_brush()
     brush.update(triangle=hit["triangle"], bary=tuple(hit["bary"]),
-                 radius=radius_in_mesh_units(obj, settings.radius),
+                 radius=length_in_mesh_units(obj, settings.radius),
                  strength=float(settings.strength), falloff=float(settings.falloff),
                  mode=engine.BRUSH_ERASE if erase else engine.BRUSH_PAINT,
                  channel=channel, value=1.0)

@@ -16,23 +16,18 @@ def on_load_pre(*_args):
 
 @persistent
 def on_depsgraph_update_post(scene, depsgraph=None):
-    if depsgraph is not None:
-        for update in depsgraph.updates:
-            if update.is_updated_geometry and isinstance(update.id, bpy.types.Object):
-                brush.mesh_changed(update.id.name)
-    names = live.names()
-    if not names:
-        return
+    changed = [] if depsgraph is None else [
+        update.id.name for update in depsgraph.updates
+        if update.is_updated_geometry and isinstance(update.id, bpy.types.Object)]
+    for name in changed:
+        brush.mesh_changed(name)  # the brush reads the mesh again before its next dab
     objects = bpy.data.objects
-    for name in names:
+    for name in live.names():
         if objects.get(name) is None:  # deleted (or renamed)
             live.free(name)
             brush.forget(name)
-    if depsgraph is None:
-        return
-    for update in depsgraph.updates:
-        if update.is_updated_geometry and isinstance(update.id, bpy.types.Object):
-            live.mark_dirty(update.id.name)
+    for name in changed:
+        live.mark_dirty(name)
 
 
 @persistent

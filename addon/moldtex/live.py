@@ -16,8 +16,8 @@ import time
 import zlib
 
 from . import engine
-from .mesh_export import (MeshExportError, export_object, read_corner_fields,
-                          resolve_uv_map_name)
+from .mesh_export import (MeshExportError, export_object, length_in_mesh_units,
+                          read_corner_fields, resolve_uv_map_name, world_to_mesh)
 
 # name -> LiveSim
 _registry = {}
@@ -192,15 +192,9 @@ def params_from_settings(settings):
     params = {name: getattr(settings, name) for name in PARAM_PROPERTIES}
     params["hunger_rate"] = settings.hunger_rate
     obj = settings.id_data
-    factor = _mesh_units_per_scene_unit(obj) if obj is not None else 1.0
-    params["food_radius"] = settings.food_radius * factor
+    params["food_radius"] = (length_in_mesh_units(obj, settings.food_radius)
+                             if obj is not None else settings.food_radius)
     return params
-
-
-def _mesh_units_per_scene_unit(obj):
-    """Length in the exported mesh's units of one scene unit on `obj` (see
-    mesh_export: a uniform scale is not applied to the exported mesh)."""
-    return _seed_radius_in_mesh_units(obj, 1.0)
 
 
 FOOD_STRENGTH_PROPERTY = "moldtex_strength"
@@ -223,19 +217,15 @@ def food_from_settings(obj):
     collection = obj.moldtex.food_collection
     if collection is None:
         return [], 0
-    from mathutils import Matrix
     empties = sorted((o for o in collection.all_objects if o is not None
                       and o.type == 'EMPTY'), key=lambda o: o.name)
     dropped = max(0, len(empties) - engine.MAX_FOOD_SOURCES)
     empties = empties[:engine.MAX_FOOD_SOURCES]
-    to_local = obj.matrix_world.inverted()
-    scale = _export_scale(obj)
-    factor = _mesh_units_per_scene_unit(obj)
+    to_mesh = world_to_mesh(obj)
+    factor = length_in_mesh_units(obj, 1.0)
     sources = []
     for empty in empties:
-        point = to_local @ empty.matrix_world.translation
-        if scale is not None:
-            point = Matrix.Diagonal(scale) @ point
+        point = to_mesh @ empty.matrix_world.translation
         strength = max(0.0, _number(empty.get(FOOD_STRENGTH_PROPERTY, 1.0), 1.0))
         amount = _number(empty.get(FOOD_AMOUNT_PROPERTY, -1.0), -1.0)
         if amount < 0.0:
@@ -410,46 +400,11 @@ def _check_spawn_map(settings, fields):
             f"another Start.")
 
 
-def _export_scale(obj):
-    """The scale mesh_export applied to the local coordinates (None if none)."""
-    scale = obj.matrix_world.to_scale()
-    low, high = min(abs(v) for v in scale), max(abs(v) for v in scale)
-    if low > 0.0 and high - low > 1e-6 * high:
-        return scale
-    return None
-
-
-def seed_center(obj, mesh, location):
-    """(triangle, barycentrics) of the point of the exported mesh nearest `location`
-    (world space), in mesh_export's triangle order."""
-    from mathutils import Matrix, Vector
-    from mathutils.bvhtree import BVHTree
-    from mathutils.interpolate import poly_3d_calc
-    point = obj.matrix_world.inverted() @ Vector(location)
-    scale = _export_scale(obj)
-    if scale is not None:
-        point = Matrix.Diagonal(scale) @ point
-    p = mesh.positions
-    vertices = [(p[3 * i], p[3 * i + 1], p[3 * i + 2]) for i in range(len(p) // 3)]
-    t = mesh.triangles
-    triangles = [(t[3 * i], t[3 * i + 1], t[3 * i + 2]) for i in range(len(t) // 3)]
-    tree = BVHTree.FromPolygons(vertices, triangles, all_triangles=True, epsilon=0.0)
-    nearest, _normal, index, _distance = tree.find_nearest(point)
-    if index is None:
-        return (0, (1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0))
-    corners = [Vector(vertices[v]) for v in triangles[index]]
-    weights = [max(0.0, w) for w in poly_3d_calc(corners, nearest)]
-    total = sum(weights)
-    if not total > 0.0:
-        return (index, (1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0))
-    return (index, tuple(w / total for w in weights))
-
-
-def _seed_radius_in_mesh_units(obj, radius):
-    if _export_scale(obj) is not None:
-        return radius  # the exported mesh carries the scale (rotation keeps lengths)
-    scale = abs(obj.matrix_world.to_scale()[0])
-    return radius / scale if scale > 0.0 else radius
+def seed_center(obj, surface, location):
+    """(triangle, barycentrics) of the surface point nearest `location` (world space),
+    in mesh_export's triangle order (the core's exact closest-point query)."""
+    triangle, bary, _distance = surface.closest_point(tuple(world_to_mesh(obj) @ location))
+    return (triangle, tuple(bary))
 
 
 def needs_reset(obj):
@@ -470,13 +425,13 @@ def _build(entry, obj, mesh, depsgraph=None):
         from .properties import ensure_species  # (properties imports this module)
         ensure_species(settings)
     create_config = dict(config)
-    create_config["seed_radius"] = _seed_radius_in_mesh_units(obj, config["seed_radius"])
-    if settings.seed_shape in CENTERED_SHAPES:
-        import bpy
-        scene = bpy.context.scene
-        create_config["seed_center"] = seed_center(obj, mesh, scene.cursor.location)
+    create_config["seed_radius"] = length_in_mesh_units(obj, config["seed_radius"])
     surface = engine.Surface(mesh.positions, mesh.triangles, mesh.uvs, mesh.triangle_uvs)
     try:
+        if settings.seed_shape in CENTERED_SHAPES:
+            import bpy
+            create_config["seed_center"] = seed_center(obj, surface,
+                                                       bpy.context.scene.cursor.location)
         fields = fields_from_settings(settings, config["width"], config["height"], mesh,
                                       surface, depsgraph)
         _check_spawn_map(settings, fields)

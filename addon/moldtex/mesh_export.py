@@ -69,6 +69,34 @@ def check_object(obj):
             f"select a mesh object, or convert it with Object ▸ Convert ▸ Mesh.")
 
 
+def export_scale(obj):
+    """The object scale applied to the exported coordinates: its world scale when that
+    is not uniform, else None (a uniform scale is left out, see the module's note)."""
+    scale = obj.matrix_world.to_scale()
+    low, high = min(abs(v) for v in scale), max(abs(v) for v in scale)
+    if low > 0.0 and high - low > 1e-6 * high:
+        return scale
+    return None
+
+
+def world_to_mesh(obj):
+    """4x4 matrix from world space to the exported mesh's coordinates."""
+    matrix = obj.matrix_world.inverted()
+    scale = export_scale(obj)
+    if scale is not None:
+        matrix = Matrix.Diagonal((scale[0], scale[1], scale[2], 1.0)) @ matrix
+    return matrix
+
+
+def length_in_mesh_units(obj, length):
+    """A length in scene units, measured on obj's surface, in the exported mesh's units
+    (rotations keep lengths; a uniform scale is not in the exported mesh)."""
+    if export_scale(obj) is not None:
+        return length  # the exported mesh carries the scale
+    scale = abs(obj.matrix_world.to_scale()[0])
+    return length / scale if scale > 0.0 else length
+
+
 def export_object(obj, depsgraph, uv_map_name=""):
     """MeshArrays of the evaluated `obj`. uv_map_name "" means the render UV map."""
     check_object(obj)
@@ -102,9 +130,8 @@ def _read_mesh(obj, mesh, uv_map_name):
     else:
         layer = layers.get(default_uv_map_name(layers))
 
-    scale = obj.matrix_world.to_scale()
-    low, high = min(abs(s) for s in scale), max(abs(s) for s in scale)
-    if low > 0.0 and high - low > 1e-6 * high:
+    scale = export_scale(obj)
+    if scale is not None:
         mesh.transform(Matrix.Diagonal((scale[0], scale[1], scale[2], 1.0)))
 
     mesh.calc_loop_triangles()
