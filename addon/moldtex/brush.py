@@ -27,7 +27,7 @@ import bpy
 from bpy.props import (BoolProperty, EnumProperty, FloatProperty, IntProperty)
 from mathutils import Matrix, Vector
 
-from . import engine, live
+from . import engine, image_io, live
 from .mesh_export import (MeshExportError, export_object, export_scale,
                           length_in_mesh_units, world_to_mesh)
 
@@ -205,14 +205,7 @@ def read_image(image):
         raise BrushError(f"The Fields image '{image.name}' has {image.channels} channels; "
                          f"the brush paints RGBA images: clear Fields to let the brush "
                          f"make one.")
-    pixels = array.array("f", bytes(16 * width * height))
-    image.pixels.foreach_get(pixels)
-    return pixels
-
-
-def write_image(image, pixels):
-    image.pixels.foreach_set(pixels)
-    image.update()
+    return image_io.read_pixels(image)
 
 
 def push_fields(obj, pixels, width, height, final=True):
@@ -308,7 +301,7 @@ class _FieldsEdit:
         image = bpy.data.images.get(self.image_name)
         if image is None or tuple(image.size) != self.size:
             return
-        write_image(image, self.pixels)
+        image_io.upload(image, self.pixels)
         self.message = push_fields(obj, self.pixels, *self.size, final=final)
 
     def finish(self, obj):
@@ -325,7 +318,7 @@ class _FieldsEdit:
                              f"resized since this stroke: it cannot be undone.")
         pixels = array.array("f")
         pixels.frombytes(zlib.decompress(data))
-        write_image(image, pixels)
+        image_io.upload(image, pixels)
         return push_fields(obj, pixels, *self.size) if obj is not None else ""
 
     def undo(self):
@@ -501,7 +494,7 @@ class Stroke:
         self.target = settings.target
         self.last_centre = None
         if self.target in FIELD_CHANNELS:
-            if getattr(obj.moldtex, "fields_source", 'IMAGE') != 'IMAGE':
+            if obj.moldtex.fields_source != 'IMAGE':
                 raise BrushError("Fields come from vertex groups or attributes for this "
                                  "object: paint those (Weight Paint mode), or set the "
                                  "Fields source to Image to use the Moldtex brush.")

@@ -5,6 +5,8 @@ Fast path: the core copies RGBA floats into a persistent array.array('f') and th
 array goes to Image.pixels.foreach_set (buffer protocol, no per-element Python work).
 """
 
+import array
+
 import bpy
 
 
@@ -32,6 +34,14 @@ def ensure_image(obj, width, height):
     if settings.image != image:
         settings.image = image
     return image
+
+
+def read_pixels(image):
+    """The image's pixels as one array('f') of width * height * channels floats."""
+    width, height = image.size
+    pixels = array.array("f", bytes(4 * image.channels * width * height))
+    image.pixels.foreach_get(pixels)
+    return pixels
 
 
 def upload(image, pixels):

@@ -15,7 +15,7 @@ import math
 import time
 import zlib
 
-from . import engine
+from . import engine, image_io
 from .mesh_export import (MeshExportError, export_object, length_in_mesh_units,
                           read_corner_fields, resolve_uv_map_name, world_to_mesh)
 
@@ -310,8 +310,7 @@ def fields_from_settings(settings, width, height, mesh=None, surface=None, depsg
         raise engine.EngineError(
             f"The Fields image '{image.name}' has no pixels (is its file missing?): pick "
             f"another image or clear Fields (Moldtex ▸ Species & Start).")
-    source = array.array("f", bytes(4 * channels * source_width * source_height))
-    image.pixels.foreach_get(source)
+    source = image_io.read_pixels(image)
     if channels == 4 and (source_width, source_height) == (width, height):
         fields = source
     else:
@@ -617,7 +616,7 @@ def poll_fields_image(entry, obj):
     settings = obj.moldtex
     image = settings.fields_image
     if (image is None or entry.sim is None or entry.baking or not image.is_dirty
-            or getattr(settings, "fields_source", 'IMAGE') != 'IMAGE'
+            or settings.fields_source != 'IMAGE'
             or tuple(image.size) != (entry.sim.width, entry.sim.height)
             or image.channels != 4):
         return False
@@ -625,8 +624,7 @@ def poll_fields_image(entry, obj):
     if now - entry.fields_polled < FIELDS_POLL_INTERVAL:
         return False
     entry.fields_polled = now
-    fields = array.array("f", bytes(16 * entry.sim.width * entry.sim.height))
-    image.pixels.foreach_get(fields)
+    fields = image_io.read_pixels(image)
     crc = _crc(fields)
     if crc == entry.fields_crc:
         return False

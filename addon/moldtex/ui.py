@@ -373,7 +373,7 @@ class MOLDTEX_PT_brush(_SubPanel, bpy.types.Panel):
             column.prop(settings, "strength")
             column.prop(settings, "falloff")
         if settings.target in brush.FIELD_CHANNELS:
-            if getattr(obj.moldtex, "fields_source", 'IMAGE') != 'IMAGE':
+            if obj.moldtex.fields_source != 'IMAGE':
                 _wrapped(layout, "Fields come from vertex groups or attributes: the brush "
                                  "paints only a Fields image.", icon='ERROR')
             elif obj.moldtex.fields_image is None:
