@@ -125,6 +125,13 @@ class MOLDTEX_PT_agents(_SubPanel, bpy.types.Panel):
 
     def draw(self, context):
         settings = context.active_object.moldtex
+        units = self.layout.column(align=True)
+        units.use_property_split = True
+        units.prop(settings, "pattern_units")
+        row = units.row()
+        row.active = settings.pattern_units == 'SURFACE'
+        row.prop(settings, "pattern_scale")
+        units.prop(settings, "time_step")
         column = self.layout.column(align=True)
         column.use_property_split = True
         column.prop(settings, "movement_speed")
