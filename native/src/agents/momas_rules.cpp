@@ -37,6 +37,7 @@ MomasStepConstants momas_constants(const StepSettings& settings, const TextureDo
   c.sensor_size = p.sensor_size;
   c.length_unit = surface_units ? p.length_unit : 0.f;
   c.surface_mode = surface_units ? 1u : 0u;
+  c.turn_jitter = surface_units ? std::sqrt((1.f / 60.f) / p.time_step) : 1.f;
   c.food_count = c.hunger_step > 0.f ? static_cast<uint32_t>(settings.food.size() / 4) : 0u;
   return c;
 }

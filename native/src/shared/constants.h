@@ -60,6 +60,10 @@ typedef struct mtx_momas_constants {
    * 0 = MoMaS' texel units. */
   float length_unit;
   mtx_u32 surface_mode;
+  /* Surface units: the turn's random part r - 1/2 is scaled by sqrt((1/60 s) / time_step)
+   * so the heading's random walk has the same variance per simulated second at any
+   * time step (1 at 1/60 s: MoMaS' turn exactly). */
+  float turn_jitter;
 } mtx_momas_constants;
 
 MTX_END_NAMESPACE

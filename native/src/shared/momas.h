@@ -88,16 +88,20 @@ MTX_FN int mtx_is_obstacle(MTX_GLOBAL const float* field, mtx_u32 texel,
   return MTX_FIELDS && k->has_fields && field[texel] < MTX_OBSTACLE_THRESHOLD;
 }
 
-/* Surface units, single-point sensor: the mean over the texels whose centres lie within
- * half a length unit of the sensor point along each texel axis (the deposit footprint's
- * size), so a sensor reads the same 3D neighbourhood at any resolution. */
+/* Surface units, single-point sensor: the strongest value among the texels whose centres
+ * lie within half a length unit of the sensor point along each texel axis (the deposit
+ * footprint's size), or an obstacle if one lies there. Deposits set texels to a value
+ * (MoMaS), so a trail that passes within half a unit reads the same where texels are
+ * small (many texels, max over them) as where one texel is a unit or larger (that texel
+ * holds the trail): sensing is the same at any resolution and near UV poles. */
 MTX_FN float mtx_sense_footprint(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
                                  MTX_GLOBAL const float* field, const mtx_walker* w,
                                  mtx_u32 texel, mtx_u32 species, const mtx_momas_constants* k) {
   MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * w->triangle;
   const float ex = fmin(0.5f * k->length_unit * tpu[0], MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
   const float ey = fmin(0.5f * k->length_unit * tpu[1], MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
-  if (ex < 0.5f && ey < 0.5f) return mtx_sensed_value(pheromone, field, texel, species, k);
+  float best = mtx_sensed_value(pheromone, field, texel, species, k);
+  if (ex < 0.5f && ey < 0.5f) return best;
   MTX_GLOBAL const float* uv = s.corner_uvs + 6 * w->triangle;
   const float x = (w->bary[0] * uv[0] + w->bary[1] * uv[2] + w->bary[2] * uv[4]) * MTX_CAST(float, k->width);
   const float y = (w->bary[0] * uv[1] + w->bary[1] * uv[3] + w->bary[2] * uv[5]) * MTX_CAST(float, k->height);
@@ -108,16 +112,18 @@ MTX_FN float mtx_sense_footprint(mtx_surface_tables s, MTX_GLOBAL const float* p
   y0 = y0 < 0 ? 0 : y0;
   x1 = x1 >= w_ ? w_ - 1 : x1;
   y1 = y1 >= h_ ? h_ - 1 : y1;
-  float sum = mtx_sensed_value(pheromone, field, texel, species, k);
-  float count = 1.0f;
+  if (mtx_is_obstacle(field, texel, k)) return best;
+  const mtx_u32 island = s.island[w->triangle];
   for (int iy = y0; iy <= y1; ++iy)
     for (int ix = x0; ix <= x1; ++ix) {
       const mtx_u32 i = MTX_CAST(mtx_u32, iy) * k->width + MTX_CAST(mtx_u32, ix);
-      if (i == texel || s.classes[i] != MTX_TEXEL_INSIDE) continue;
-      sum += mtx_sensed_value(pheromone, field, i, species, k);
-      count += 1.0f;
+      const int t = s.texel_triangle[i];
+      if (t < 0 || s.classes[i] != MTX_TEXEL_INSIDE || s.island[t] != island) continue;
+      const float v = mtx_sensed_value(pheromone, field, i, species, k);
+      if (mtx_is_obstacle(field, i, k)) return v;
+      best = v > best ? v : best;
     }
-  return sum / count;
+  return best;
 }
 
 MTX_FN float mtx_sense(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
@@ -257,7 +263,9 @@ MTX_FN void mtx_momas_agent_step(mtx_surface_tables s, MTX_GLOBAL const float* p
       side = -1.0f;
     else
       side = mtx_rng_float(&rng) < 0.5f ? 1.0f : -1.0f;
-    const float turn = side * r * k->max_turn[species];
+    /* Surface units: mean r = 1/2 as MoMaS, the spread around it time-step independent. */
+    const float amount = k->surface_mode ? 0.5f + (r - 0.5f) * k->turn_jitter : r;
+    const float turn = side * amount * k->max_turn[species];
     w->heading = mtx_unit(mtx_rotate(w->heading, cos(turn), sin(turn)));
   }
   if (MTX_FOOD && k->hunger_step > 0.0f) {
