@@ -130,7 +130,8 @@ class PanelTests(unittest.TestCase):
                                  "vision_angle", "sensor_size", "evaporation_rate",
                                  "diffusion_rate",
                                  "deposit", "substeps", "resolution", "agent_count",
-                                 "seed", "backend", "steps_per_update", "thread_count",
+                                 "seed", "backend", "steps_per_update", "update_time",
+                                 "thread_count",
                                  "image", "bake_use_scene_range", "bake_steps_per_frame",
                                  "bake_directory", "bake_format", "bake_prefix",
                                  "bake_resume", "species_count", "seed_shape",
@@ -143,7 +144,9 @@ class PanelTests(unittest.TestCase):
         self.assertIn(("menu", "MOLDTEX_MT_presets"), log)
         buttons = [name for kind, name in log if kind == "operator"]
         self.assertEqual(buttons[0], "moldtex.preset_add")  # + and - beside the menu
-        self.assertEqual(buttons[2], "Start")
+        # Set Up Material, then Start (the order of the work).
+        self.assertEqual(buttons[2], "moldtex.setup_material")
+        self.assertEqual(buttons[3], "Start")
         self.assertIn("Bake Sequence", buttons)
         self.assertIn("moldtex.use_baked_sequence", buttons)
         # The bake panel names the files; an unsaved file cannot use the default
@@ -161,10 +164,13 @@ class PanelTests(unittest.TestCase):
         h.run(obj, 3)
         h.live().get(obj.name).running = True  # as the modal Start sets it
         log = draw_all(self, obj)
-        self.assertEqual([n for k, n in log if k == "operator"][2], "Pause")
+        self.assertEqual([n for k, n in log if k == "operator"][3], "Pause")
         text = labels(log)
         self.assertIn("Coverage", text)
         self.assertIn("2,000", text)  # agents
+        # The live loop's speed, in steps per second of wall time (live.note_update).
+        h.live().get(obj.name).steps_per_second = 123.4
+        self.assertIn("123 steps/s", labels(draw_all(self, obj)))
         h.live().get(obj.name).running = False
 
         obj.moldtex.seed += 1

@@ -73,12 +73,25 @@ class LiveSim:
         # Fields image was last compared with them (poll_fields_image).
         self.fields_crc = None
         self.fields_polled = 0.0
+        # Live loop pacing (step_for_time): seconds one step took (running mean), the
+        # steps per second of wall time while Start runs (what the panel shows), and
+        # the time between the end of one update's stepping and the next one's start
+        # (upload, redraw, waiting for the timer).
+        self.step_seconds = 0.0
+        self.steps_per_second = 0.0
+        self.update_overhead = 0.0
+        self.last_update_end = 0.0
+        self.stepping = False     # a modal moldtex.step runs on it
+        # State before the last Step (a checkpoint file), so that Adjust Last Operation
+        # can run that Step again with another count: (sim, path, step count at its end).
+        self.step_snapshot = None
 
     @property
     def baking(self):
         return self.bake is not None
 
     def release(self):
+        drop_step_snapshot(self)
         if self.bake is not None:
             self.bake.release()  # cancels and waits for the current step
         self.bake = None
@@ -467,6 +480,7 @@ def _build(entry, obj, mesh, depsgraph=None):
     entry.signature = mesh.signature
     entry.surface_info = surface_info
     entry.pixels = sim.new_rgba_buffer()
+    entry.step_seconds = 0.0  # a new simulation: its steps cost what they cost
     entry.dirty = False
     entry.stats = sim.get_stats()
     entry.backend_name = sim.backend_name()
@@ -576,6 +590,125 @@ def step(entry, obj, steps):
     _push_food(entry, obj, fresh=False)
     entry.sim.step(steps)
     entry.stats = entry.sim.get_stats()
+
+
+# The live loop (moldtex.start) steps for a time per update instead of a fixed count,
+# so that growth runs at the machine's speed whatever the redraw costs: at least
+# settings.update_time of stepping per update, and more when the upload and redraw take
+# long, so that stepping gets at least STEP_SHARE of the wall time; never more than
+# MAX_UPDATE_SECONDS at once, so the interface stays responsive.
+STEP_SHARE = 0.75
+MAX_UPDATE_SECONDS = 0.5
+
+
+def update_budget(entry, settings):
+    """Seconds of stepping for the next live update."""
+    wanted = settings.update_time / 1000.0
+    share = entry.update_overhead * STEP_SHARE / (1.0 - STEP_SHARE)
+    return min(MAX_UPDATE_SECONDS, max(wanted, share))
+
+
+def step_for_time(entry, obj, seconds, min_steps=1, max_steps=None):
+    """Advances the simulation (with the object's current parameters) by as many steps
+    as fit in `seconds` (at least min_steps, at most max_steps), in chunks sized from
+    the measured time of a step; caches stats. Returns the number of steps run."""
+    entry.sim.set_params(params_from_settings(obj.moldtex))
+    _push_species(entry, obj.moldtex)
+    _push_food(entry, obj, fresh=False)
+    began = time.perf_counter()
+    done = 0
+    while max_steps is None or done < max_steps:
+        left = seconds - (time.perf_counter() - began)
+        if done >= min_steps and (left <= 0.0 or left < 0.5 * entry.step_seconds):
+            break
+        if entry.step_seconds > 0.0:
+            chunk = max(1, min(1000, int(left / entry.step_seconds)))
+        else:
+            chunk = 1  # the first step of this simulation measures its cost
+        if done < min_steps:
+            chunk = max(chunk, min_steps - done)
+        if max_steps is not None:
+            chunk = min(chunk, max_steps - done)
+        start = time.perf_counter()
+        entry.sim.step(chunk)
+        per_step = (time.perf_counter() - start) / chunk
+        entry.step_seconds = (per_step if entry.step_seconds <= 0.0
+                              else 0.5 * entry.step_seconds + 0.5 * per_step)
+        done += chunk
+    entry.stats = entry.sim.get_stats()
+    return done
+
+
+def note_update(entry, steps, update_start, stepping_end):
+    """Records one live update: `steps` steps stepped from update_start (perf_counter)
+    to stepping_end. Keeps the overhead between updates and the steps per second of
+    wall time (running means over about a second)."""
+    if entry.last_update_end > 0.0:
+        overhead = max(0.0, update_start - entry.last_update_end)
+        wall = stepping_end - entry.last_update_end
+        if wall > 0.0:
+            weight = min(1.0, wall)  # about a one-second memory
+            rate = steps / wall
+            entry.steps_per_second = (rate if entry.steps_per_second <= 0.0 else
+                                      (1.0 - weight) * entry.steps_per_second
+                                      + weight * rate)
+        entry.update_overhead = (overhead if entry.update_overhead <= 0.0
+                                 else 0.7 * entry.update_overhead + 0.3 * overhead)
+    entry.last_update_end = stepping_end
+
+
+def stop_pacing(entry):
+    """Forgets the live loop's timing when Start pauses (the pause is no overhead)."""
+    entry.last_update_end = 0.0
+    entry.update_overhead = 0.0
+    entry.steps_per_second = 0.0
+
+
+def _snapshot_path(entry):
+    import os
+    import tempfile
+    safe = "".join(c if c.isalnum() else "_" for c in entry.name)[:40]
+    return os.path.join(tempfile.gettempdir(),
+                        f"moldtex_step_{os.getpid()}_{id(entry):x}_{safe}.bin")
+
+
+def save_step_snapshot(entry):
+    """Keeps the simulation's state before a Step (see restore_step_snapshot)."""
+    drop_step_snapshot(entry)
+    path = _snapshot_path(entry)
+    entry.sim.save_checkpoint(path)
+    entry.step_snapshot = (entry.sim, path, None)
+
+
+def note_step_end(entry):
+    """Marks where the last Step ended (its snapshot is valid only from there)."""
+    if entry.step_snapshot is not None and entry.step_snapshot[0] is entry.sim:
+        sim, path, _end = entry.step_snapshot
+        entry.step_snapshot = (sim, path, entry.sim.get_stats()["step_count"])
+
+
+def restore_step_snapshot(entry):
+    """Puts the simulation back to its state before the last Step, if nothing ran on
+    it since (Adjust Last Operation then runs that Step with the new count). Returns
+    True if it did."""
+    snapshot = entry.step_snapshot
+    if snapshot is None or snapshot[0] is not entry.sim or snapshot[2] is None:
+        return False
+    if entry.sim.get_stats()["step_count"] != snapshot[2]:
+        return False
+    entry.sim.load_checkpoint(snapshot[1])
+    entry.stats = entry.sim.get_stats()
+    return True
+
+
+def drop_step_snapshot(entry):
+    import os
+    if entry.step_snapshot is not None:
+        try:
+            os.remove(entry.step_snapshot[1])
+        except OSError:
+            pass
+    entry.step_snapshot = None
 
 
 def read_pixels(entry):

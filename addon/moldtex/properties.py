@@ -281,11 +281,11 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         update=_push_params)
     # ---- simulation setup (need a reset) ----
     agent_count: IntProperty(
-        name="Agents", default=200000, min=1, max=67108864, soft_max=4000000,
+        name="Agents", default=60000, min=1, max=67108864, soft_max=4000000,
         description="Number of agents." + _RESET_NOTE,
         update=_config_changed)
     resolution: EnumProperty(
-        name="Resolution", items=RESOLUTION_ITEMS, default="1024",
+        name="Resolution", items=RESOLUTION_ITEMS, default="512",
         description="Size of the pheromone texture." + _RESET_NOTE,
         update=_config_changed)
     seed: IntProperty(
@@ -408,8 +408,15 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         update=_push_params)
     # ---- playback ----
     steps_per_update: IntProperty(
-        name="Steps per Update", default=2, min=1, max=1000, soft_max=20,
-        description="Simulation steps between two updates of the image while running")
+        name="Steps per Update", default=0, min=0, max=1000, soft_max=20,
+        description="Simulation steps between two updates of the image while running. "
+                    "0 = as many as fit in Update Time (and more when the viewport is "
+                    "slow to redraw, so that most of the time goes to growing)")
+    update_time: IntProperty(
+        name="Update Time", default=50, min=5, max=500, subtype='NONE',
+        description="Milliseconds of stepping between two updates of the image while "
+                    "running, when Steps per Update is 0 (shorter: smoother, "
+                    "longer: slightly faster growth)")
     thread_count: IntProperty(
         name="Threads", default=0, min=0, max=1024, soft_max=64,
         description="CPU threads (0 = all cores); the result does not depend on it. "

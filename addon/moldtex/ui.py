@@ -64,6 +64,8 @@ class MOLDTEX_PT_main(bpy.types.Panel):
 
         column = layout.column(align=True)
         running = entry is not None and entry.running
+        # In the order of the work: material (Start also sets it up), grow, adjust.
+        column.operator("moldtex.setup_material", icon='MATERIAL')
         row = column.row(align=True)
         row.scale_y = 1.4
         row.operator("moldtex.start", text="Pause" if running else "Start",
@@ -71,7 +73,6 @@ class MOLDTEX_PT_main(bpy.types.Panel):
         row = column.row(align=True)
         row.operator("moldtex.step", icon='FRAME_NEXT')
         row.operator("moldtex.reset", icon='FILE_REFRESH')
-        column.operator("moldtex.setup_material", icon='MATERIAL')
 
         if live.needs_reset(obj):
             _wrapped(layout, "Resolution, agents, seed, backend, UV map, species or start "
@@ -93,6 +94,9 @@ class MOLDTEX_PT_main(bpy.types.Panel):
                                  align=True)
             grid.label(text="Steps")
             grid.label(text=f"{stats['step_count']:,}")
+            if running and entry.steps_per_second > 0.0:
+                grid.label(text="Speed")
+                grid.label(text=f"{entry.steps_per_second:,.0f} steps/s")
             grid.label(text="Agents")
             grid.label(text=f"{stats['agent_count']:,}")
             grid.label(text="Coverage")
@@ -171,6 +175,8 @@ class MOLDTEX_PT_setup(_SubPanel, bpy.types.Panel):
             _wrapped(layout, f"OpenCL unavailable: {reason}", icon='INFO')
         column = layout.column(align=True)
         column.prop(settings, "steps_per_update")
+        if settings.steps_per_update == 0:
+            column.prop(settings, "update_time")
         column.prop(settings, "thread_count")
         layout.prop(settings, "image")
 
