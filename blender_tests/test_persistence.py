@@ -20,7 +20,7 @@ NON_DEFAULTS = {
     # Species and start (test_species checks the species list and the Fields image).
     "species_count": 3, "seed_shape": "BIG_BANG", "seed_radius": 1.25, "seed_rays": 12,
     # Bake settings, and the ramp a preset left for Set Up Material.
-    "bake_use_scene_range": False, "bake_frame_start": 5, "bake_frame_end": 77,
+    "bake_use_scene_range": True, "bake_frame_start": 5, "bake_frame_end": 77,
     "bake_steps_per_frame": 9, "bake_directory": "//elsewhere/", "bake_format": "PNG16",
     "bake_prefix": "rock_", "bake_resume": True,
     # Fields from vertex groups / attributes (the groups are made in the test).

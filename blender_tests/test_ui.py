@@ -132,7 +132,8 @@ class PanelTests(unittest.TestCase):
                                  "deposit", "substeps", "resolution", "agent_count",
                                  "seed", "backend", "steps_per_update", "update_time",
                                  "thread_count",
-                                 "image", "bake_use_scene_range", "bake_steps_per_frame",
+                                 "image", "bake_use_scene_range", "bake_frame_start",
+                                 "bake_frame_end", "bake_steps_per_frame",
                                  "bake_directory", "bake_format", "bake_prefix",
                                  "bake_resume", "species_count", "seed_shape",
                                  "fields_source", "fields_image", "food_collection",
@@ -152,12 +153,12 @@ class PanelTests(unittest.TestCase):
         # The bake panel names the files; an unsaved file cannot use the default
         # //moldtex_bake/ folder, which is said, not raised.
         if bpy.data.filepath:  # an earlier test saved the session's file
-            self.assertIn("250 frames: Torus_0001.exr … Torus_0250.exr", labels(log))
+            self.assertIn("48 frames: Torus_0001.exr … Torus_0048.exr", labels(log))
         else:
             self.assertIn("has not been saved", labels(log))
         obj.moldtex.bake_directory = "/tmp/somewhere"
         obj.moldtex.bake_prefix = "rock 2"
-        self.assertIn("250 frames: rock_2_0001.exr … rock_2_0250.exr",
+        self.assertIn("48 frames: rock_2_0001.exr … rock_2_0048.exr",
                       labels(draw_all(self, obj)))
         self.assertIn("Not running yet", labels(log))
 

@@ -64,6 +64,8 @@ class LiveSim:
         self.bake_progress = {}   # last engine.Bake.progress() (the panel shows it)
         self.bake_cancel_requested = False  # the modal bake cancels on its next tick
         self.bake_summary = ""    # one line about the last bake, for the panel
+        self.bake_started = None  # perf_counter() when the running bake started
+        self.bake_resumed_frames = 0  # frames a resumed bake found already done
         # Food sources last given to the core (food_from_settings' tuples), so that a
         # step re-sends them only when the Empties or their properties changed.
         self.food_key = None

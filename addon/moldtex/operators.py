@@ -526,6 +526,10 @@ settings (restarts the simulation as Reset does). Press again or Esc to cancel""
         window_manager = context.window_manager
         window_manager.progress_update(progress["frames_done"])
         text = f"Moldtex bake: {bake.progress_line(progress)} — Esc to cancel"
+        entry = live.get(self._job.name) if self._job is not None else None
+        timing = bake.timing_text(entry) if entry is not None else ""
+        if timing:
+            text = f"Moldtex bake: {bake.progress_line(progress)}, {timing} — Esc to cancel"
         try:
             if context.workspace is not None:
                 context.workspace.status_text_set(text)

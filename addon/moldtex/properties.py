@@ -433,14 +433,14 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         description="Colour ramp stops of the last preset, for Set Up Material")
     # ---- bake (image sequence, bake.py) ----
     bake_use_scene_range: BoolProperty(
-        name="Scene Frame Range", default=True,
+        name="Scene Frame Range", default=False,
         description="Bake the scene's frame range (Output Properties ▸ Frame Range); off: "
                     "bake from Start to End below")
     bake_frame_start: IntProperty(
         name="Start", default=1, min=0, max=999999,
         description="First frame to bake when not using the scene's frame range")
     bake_frame_end: IntProperty(
-        name="End", default=250, min=0, max=999999,
+        name="End", default=48, min=0, max=999999,
         description="Last frame to bake when not using the scene's frame range")
     bake_steps_per_frame: IntProperty(
         name="Steps per Frame", default=2, min=1, max=100000, soft_max=60,

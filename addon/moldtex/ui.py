@@ -93,7 +93,11 @@ class MOLDTEX_PT_main(bpy.types.Panel):
             grid = box.grid_flow(row_major=True, columns=2, even_columns=True,
                                  align=True)
             grid.label(text="Steps")
-            grid.label(text=f"{stats['step_count']:,}")
+            if entry.baking:  # the bake's worker steps it; entry.stats are from before
+                grid.label(text=f"{(entry.bake_progress or {}).get('step_count', 0):,} "
+                                f"(bake)")
+            else:
+                grid.label(text=f"{stats['step_count']:,}")
             if running and entry.steps_per_second > 0.0:
                 grid.label(text="Speed")
                 grid.label(text=f"{entry.steps_per_second:,.0f} steps/s")
@@ -334,6 +338,10 @@ class MOLDTEX_PT_bake(_SubPanel, bpy.types.Panel):
                 plan = bake.plan_for(obj, scene)
                 _wrapped(layout, f"{plan.frame_count} frames: {plan.describe_files()}",
                          icon='FILE_IMAGE')
+                if not baking and not settings.bake_resume:
+                    _wrapped(layout, "Bakes from step 0 (restarts the simulation as "
+                                     "Reset does): the live state is not kept.",
+                             icon='INFO')
             except bake.BakeError as error:
                 _wrapped(layout, str(error), icon='ERROR')
 
@@ -349,8 +357,9 @@ class MOLDTEX_PT_bake(_SubPanel, bpy.types.Panel):
         if entry is None:
             return
         if baking:
+            timing = bake.timing_text(entry)
             _wrapped(layout, "Baking: " + _bake_progress_text(entry.bake_progress) +
-                     ". Esc cancels.", icon='TIME')
+                     (f"; {timing}" if timing else "") + ". Esc cancels.", icon='TIME')
         elif entry.bake_summary:
             _wrapped(layout, entry.bake_summary, icon='INFO')
 
