@@ -35,20 +35,44 @@ class PacingTests(unittest.TestCase):
         done = live.step_for_time(self.entry, self.obj, 0.05)
         self.assertGreater(done, 1)
 
-    def test_budget_grows_with_the_redraw_cost(self):
+    def test_a_thread_grows_it_between_updates_and_yields_to_any_other_use(self):
         live = h.live()
         settings = self.obj.moldtex
         self.assertEqual(settings.steps_per_update, 0, "time-paced by default")
-        self.entry.update_overhead = 0.0
-        self.assertAlmostEqual(live.update_budget(self.entry, settings),
-                               settings.update_time / 1000.0)
-        # A redraw of 0.1 s: stepping gets 3/4 of the wall time (0.3 s per update).
-        self.entry.update_overhead = 0.1
-        self.assertAlmostEqual(live.update_budget(self.entry, settings), 0.3)
-        # A very slow redraw: capped, so the interface answers within half a second.
-        self.entry.update_overhead = 5.0
-        self.assertAlmostEqual(live.update_budget(self.entry, settings),
-                               live.MAX_UPDATE_SECONDS)
+        before = self.entry.stats["step_count"]
+        live.start_stepper(self.entry, settings.update_time / 1000.0)
+        import time
+        began = time.perf_counter()
+        while self.entry.stats["step_count"] == before and time.perf_counter() - began < 30:
+            time.sleep(0.01)
+        self.assertGreater(self.entry.stats["step_count"], before,
+                           "it stepped while this thread slept")
+        # Any use of entry.sim first stops the thread: the core is never called from
+        # two threads at once, and the count stays put afterwards.
+        steps = self.entry.sim.get_stats()["step_count"]
+        self.assertFalse(live.stepper_waiting(self.entry))
+        self.assertEqual(live.stop_stepper(self.entry), 0, "already stopped")
+        time.sleep(0.05)
+        self.assertEqual(self.entry.sim.get_stats()["step_count"], steps)
+        self.assertEqual(self.entry.stats["step_count"], steps)
+        # Stopping it returns the steps it ran; a new one starts from there.
+        live.start_stepper(self.entry, 0.01)
+        while not live.stepper_waiting(self.entry) and self.entry._stepper.steps == 0:
+            time.sleep(0.005)
+        time.sleep(0.05)
+        ran = live.stop_stepper(self.entry)
+        self.assertGreater(ran, 0)
+        self.assertEqual(self.entry.sim.get_stats()["step_count"], steps + ran)
+
+    def test_stepping_thread_stops_when_the_simulation_goes(self):
+        live = h.live()
+        live.start_stepper(self.entry, 0.01)
+        self.assertEqual(bpy.ops.moldtex.reset(), {'FINISHED'})  # a new simulation
+        self.assertIsNone(self.entry._stepper)
+        self.assertEqual(self.entry.stats["step_count"], 0)
+        live.start_stepper(self.entry, 0.01)
+        live.free(self.obj.name)
+        self.assertIsNone(self.entry._stepper)
 
     def test_steps_per_second_is_steps_over_wall_time(self):
         live = h.live()

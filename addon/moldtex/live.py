@@ -12,6 +12,7 @@ This module talks to the core only through engine.py.
 
 import array
 import math
+import threading
 import time
 import zlib
 
@@ -42,7 +43,9 @@ class LiveSim:
 
     def __init__(self, name):
         self.name = name
-        self.sim = None           # engine.Simulation
+        self._stepper = None      # _Stepper thread growing the sim between live updates
+        self._sim = None
+        self.sim = None           # engine.Simulation (see the property below)
         self.config = None        # dict the sim was created with
         self.uv_map = ""          # UV map name the sim was built on
         self.uv_map_setting = ""  # settings.uv_map at build time ("" = render UV map)
@@ -88,11 +91,38 @@ class LiveSim:
         # can run that Step again with another count: (sim, path, step count at its end).
         self.step_snapshot = None
 
+    # While Start runs, a _Stepper thread steps the simulation between two live updates
+    # (so that it grows while Blender redraws). Anything else that reaches for the
+    # simulation through entry.sim first waits for that thread to stop (at most one
+    # chunk of steps, about Update Time), so the core is never called from two threads
+    # at once.
+    @property
+    def sim(self):
+        stepper = self._stepper
+        if stepper is not None and stepper is not threading.current_thread():
+            stop_stepper(self)
+        return self._sim
+
+    @sim.setter
+    def sim(self, value):
+        if self._stepper is not None:
+            stop_stepper(self)
+        self._sim = value
+
+    @property
+    def has_sim(self):
+        """entry.sim is not None, without waiting for the stepping thread (panels)."""
+        return self._sim is not None
+
     @property
     def baking(self):
         return self.bake is not None
 
     def release(self):
+        try:
+            stop_stepper(self)
+        except Exception:  # its error no longer matters: the simulation goes
+            pass
         drop_step_snapshot(self)
         if self.bake is not None:
             self.bake.release()  # cancels and waits for the current step
@@ -594,20 +624,10 @@ def step(entry, obj, steps):
     entry.stats = entry.sim.get_stats()
 
 
-# The live loop (moldtex.start) steps for a time per update instead of a fixed count,
-# so that growth runs at the machine's speed whatever the redraw costs: at least
-# settings.update_time of stepping per update, and more when the upload and redraw take
-# long, so that stepping gets at least STEP_SHARE of the wall time; never more than
-# MAX_UPDATE_SECONDS at once, so the interface stays responsive.
-STEP_SHARE = 0.75
-MAX_UPDATE_SECONDS = 0.5
-
-
-def update_budget(entry, settings):
-    """Seconds of stepping for the next live update."""
-    wanted = settings.update_time / 1000.0
-    share = entry.update_overhead * STEP_SHARE / (1.0 - STEP_SHARE)
-    return min(MAX_UPDATE_SECONDS, max(wanted, share))
+# The live loop (moldtex.start) is paced by time, not by a count of steps: with Steps
+# per Update 0 a _Stepper thread grows the mold between two updates, in chunks of about
+# settings.update_time, while Blender uploads and redraws; Step's long runs use
+# step_for_time.
 
 
 def step_for_time(entry, obj, seconds, min_steps=1, max_steps=None):
@@ -657,6 +677,81 @@ def note_update(entry, steps, update_start, stepping_end):
         entry.update_overhead = (overhead if entry.update_overhead <= 0.0
                                  else 0.7 * entry.update_overhead + 0.3 * overhead)
     entry.last_update_end = stepping_end
+
+
+class _Stepper(threading.Thread):
+    """Steps one simulation in chunks of about `chunk_seconds` until stopped (the core's
+    step releases the GIL: ctypes), and at most `limit_seconds` in all, should nobody
+    come back for it."""
+
+    def __init__(self, entry, chunk_seconds, limit_seconds=5.0):
+        super().__init__(name=f"Moldtex stepper {entry.name}", daemon=True)
+        self.entry = entry
+        self.sim = entry._sim
+        self.chunk_seconds = chunk_seconds
+        self.limit_seconds = limit_seconds
+        self.stop_event = threading.Event()
+        self.steps = 0
+        self.error = None
+
+    def run(self):
+        entry, sim = self.entry, self.sim
+        began = time.perf_counter()
+        try:
+            while (not self.stop_event.is_set()
+                   and time.perf_counter() - began < self.limit_seconds):
+                if entry.step_seconds > 0.0:
+                    chunk = max(1, min(1000, int(self.chunk_seconds / entry.step_seconds)))
+                else:
+                    chunk = 1
+                start = time.perf_counter()
+                sim.step(chunk)
+                per_step = (time.perf_counter() - start) / chunk
+                entry.step_seconds = (per_step if entry.step_seconds <= 0.0
+                                      else 0.5 * entry.step_seconds + 0.5 * per_step)
+                self.steps += chunk
+                entry.stats = sim.get_stats()
+        except Exception as error:  # handed to the main thread by stop_stepper
+            self.error = error
+
+
+def start_stepper(entry, chunk_seconds):
+    """Lets a thread step entry's simulation until stop_stepper (the live loop calls
+    this after each update, so the mold grows while Blender redraws)."""
+    stop_stepper(entry)
+    if entry._sim is None or entry.bake is not None:
+        return
+    stepper = _Stepper(entry, chunk_seconds)
+    entry._stepper = stepper
+    stepper.start()
+
+
+def stop_stepper(entry):
+    """Stops and waits for entry's stepping thread; returns the steps it ran (0 if none
+    ran). Re-raises what went wrong in it."""
+    stepper = entry._stepper
+    if stepper is None:
+        return 0
+    stepper.stop_event.set()
+    stepper.join()
+    entry._stepper = None
+    if stepper.error is not None:
+        raise stepper.error
+    return stepper.steps
+
+
+def stepper_waiting(entry):
+    """True while entry's stepping thread runs and has not finished a chunk yet."""
+    stepper = entry._stepper
+    return stepper is not None and stepper.is_alive() and stepper.steps == 0
+
+
+def prepare_step(entry, obj):
+    """Gives the simulation the object's current parameters, species and food (what
+    step() does before stepping)."""
+    entry.sim.set_params(params_from_settings(obj.moldtex))
+    _push_species(entry, obj.moldtex)
+    _push_food(entry, obj, fresh=False)
 
 
 def stop_pacing(entry):

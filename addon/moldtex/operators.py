@@ -296,25 +296,33 @@ class MOLDTEX_OT_start(bpy.types.Operator):
         now = time.perf_counter()
         if now - self._last_update < 0.8 * _TIMER_INTERVAL:
             return {'PASS_THROUGH'}
-        self._last_update = now
         entry = live.get(self._name)
         obj = bpy.data.objects.get(self._name)
-        if entry is None or obj is None or entry.sim is None or entry.stop_requested:
+        if entry is None or obj is None or not entry.has_sim or entry.stop_requested:
             self._finish(context)
             return {'FINISHED'}
+        settings = obj.moldtex
+        threaded = settings.steps_per_update == 0
+        if threaded and live.stepper_waiting(entry):
+            return {'PASS_THROUGH'}  # nothing new grown yet: no upload, no redraw
+        self._last_update = now
         try:
+            # Time-paced (Steps per Update 0): a thread grew the mold since the last
+            # update, while Blender redrew; collect its steps, update, let it go on.
+            steps = live.stop_stepper(entry)
             entry = live.ensure(obj, context.evaluated_depsgraph_get())
             _report_notice(self, entry)
             live.poll_fields_image(entry, obj)
-            settings = obj.moldtex
-            began = time.perf_counter()
-            if settings.steps_per_update > 0:
-                steps = settings.steps_per_update
-                live.step(entry, obj, steps)
-            else:  # a time per update, not a count: see live.update_budget
-                steps = live.step_for_time(entry, obj, live.update_budget(entry, settings))
-            live.note_update(entry, steps, began, time.perf_counter())
+            if threaded:
+                live.prepare_step(entry, obj)
+            else:
+                live.step(entry, obj, settings.steps_per_update)
+                steps += settings.steps_per_update
+            now = time.perf_counter()
+            live.note_update(entry, steps, now, now)
             _show(entry, obj)
+            if threaded:
+                live.start_stepper(entry, settings.update_time / 1000.0)
         except USER_ERRORS as error:
             self.report({'ERROR'}, str(error))
             self._finish(context)
@@ -335,6 +343,18 @@ class MOLDTEX_OT_start(bpy.types.Operator):
             self._timer = None
         entry = live.get(self._name)
         if entry is not None:
+            try:
+                live.stop_stepper(entry)
+            except Exception as error:  # noqa: BLE001 (it is reported, then dropped)
+                self.report({'ERROR'}, f"Moldtex stopped: {error}")
+            if entry.has_sim:
+                try:  # show the steps grown since the last update
+                    obj = bpy.data.objects.get(self._name)
+                    if obj is not None and not entry.baking:
+                        entry.stats = entry.sim.get_stats()
+                        _show(entry, obj)
+                except USER_ERRORS:
+                    pass
             entry.running = False
             entry.stop_requested = False
             live.stop_pacing(entry)

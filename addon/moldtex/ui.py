@@ -84,7 +84,7 @@ class MOLDTEX_PT_main(bpy.types.Panel):
                      " (the live simulation waits)", icon='RENDER_ANIMATION')
 
         box = layout.box()
-        stats = entry.stats if entry is not None and entry.sim is not None else None
+        stats = entry.stats if entry is not None and entry.has_sim else None
         if not stats:
             box.label(text="Not running yet", icon='TIME')
         else:
