@@ -8,12 +8,12 @@ For each resolution:agents it grows the mold on Suzanne (generated UVs, defaults
 otherwise) and, every --every steps, measures the pheromone's *network contrast*: the
 coefficient of variation (std / mean) of the pheromone averaged over 4 × 4-texel
 blocks that lie inside the UV islands. Random trails (the first tens of steps) average
-out over a block; a network's veins and empty cells do not. The reference is the same
-figure after --steps steps (a formed network); "recognisable" is the first step at which
-the contrast reaches 80% of the reference. Time = that many steps at the measured
-stepping speed (core only; the live loop gives stepping at least 3/4 of the wall time,
-see live.py), and the wall time of the run itself up to that step (numpy's measure
-excluded).
+out over a block; a network's veins and empty cells do not. "Recognisable" is the
+first step at which the contrast reaches 1.0 (the blocks' std equals their mean: veins
+and empty cells over the whole surface); "crisp" is the first at 80% of the contrast
+after --steps steps (a formed network, 1.2–1.7). Times are the stepping time and the
+process CPU time up to that step (numpy's measure excluded); the live loop's wall time
+is measured by measure_live_start.py.
 """
 
 import argparse
@@ -87,13 +87,16 @@ def main():
                           contrast(np, buffer[0::4], inside, size, size)))
         reference = curve[-1][3]
         hit = next((point for point in curve if point[3] >= 0.8 * reference), None)
+        seen = next((point for point in curve if point[3] >= 1.0), None)
         rate = steps / stepping
         load = os.getloadavg()[0]
         print(f"{size}² {agents} agents (subdivision {args.subdivide}) {' '.join(args.param)}: {rate:.1f} steps/s "
               f"(core; {steps / cpu:.1f} steps per CPU-second, load {load:.1f}), contrast "
               f"after {steps} steps {reference:.3f}; "
-              + (f"80% of it at step {hit[0]} = {hit[1]:.1f} s of stepping, {hit[2]:.1f} "
-                 f"CPU-s" if hit else "never 80%"))
+              + (f"recognisable (1.0) at step {seen[0]} = {seen[1]:.1f} s of stepping, "
+                 f"{seen[2]:.1f} CPU-s; " if seen else "never 1.0; ")
+              + (f"crisp (80% of it) at step {hit[0]} = {hit[1]:.1f} s of stepping, "
+                 f"{hit[2]:.1f} CPU-s" if hit else "never 80%"))
         print("  curve: " + ", ".join(f"{p[0]}:{p[3]:.2f}" for p in curve[::5]))
         sys.stdout.flush()
     sys.stdout.flush()
