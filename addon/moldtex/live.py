@@ -44,6 +44,8 @@ class LiveSim:
     def __init__(self, name):
         self.name = name
         self._stepper = None      # _Stepper thread growing the sim between live updates
+        self.grown_steps = 0      # steps stopped threads ran that no live update counted
+        self.food_left = None     # last sim.get_food() (the panel's, while a thread runs)
         self._sim = None
         self.sim = None           # engine.Simulation (see the property below)
         self.config = None        # dict the sim was created with
@@ -304,9 +306,12 @@ def food_status(obj):
     """[(name, remaining amount)] of the live simulation's food (amount < 0 =
     inexhaustible), or None without a simulation."""
     entry = _registry.get(obj.name) if obj is not None else None
-    if entry is None or entry.sim is None or entry.baking:
+    if entry is None or not entry.has_sim or entry.baking:
         return None
-    current = entry.sim.get_food()
+    if entry._stepper is None or entry.food_left is None:
+        entry.food_left = entry.sim.get_food()
+    # else: what the last live update read (the panel does not stop the stepping thread)
+    current = entry.food_left
     return [(entry.food_names[i] if i < len(entry.food_names) else f"Source {i + 1}",
              source[2]) for i, source in enumerate(current)]
 
@@ -454,7 +459,7 @@ def seed_center(obj, surface, location):
 def needs_reset(obj):
     """True when config-type settings differ from the ones the live sim was built with."""
     entry = _registry.get(obj.name) if obj is not None else None
-    if entry is None or entry.sim is None:
+    if entry is None or not entry.has_sim:  # (drawn by the panel: never waits)
         return False
     settings = obj.moldtex
     return (entry.config != config_from_settings(settings)
@@ -735,9 +740,20 @@ def stop_stepper(entry):
     stepper.stop_event.set()
     stepper.join()
     entry._stepper = None
+    entry.grown_steps += stepper.steps
     if stepper.error is not None:
         raise stepper.error
     return stepper.steps
+
+
+def take_grown_steps(entry):
+    """Stops entry's stepping thread; returns the steps grown by threads since the last
+    call (also by ones stopped because something else needed the simulation)."""
+    try:
+        stop_stepper(entry)
+    finally:
+        steps, entry.grown_steps = entry.grown_steps, 0
+    return steps
 
 
 def stepper_waiting(entry):
@@ -817,7 +833,7 @@ def read_pixels(entry):
 
 def uv_map_in_use(obj):
     entry = _registry.get(obj.name) if obj is not None else None
-    if entry is not None and entry.sim is not None:
+    if entry is not None and entry.has_sim:
         return entry.uv_map
     return resolve_uv_map_name(obj, obj.moldtex.uv_map) if obj is not None else ""
 

@@ -309,12 +309,13 @@ class MOLDTEX_OT_start(bpy.types.Operator):
         try:
             # Time-paced (Steps per Update 0): a thread grew the mold since the last
             # update, while Blender redrew; collect its steps, update, let it go on.
-            steps = live.stop_stepper(entry)
+            steps = live.take_grown_steps(entry)
             entry = live.ensure(obj, context.evaluated_depsgraph_get())
             _report_notice(self, entry)
             live.poll_fields_image(entry, obj)
             if threaded:
                 live.prepare_step(entry, obj)
+                entry.food_left = entry.sim.get_food()  # for the panel (food_status)
             else:
                 live.step(entry, obj, settings.steps_per_update)
                 steps += settings.steps_per_update
