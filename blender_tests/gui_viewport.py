@@ -257,6 +257,9 @@ def _tick():
     if phase == "long_step":
         entry = live.get(NAME)
         STATE["before_step"] = entry.stats["step_count"]
+        # What this script set directly (the name, settings) gets an undo step, as the
+        # same edits made in the interface would: Adjust Last Operation undoes to it.
+        call(bpy.ops.ed.undo_push, message="Set up the test scene")
         # A long Step runs modally: the interface keeps running and shows progress.
         result = call(bpy.ops.moldtex.step, 'INVOKE_DEFAULT', steps=300)
         check(result == {'RUNNING_MODAL'}, f"a 300-step Step runs modally ({result})")
@@ -274,6 +277,28 @@ def _tick():
               < STATE["before_step"] + 300,
               f"the timer saw it part-way ({STATE.get('seen_stepping')}): the interface "
               f"ran while it stepped")
+        # Adjust Last Operation: the Step again with 120 steps, from where it started.
+        last = bpy.context.window_manager.operators[-1]
+        check(last.bl_idname == "MOLDTEX_OT_step", f"Step is the last operation "
+                                                   f"({last.bl_idname})")
+        last.properties.steps = 120
+        result = call(bpy.ops.ed.undo_redo)
+        check(result == {'FINISHED'}, f"redo ({result})")
+        STATE["redone"] = True
+        goto("redone")
+        return 1.0
+    if phase == "redone":
+        entry = live.get(NAME)
+        check(entry.stats["step_count"] == STATE["before_step"] + 120,
+              f"Adjust Last Operation reran the Step with 120 steps from where it started "
+              f"({STATE['before_step']} → {entry.stats['step_count']})")
+        call(bpy.ops.moldtex.step, 'INVOKE_DEFAULT', steps=180)  # back to 300 in all
+        goto("stepping_again")
+        return 0.5
+    if phase == "stepping_again":
+        entry = live.get(NAME)
+        if entry.stepping and waited() < 120.0:
+            return 0.5
         goto("network")
         return 1.0
     if phase == "network":

@@ -93,9 +93,10 @@ background)"""
         obj = _active_object(context)
         entry = live.ensure(obj, context.evaluated_depsgraph_get())
         _report_notice(self, entry)
-        # Adjust Last Operation runs the operator again: start from where the Step
-        # being adjusted started, so that "Steps" means that many steps in all.
-        if self.is_repeat():
+        # Adjust Last Operation runs the operator again (options.is_repeat; not
+        # is_repeat(), which is also true for a second Step in a row): start from where
+        # the Step being adjusted started, so that "Steps" means that many in all.
+        if self.options.is_repeat:
             live.restore_step_snapshot(entry)
         live.save_step_snapshot(entry)
         return obj, entry
