@@ -410,13 +410,13 @@ class MoldtexSettings(bpy.types.PropertyGroup):
     steps_per_update: IntProperty(
         name="Steps per Update", default=0, min=0, max=1000, soft_max=20,
         description="Simulation steps between two updates of the image while running. "
-                    "0 = as many as fit in Update Time (and more when the viewport is "
-                    "slow to redraw, so that most of the time goes to growing)")
+                    "0 = as many as the machine manages: the mold grows on a thread "
+                    "while the viewport redraws (the panel shows steps per second)")
     update_time: IntProperty(
         name="Update Time", default=50, min=5, max=500, subtype='NONE',
-        description="Milliseconds of stepping between two updates of the image while "
-                    "running, when Steps per Update is 0 (shorter: smoother, "
-                    "longer: slightly faster growth)")
+        description="Milliseconds of stepping in one go while running with Steps per "
+                    "Update 0: the longest the interface waits for the simulation "
+                    "(shorter: more responsive, longer: slightly faster growth)")
     thread_count: IntProperty(
         name="Threads", default=0, min=0, max=1024, soft_max=64,
         description="CPU threads (0 = all cores); the result does not depend on it. "
