@@ -1,6 +1,9 @@
 """Does Material Preview show the pixels? Screenshots of the 3D viewport compared with
 the pheromone image the viewport drew, in Blender's interface under Xvfb:
 
+0. on the way: Start before Set Up Material sets the material up; a 300-step Step
+   runs modally (the interface runs meanwhile) and Adjust Last Operation reruns it
+   with another count from where it started;
 1. after Step (a network) and then Reset (all zero: the model must show the ramp's
    zero colour everywhere, not the network it showed before);
 2. while Start runs (each redraw must show the pixels of that moment, not samples
