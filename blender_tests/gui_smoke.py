@@ -118,9 +118,14 @@ def _tick():
         return 2.0
     if phase == "running":
         entry = live.get("Torus")
-        check(entry is not None and entry.running, "simulation is running")
         steps = entry.stats["step_count"] if entry else 0
-        check(steps > 0, f"the timer stepped it ({steps} steps in 2 s)")
+        # The first step on OpenCL builds the kernel (seconds on a loaded machine); the
+        # live loop's thread runs it while the interface goes on, so wait for it.
+        if steps == 0 and STATE["waited"] < 30:
+            STATE["waited"] += 1
+            return 1.0
+        check(entry is not None and entry.running, "simulation is running")
+        check(steps > 0, f"the live loop stepped it ({steps} steps)")
         wanted = "OpenCL:" if obj.moldtex.backend_type == 'OPENCL' else ""
         check(entry is not None and entry.backend_name.startswith(wanted),
               f"runs on the chosen backend ({entry.backend_name if entry else None})")

@@ -12,15 +12,15 @@ import helpers as h
 NON_DEFAULTS = {
     "movement_speed": 1.75, "turn_speed": 33.0, "vision_distance": 1.6,
     "vision_angle": 41.5, "sensor_size": 2, "evaporation_rate": 0.3, "diffusion_rate": 25.0,
-    "deposit": 0.8, "substeps": 5, "agent_count": 12345, "resolution": "512",
-    "seed": 987654, "steps_per_update": 7, "uv_map": "UVMap", "thread_count": 1,
+    "deposit": 0.8, "substeps": 5, "agent_count": 12345, "resolution": "1024",
+    "seed": 987654, "steps_per_update": 7, "update_time": 120, "uv_map": "UVMap", "thread_count": 1,
     # What the Backend chooser stores (test_opencl checks the chooser itself).
     "backend_type": "CPU", "opencl_platform": 1, "opencl_device": 2,
     "opencl_device_name": "Imaginary GPU", "opencl_platform_name": "Imaginary Platform",
     # Species and start (test_species checks the species list and the Fields image).
     "species_count": 3, "seed_shape": "BIG_BANG", "seed_radius": 1.25, "seed_rays": 12,
     # Bake settings, and the ramp a preset left for Set Up Material.
-    "bake_use_scene_range": False, "bake_frame_start": 5, "bake_frame_end": 77,
+    "bake_use_scene_range": True, "bake_frame_start": 5, "bake_frame_end": 77,
     "bake_steps_per_frame": 9, "bake_directory": "//elsewhere/", "bake_format": "PNG16",
     "bake_prefix": "rock_", "bake_resume": True,
     # Fields from vertex groups / attributes (the groups are made in the test).
@@ -60,11 +60,11 @@ class PersistenceTests(unittest.TestCase):
         for key, value in NON_DEFAULTS.items():
             self.assertNotEqual(getattr(settings, key), value, f"{key} default")
             setattr(settings, key, value)
-        settings.resolution = "256"  # keep the run small; 512 is checked below
+        settings.resolution = "256"  # keep the run small; 1024 is checked below
         self.assertEqual(bpy.ops.moldtex.setup_material(), {'FINISHED'})
         h.run(obj, 60)
         before = h.image_pixels(obj)
-        settings.resolution = "512"
+        settings.resolution = "1024"
 
         path = os.path.join(self.folder, "moldtex_settings.blend")
         bpy.ops.wm.save_as_mainfile(filepath=path)

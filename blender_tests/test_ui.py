@@ -131,8 +131,10 @@ class PanelTests(unittest.TestCase):
                                  "vision_angle", "sensor_size", "evaporation_rate",
                                  "diffusion_rate",
                                  "deposit", "substeps", "resolution", "agent_count",
-                                 "seed", "backend", "steps_per_update", "thread_count",
-                                 "image", "bake_use_scene_range", "bake_steps_per_frame",
+                                 "seed", "backend", "steps_per_update", "update_time",
+                                 "thread_count",
+                                 "image", "bake_use_scene_range", "bake_frame_start",
+                                 "bake_frame_end", "bake_steps_per_frame",
                                  "bake_directory", "bake_format", "bake_prefix",
                                  "bake_resume", "species_count", "seed_shape",
                                  "fields_source", "fields_image", "food_collection",
@@ -144,28 +146,33 @@ class PanelTests(unittest.TestCase):
         self.assertIn(("menu", "MOLDTEX_MT_presets"), log)
         buttons = [name for kind, name in log if kind == "operator"]
         self.assertEqual(buttons[0], "moldtex.preset_add")  # + and - beside the menu
-        self.assertEqual(buttons[2], "Start")
+        # Set Up Material, then Start (the order of the work).
+        self.assertEqual(buttons[2], "moldtex.setup_material")
+        self.assertEqual(buttons[3], "Start")
         self.assertIn("Bake Sequence", buttons)
         self.assertIn("moldtex.use_baked_sequence", buttons)
         # The bake panel names the files; an unsaved file cannot use the default
         # //moldtex_bake/ folder, which is said, not raised.
         if bpy.data.filepath:  # an earlier test saved the session's file
-            self.assertIn("250 frames: Torus_0001.exr … Torus_0250.exr", labels(log))
+            self.assertIn("48 frames: Torus_0001.exr … Torus_0048.exr", labels(log))
         else:
             self.assertIn("has not been saved", labels(log))
         obj.moldtex.bake_directory = "/tmp/somewhere"
         obj.moldtex.bake_prefix = "rock 2"
-        self.assertIn("250 frames: rock_2_0001.exr … rock_2_0250.exr",
+        self.assertIn("48 frames: rock_2_0001.exr … rock_2_0048.exr",
                       labels(draw_all(self, obj)))
         self.assertIn("Not running yet", labels(log))
 
         h.run(obj, 3)
         h.live().get(obj.name).running = True  # as the modal Start sets it
         log = draw_all(self, obj)
-        self.assertEqual([n for k, n in log if k == "operator"][2], "Pause")
+        self.assertEqual([n for k, n in log if k == "operator"][3], "Pause")
         text = labels(log)
         self.assertIn("Coverage", text)
         self.assertIn("2,000", text)  # agents
+        # The live loop's speed, in steps per second of wall time (live.note_update).
+        h.live().get(obj.name).steps_per_second = 123.4
+        self.assertIn("123 steps/s", labels(draw_all(self, obj)))
         h.live().get(obj.name).running = False
 
         obj.moldtex.seed += 1

@@ -19,6 +19,17 @@ timeout 300 xvfb-run -a -s "-screen 0 1600x1000x24" blender --factory-startup --
   --python-exit-code 1 -P "$MOLDTEX_ROOT/blender_tests/gui_brush.py" -- \
   --addon-dir "$MOLDTEX_BUILD/addon"
 
+echo "== Material Preview shows the pixels: viewport screenshots under Xvfb"
+VIEWPORT_TMP="$(mktemp -d)"
+# A saved file keeps the splash screen off the viewport.
+blender -b --factory-startup --python-expr \
+  "import bpy, sys; bpy.ops.wm.save_as_mainfile(filepath=sys.argv[-1])" \
+  -- "$VIEWPORT_TMP/empty.blend" >/dev/null
+timeout 300 xvfb-run -a -s "-screen 0 1024x768x24" blender --factory-startup \
+  "$VIEWPORT_TMP/empty.blend" --python-exit-code 1 \
+  -P "$MOLDTEX_ROOT/blender_tests/gui_viewport.py" -- --addon-dir "$MOLDTEX_BUILD/addon"
+rm -rf "$VIEWPORT_TMP"
+
 BPY_PYTHON="$(moldtex_bpy_python)"
 echo "== Blender tests on bpy $("$BPY_PYTHON" -c 'import bpy; print(bpy.app.version_string)' 2>/dev/null)"
 "$BPY_PYTHON" "$MOLDTEX_ROOT/blender_tests/run_all.py" --addon-dir "$MOLDTEX_BUILD/addon"

@@ -136,6 +136,31 @@ def progress_line(progress):
     return text
 
 
+def _clock(seconds):
+    seconds = int(round(seconds))
+    hours, rest = divmod(seconds, 3600)
+    return (f"{hours}:{rest // 60:02d}:{rest % 60:02d}" if hours
+            else f"{rest // 60}:{rest % 60:02d}")
+
+
+def timing_text(entry, now=None):
+    """ "0:12 elapsed, about 0:40 left" for a running bake (entry: live.LiveSim), from
+    the frames this run baked so far (resumed ones are not counted); "" before."""
+    started = getattr(entry, "bake_started", None)
+    progress = entry.bake_progress or {}
+    if started is None or not progress:
+        return ""
+    now = time.perf_counter() if now is None else now
+    elapsed = max(0.0, now - started)
+    text = f"{_clock(elapsed)} elapsed"
+    total = progress["last_frame"] - progress["first_frame"] + 1
+    baked = progress["frames_done"] - getattr(entry, "bake_resumed_frames", 0)
+    left = total - progress["frames_done"]
+    if baked > 0 and left > 0:
+        text += f", about {_clock(elapsed / baked * left)} left"
+    return text
+
+
 class BakeJob:
     """One running bake of one object's simulation.
 
@@ -175,6 +200,8 @@ class BakeJob:
                                 plan.last_frame, plan.steps_per_frame, plan.image_format,
                                 plan.prefix, resume=plan.resume)
         entry.bake = self.bake
+        entry.bake_started = time.perf_counter()
+        entry.bake_resumed_frames = self.resumed_frames
         entry.bake_plan = plan
         entry.bake_cancel_requested = False
         entry.bake_summary = ""

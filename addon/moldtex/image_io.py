@@ -45,9 +45,18 @@ def read_pixels(image):
 
 
 def upload(image, pixels):
-    """Copies an RGBA float buffer of exactly the image's size into the image."""
+    """Copies an RGBA float buffer of exactly the image's size into the image, and
+    tells the viewport to draw it afresh."""
     image.pixels.foreach_set(pixels)
     image.update()
+    # Setting pixels frees the image's GPU texture and redraws the viewport, but
+    # Eevee's Material Preview keeps adding its new samples to the ones it accumulated
+    # so far (temporal anti-aliasing), and once it has all of them it only shows that
+    # accumulation: after Reset the old network stayed on screen, and while running the
+    # texture was a blur of older states. A depsgraph update of the image restarts the
+    # accumulation (Eevee's view_update); it does not recompile the material.
+    # Checked by blender_tests/gui_viewport.py.
+    image.update_tag()
 
 
 def pack_for_save(image):

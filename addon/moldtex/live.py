@@ -12,6 +12,7 @@ This module talks to the core only through engine.py.
 
 import array
 import math
+import threading
 import time
 import zlib
 
@@ -42,7 +43,11 @@ class LiveSim:
 
     def __init__(self, name):
         self.name = name
-        self.sim = None           # engine.Simulation
+        self._stepper = None      # _Stepper thread growing the sim between live updates
+        self.grown_steps = 0      # steps stopped threads ran that no live update counted
+        self.food_left = None     # last sim.get_food() (the panel's, while a thread runs)
+        self._sim = None
+        self.sim = None           # engine.Simulation (see the property below)
         self.config = None        # dict the sim was created with
         self.uv_map = ""          # UV map name the sim was built on
         self.uv_map_setting = ""  # settings.uv_map at build time ("" = render UV map)
@@ -64,6 +69,8 @@ class LiveSim:
         self.bake_progress = {}   # last engine.Bake.progress() (the panel shows it)
         self.bake_cancel_requested = False  # the modal bake cancels on its next tick
         self.bake_summary = ""    # one line about the last bake, for the panel
+        self.bake_started = None  # perf_counter() when the running bake started
+        self.bake_resumed_frames = 0  # frames a resumed bake found already done
         # Food sources last given to the core (food_from_settings' tuples), so that a
         # step re-sends them only when the Empties or their properties changed.
         self.food_key = None
@@ -73,12 +80,52 @@ class LiveSim:
         # Fields image was last compared with them (poll_fields_image).
         self.fields_crc = None
         self.fields_polled = 0.0
+        # Live loop pacing (step_for_time): seconds one step took (running mean), the
+        # steps per second of wall time while Start runs (what the panel shows), and
+        # the time between the end of one update's stepping and the next one's start
+        # (upload, redraw, waiting for the timer).
+        self.step_seconds = 0.0
+        self.steps_per_second = 0.0
+        self.update_overhead = 0.0
+        self.last_update_end = 0.0
+        self.stepping = False     # a modal moldtex.step runs on it
+        # State before the last Step (a checkpoint file), so that Adjust Last Operation
+        # can run that Step again with another count: (sim, path, step count at its end).
+        self.step_snapshot = None
+
+    # While Start runs, a _Stepper thread steps the simulation between two live updates
+    # (so that it grows while Blender redraws). Anything else that reaches for the
+    # simulation through entry.sim first waits for that thread to stop (at most one
+    # chunk of steps, about Update Time), so the core is never called from two threads
+    # at once.
+    @property
+    def sim(self):
+        stepper = self._stepper
+        if stepper is not None and stepper is not threading.current_thread():
+            stop_stepper(self)
+        return self._sim
+
+    @sim.setter
+    def sim(self, value):
+        if self._stepper is not None:
+            stop_stepper(self)
+        self._sim = value
+
+    @property
+    def has_sim(self):
+        """entry.sim is not None, without waiting for the stepping thread (panels)."""
+        return self._sim is not None
 
     @property
     def baking(self):
         return self.bake is not None
 
     def release(self):
+        try:
+            stop_stepper(self)
+        except Exception:  # its error no longer matters: the simulation goes
+            pass
+        drop_step_snapshot(self)
         if self.bake is not None:
             self.bake.release()  # cancels and waits for the current step
         self.bake = None
@@ -282,9 +329,12 @@ def food_status(obj):
     """[(name, remaining amount)] of the live simulation's food (amount < 0 =
     inexhaustible), or None without a simulation."""
     entry = _registry.get(obj.name) if obj is not None else None
-    if entry is None or entry.sim is None or entry.baking:
+    if entry is None or not entry.has_sim or entry.baking:
         return None
-    current = entry.sim.get_food()
+    if entry._stepper is None or entry.food_left is None:
+        entry.food_left = entry.sim.get_food()
+    # else: what the last live update read (the panel does not stop the stepping thread)
+    current = entry.food_left
     return [(entry.food_names[i] if i < len(entry.food_names) else f"Source {i + 1}",
              source[2]) for i, source in enumerate(current)]
 
@@ -432,7 +482,7 @@ def seed_center(obj, surface, location):
 def needs_reset(obj):
     """True when config-type settings differ from the ones the live sim was built with."""
     entry = _registry.get(obj.name) if obj is not None else None
-    if entry is None or entry.sim is None:
+    if entry is None or not entry.has_sim:  # (drawn by the panel: never waits)
         return False
     settings = obj.moldtex
     return (entry.config != config_from_settings(settings)
@@ -491,6 +541,7 @@ def _build(entry, obj, mesh, depsgraph=None):
     entry.signature = mesh.signature
     entry.surface_info = surface_info
     entry.pixels = sim.new_rgba_buffer()
+    entry.step_seconds = 0.0  # a new simulation: its steps cost what they cost
     entry.dirty = False
     entry.stats = sim.get_stats()
     entry.backend_name = sim.backend_name()
@@ -602,6 +653,201 @@ def step(entry, obj, steps):
     entry.stats = entry.sim.get_stats()
 
 
+# The live loop (moldtex.start) is paced by time, not by a count of steps: with Steps
+# per Update 0 a _Stepper thread grows the mold between two updates, in chunks of about
+# settings.update_time, while Blender uploads and redraws; Step's long runs use
+# step_for_time.
+
+
+def step_for_time(entry, obj, seconds, min_steps=1, max_steps=None):
+    """Advances the simulation (with the object's current parameters) by as many steps
+    as fit in `seconds` (at least min_steps, at most max_steps), in chunks sized from
+    the measured time of a step; caches stats. Returns the number of steps run."""
+    entry.sim.set_params(params_from_settings(obj.moldtex))
+    _push_species(entry, obj.moldtex)
+    _push_food(entry, obj, fresh=False)
+    began = time.perf_counter()
+    done = 0
+    while max_steps is None or done < max_steps:
+        left = seconds - (time.perf_counter() - began)
+        if done >= min_steps and (left <= 0.0 or left < 0.5 * entry.step_seconds):
+            break
+        if entry.step_seconds > 0.0:
+            chunk = max(1, min(1000, int(left / entry.step_seconds)))
+        else:
+            chunk = 1  # the first step of this simulation measures its cost
+        if done < min_steps:
+            chunk = max(chunk, min_steps - done)
+        if max_steps is not None:
+            chunk = min(chunk, max_steps - done)
+        start = time.perf_counter()
+        entry.sim.step(chunk)
+        per_step = (time.perf_counter() - start) / chunk
+        entry.step_seconds = (per_step if entry.step_seconds <= 0.0
+                              else 0.5 * entry.step_seconds + 0.5 * per_step)
+        done += chunk
+    entry.stats = entry.sim.get_stats()
+    return done
+
+
+def note_update(entry, steps, update_start, stepping_end):
+    """Records one live update: `steps` steps stepped from update_start (perf_counter)
+    to stepping_end. Keeps the overhead between updates and the steps per second of
+    wall time (running means over about a second)."""
+    if entry.last_update_end > 0.0:
+        overhead = max(0.0, update_start - entry.last_update_end)
+        wall = stepping_end - entry.last_update_end
+        if wall > 0.0:
+            weight = min(1.0, wall)  # about a one-second memory
+            rate = steps / wall
+            entry.steps_per_second = (rate if entry.steps_per_second <= 0.0 else
+                                      (1.0 - weight) * entry.steps_per_second
+                                      + weight * rate)
+        entry.update_overhead = (overhead if entry.update_overhead <= 0.0
+                                 else 0.7 * entry.update_overhead + 0.3 * overhead)
+    entry.last_update_end = stepping_end
+
+
+class _Stepper(threading.Thread):
+    """Steps one simulation in chunks of about `chunk_seconds` until stopped (the core's
+    step releases the GIL: ctypes), and at most `limit_seconds` in all, should nobody
+    come back for it."""
+
+    def __init__(self, entry, chunk_seconds, limit_seconds=5.0):
+        super().__init__(name=f"Moldtex stepper {entry.name}", daemon=True)
+        self.entry = entry
+        self.sim = entry._sim
+        self.chunk_seconds = chunk_seconds
+        self.limit_seconds = limit_seconds
+        self.stop_event = threading.Event()
+        self.steps = 0
+        self.error = None
+
+    def run(self):
+        entry, sim = self.entry, self.sim
+        began = time.perf_counter()
+        try:
+            while (not self.stop_event.is_set()
+                   and time.perf_counter() - began < self.limit_seconds):
+                if entry.step_seconds > 0.0:
+                    chunk = max(1, min(1000, int(self.chunk_seconds / entry.step_seconds)))
+                else:
+                    chunk = 1
+                start = time.perf_counter()
+                sim.step(chunk)
+                per_step = (time.perf_counter() - start) / chunk
+                entry.step_seconds = (per_step if entry.step_seconds <= 0.0
+                                      else 0.5 * entry.step_seconds + 0.5 * per_step)
+                self.steps += chunk
+                entry.stats = sim.get_stats()
+        except Exception as error:  # handed to the main thread by stop_stepper
+            self.error = error
+
+
+def start_stepper(entry, chunk_seconds):
+    """Lets a thread step entry's simulation until stop_stepper (the live loop calls
+    this after each update, so the mold grows while Blender redraws)."""
+    stop_stepper(entry)
+    if entry._sim is None or entry.bake is not None:
+        return
+    stepper = _Stepper(entry, chunk_seconds)
+    entry._stepper = stepper
+    stepper.start()
+
+
+def stop_stepper(entry):
+    """Stops and waits for entry's stepping thread; returns the steps it ran (0 if none
+    ran). Re-raises what went wrong in it."""
+    stepper = entry._stepper
+    if stepper is None:
+        return 0
+    stepper.stop_event.set()
+    stepper.join()
+    entry._stepper = None
+    entry.grown_steps += stepper.steps
+    if stepper.error is not None:
+        raise stepper.error
+    return stepper.steps
+
+
+def take_grown_steps(entry):
+    """Stops entry's stepping thread; returns the steps grown by threads since the last
+    call (also by ones stopped because something else needed the simulation)."""
+    try:
+        stop_stepper(entry)
+    finally:
+        steps, entry.grown_steps = entry.grown_steps, 0
+    return steps
+
+
+def stepper_waiting(entry):
+    """True while entry's stepping thread runs and has not finished a chunk yet."""
+    stepper = entry._stepper
+    return stepper is not None and stepper.is_alive() and stepper.steps == 0
+
+
+def prepare_step(entry, obj):
+    """Gives the simulation the object's current parameters, species and food (what
+    step() does before stepping)."""
+    entry.sim.set_params(params_from_settings(obj.moldtex))
+    _push_species(entry, obj.moldtex)
+    _push_food(entry, obj, fresh=False)
+
+
+def stop_pacing(entry):
+    """Forgets the live loop's timing when Start pauses (the pause is no overhead)."""
+    entry.last_update_end = 0.0
+    entry.update_overhead = 0.0
+    entry.steps_per_second = 0.0
+
+
+def _snapshot_path(entry):
+    import os
+    import tempfile
+    safe = "".join(c if c.isalnum() else "_" for c in entry.name)[:40]
+    return os.path.join(tempfile.gettempdir(),
+                        f"moldtex_step_{os.getpid()}_{id(entry):x}_{safe}.bin")
+
+
+def save_step_snapshot(entry):
+    """Keeps the simulation's state before a Step (see restore_step_snapshot)."""
+    drop_step_snapshot(entry)
+    path = _snapshot_path(entry)
+    entry.sim.save_checkpoint(path)
+    entry.step_snapshot = (entry.sim, path, None)
+
+
+def note_step_end(entry):
+    """Marks where the last Step ended (its snapshot is valid only from there)."""
+    if entry.step_snapshot is not None and entry.step_snapshot[0] is entry.sim:
+        sim, path, _end = entry.step_snapshot
+        entry.step_snapshot = (sim, path, entry.sim.get_stats()["step_count"])
+
+
+def restore_step_snapshot(entry):
+    """Puts the simulation back to its state before the last Step, if nothing ran on
+    it since (Adjust Last Operation then runs that Step with the new count). Returns
+    True if it did."""
+    snapshot = entry.step_snapshot
+    if snapshot is None or snapshot[0] is not entry.sim or snapshot[2] is None:
+        return False
+    if entry.sim.get_stats()["step_count"] != snapshot[2]:
+        return False
+    entry.sim.load_checkpoint(snapshot[1])
+    entry.stats = entry.sim.get_stats()
+    return True
+
+
+def drop_step_snapshot(entry):
+    import os
+    if entry.step_snapshot is not None:
+        try:
+            os.remove(entry.step_snapshot[1])
+        except OSError:
+            pass
+    entry.step_snapshot = None
+
+
 def read_pixels(entry):
     """Fills the entry's persistent pixel buffer with the pheromone (RGBA floats)."""
     if entry.pixels is None:
@@ -611,7 +857,7 @@ def read_pixels(entry):
 
 def uv_map_in_use(obj):
     entry = _registry.get(obj.name) if obj is not None else None
-    if entry is not None and entry.sim is not None:
+    if entry is not None and entry.has_sim:
         return entry.uv_map
     return resolve_uv_map_name(obj, obj.moldtex.uv_map) if obj is not None else ""
 

@@ -47,6 +47,18 @@ def _tag_redraw(context):
             area.tag_redraw()
 
 
+def ensure_material(obj, entry):
+    """Sets up obj's material (as Set Up Material does) when it has no Moldtex image
+    node, so that Start shows the growth even if Set Up Material was not pressed.
+    Returns a line for the user, or "" when the material was already set up."""
+    if material.moldtex_node(obj, material.TEXTURE_NODE) is not None:
+        return ""
+    image = image_io.ensure_image(obj, entry.sim.width, entry.sim.height)
+    material.setup_material(obj, image, entry.uv_map)
+    return (f"Set up the material of '{obj.name}' (the pheromone image through a colour "
+            f"ramp into Base Color): switch the viewport to Material Preview to watch.")
+
+
 def _report_notice(operator, entry):
     if entry.warning:  # e.g. the chosen OpenCL device is not on this machine
         operator.report({'WARNING'}, entry.warning)
@@ -56,20 +68,43 @@ def _report_notice(operator, entry):
         entry.notice = ""
 
 
+# A Step whose steps would take longer than this runs modally: progress in the status
+# bar and the image, Esc stops it, and the interface keeps working in between.
+_STEP_MODAL_SECONDS = 0.3
+_STEP_TICK_SECONDS = 0.1  # stepping per tick of a modal Step
+
+
 class MOLDTEX_OT_step(bpy.types.Operator):
-    """Advance the simulation by some steps and update the image (works in background)"""
+    """Advance the simulation by some steps and update the image (change the count in \
+Adjust Last Operation; long runs show their progress, Esc stops them; works in \
+background)"""
     bl_idname = "moldtex.step"
     bl_label = "Step"
-    bl_options = {'REGISTER'}
+    bl_options = {'REGISTER', 'UNDO'}
 
-    steps: IntProperty(name="Steps", default=1, min=1, max=10_000_000,
+    steps: IntProperty(name="Steps", default=1, min=1, max=10_000_000, soft_max=10_000,
                        description="Number of simulation steps to run")
 
+    _timer = None
+    _name = ""
+    _done = 0
+
+    def _prepare(self, context):
+        obj = _active_object(context)
+        entry = live.ensure(obj, context.evaluated_depsgraph_get())
+        _report_notice(self, entry)
+        # Adjust Last Operation runs the operator again (options.is_repeat; not
+        # is_repeat(), which is also true for a second Step in a row): start from where
+        # the Step being adjusted started, so that "Steps" means that many in all.
+        if self.options.is_repeat:
+            live.restore_step_snapshot(entry)
+        live.save_step_snapshot(entry)
+        return obj, entry
+
+    # ---- synchronous: scripts, background mode, Adjust Last Operation ----
     def execute(self, context):
         try:
-            obj = _active_object(context)
-            entry = live.ensure(obj, context.evaluated_depsgraph_get())
-            _report_notice(self, entry)
+            obj, entry = self._prepare(context)
             remaining = self.steps
             window_manager = context.window_manager
             progress = remaining > _STEP_CHUNK and not bpy.app.background
@@ -85,12 +120,98 @@ class MOLDTEX_OT_step(bpy.types.Operator):
             finally:
                 if progress:
                     window_manager.progress_end()
+            live.note_step_end(entry)
             _show(entry, obj)
         except USER_ERRORS as error:
             self.report({'ERROR'}, str(error))
             return {'CANCELLED'}
         _tag_redraw(context)
         return {'FINISHED'}
+
+    # ---- the Step button: short runs at once, long ones modally ----
+    def invoke(self, context, event):
+        if bpy.app.background or context.window is None:
+            return self.execute(context)
+        try:
+            obj, entry = self._prepare(context)
+        except USER_ERRORS as error:
+            self.report({'ERROR'}, str(error))
+            return {'CANCELLED'}
+        if entry.running:
+            self.report({'ERROR'}, "The simulation is running: pause it (Start) to step.")
+            return {'CANCELLED'}
+        estimate = entry.step_seconds * self.steps
+        if self.steps <= 2 or (entry.step_seconds > 0.0
+                               and estimate < _STEP_MODAL_SECONDS):
+            try:
+                live.step(entry, obj, self.steps)
+                live.note_step_end(entry)
+                _show(entry, obj)
+            except USER_ERRORS as error:
+                self.report({'ERROR'}, str(error))
+                return {'CANCELLED'}
+            _tag_redraw(context)
+            return {'FINISHED'}
+        self._name = obj.name
+        self._done = 0
+        window_manager = context.window_manager
+        window_manager.progress_begin(0, self.steps)
+        self._timer = window_manager.event_timer_add(0.02, window=context.window)
+        window_manager.modal_handler_add(self)
+        entry.stepping = True
+        return {'RUNNING_MODAL'}
+
+    def modal(self, context, event):
+        if event.type == 'ESC' and event.value == 'PRESS':
+            self.report({'WARNING'}, f"Stopped after {self._done:,} of {self.steps:,} "
+                                     f"steps.")
+            self.steps = max(1, self._done)  # what Adjust Last Operation then shows
+            return self._end(context, {'FINISHED'})
+        if event.type != 'TIMER':
+            return {'PASS_THROUGH'}
+        entry = live.get(self._name)
+        obj = bpy.data.objects.get(self._name)
+        if entry is None or obj is None or entry.sim is None:
+            return self._end(context, {'CANCELLED'})
+        try:
+            self._done += live.step_for_time(entry, obj, _STEP_TICK_SECONDS,
+                                             max_steps=self.steps - self._done)
+            _show(entry, obj)
+        except USER_ERRORS as error:
+            self.report({'ERROR'}, str(error))
+            return self._end(context, {'CANCELLED'})
+        context.window_manager.progress_update(self._done)
+        text = f"Moldtex: step {self._done:,}/{self.steps:,} — Esc to stop"
+        try:
+            if context.workspace is not None:
+                context.workspace.status_text_set(text)
+        except (AttributeError, RuntimeError):
+            pass
+        _tag_redraw(context)
+        if self._done >= self.steps:
+            return self._end(context, {'FINISHED'})
+        return {'RUNNING_MODAL'}
+
+    def cancel(self, context):
+        self._end(context, {'CANCELLED'})
+
+    def _end(self, context, result):
+        window_manager = context.window_manager
+        if self._timer is not None:
+            window_manager.event_timer_remove(self._timer)
+            self._timer = None
+            window_manager.progress_end()
+        try:
+            if context.workspace is not None:
+                context.workspace.status_text_set(None)
+        except (AttributeError, RuntimeError):
+            pass
+        entry = live.get(self._name)
+        if entry is not None:
+            entry.stepping = False
+            live.note_step_end(entry)
+        _tag_redraw(context)
+        return result
 
 
 class MOLDTEX_OT_reset(bpy.types.Operator):
@@ -136,6 +257,9 @@ class MOLDTEX_OT_start(bpy.types.Operator):
         if entry is not None and entry.baking:
             self.report({'ERROR'}, live.bake_running_message(entry, "Cannot start"))
             return {'CANCELLED'}
+        if entry is not None and entry.stepping:
+            self.report({'ERROR'}, "A Step is running: wait for it, or press Esc.")
+            return {'CANCELLED'}
         if bpy.app.background or context.window is None:
             self.report({'ERROR'}, "Start needs Blender's interface (timers do not run "
                                    "in background mode): use moldtex.step instead.")
@@ -146,6 +270,9 @@ class MOLDTEX_OT_start(bpy.types.Operator):
                                 rebuild=live.needs_reset(obj))
             material.sync_uv_map(obj, entry.uv_map)
             _report_notice(self, entry)
+            note = ensure_material(obj, entry)
+            if note:
+                self.report({'INFO'}, note)
             _show(entry, obj)
         except USER_ERRORS as error:
             self.report({'ERROR'}, str(error))
@@ -170,18 +297,34 @@ class MOLDTEX_OT_start(bpy.types.Operator):
         now = time.perf_counter()
         if now - self._last_update < 0.8 * _TIMER_INTERVAL:
             return {'PASS_THROUGH'}
-        self._last_update = now
         entry = live.get(self._name)
         obj = bpy.data.objects.get(self._name)
-        if entry is None or obj is None or entry.sim is None or entry.stop_requested:
+        if entry is None or obj is None or not entry.has_sim or entry.stop_requested:
             self._finish(context)
             return {'FINISHED'}
+        settings = obj.moldtex
+        threaded = settings.steps_per_update == 0
+        if threaded and live.stepper_waiting(entry):
+            return {'PASS_THROUGH'}  # nothing new grown yet: no upload, no redraw
+        self._last_update = now
         try:
+            # Time-paced (Steps per Update 0): a thread grew the mold since the last
+            # update, while Blender redrew; collect its steps, update, let it go on.
+            steps = live.take_grown_steps(entry)
             entry = live.ensure(obj, context.evaluated_depsgraph_get())
             _report_notice(self, entry)
             live.poll_fields_image(entry, obj)
-            live.step(entry, obj, obj.moldtex.steps_per_update)
+            if threaded:
+                live.prepare_step(entry, obj)
+                entry.food_left = entry.sim.get_food()  # for the panel (food_status)
+            else:
+                live.step(entry, obj, settings.steps_per_update)
+                steps += settings.steps_per_update
+            now = time.perf_counter()
+            live.note_update(entry, steps, now, now)
             _show(entry, obj)
+            if threaded:
+                live.start_stepper(entry, settings.update_time / 1000.0)
         except USER_ERRORS as error:
             self.report({'ERROR'}, str(error))
             self._finish(context)
@@ -202,8 +345,21 @@ class MOLDTEX_OT_start(bpy.types.Operator):
             self._timer = None
         entry = live.get(self._name)
         if entry is not None:
+            try:
+                live.stop_stepper(entry)
+            except Exception as error:  # noqa: BLE001 (it is reported, then dropped)
+                self.report({'ERROR'}, f"Moldtex stopped: {error}")
+            if entry.has_sim:
+                try:  # show the steps grown since the last update
+                    obj = bpy.data.objects.get(self._name)
+                    if obj is not None and not entry.baking:
+                        entry.stats = entry.sim.get_stats()
+                        _show(entry, obj)
+                except USER_ERRORS:
+                    pass
             entry.running = False
             entry.stop_requested = False
+            live.stop_pacing(entry)
         _tag_redraw(context)
 
 
@@ -392,6 +548,10 @@ settings (restarts the simulation as Reset does). Press again or Esc to cancel""
         window_manager = context.window_manager
         window_manager.progress_update(progress["frames_done"])
         text = f"Moldtex bake: {bake.progress_line(progress)} — Esc to cancel"
+        entry = live.get(self._job.name) if self._job is not None else None
+        timing = bake.timing_text(entry) if entry is not None else ""
+        if timing:
+            text = f"Moldtex bake: {bake.progress_line(progress)}, {timing} — Esc to cancel"
         try:
             if context.workspace is not None:
                 context.workspace.status_text_set(text)

@@ -303,11 +303,11 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         update=_push_params)
     # ---- simulation setup (need a reset) ----
     agent_count: IntProperty(
-        name="Agents", default=200000, min=1, max=67108864, soft_max=4000000,
+        name="Agents", default=60000, min=1, max=67108864, soft_max=4000000,
         description="Number of agents." + _RESET_NOTE,
         update=_config_changed)
     resolution: EnumProperty(
-        name="Resolution", items=RESOLUTION_ITEMS, default="1024",
+        name="Resolution", items=RESOLUTION_ITEMS, default="512",
         description="Size of the pheromone texture." + _RESET_NOTE,
         update=_config_changed)
     seed: IntProperty(
@@ -430,8 +430,15 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         update=_push_params)
     # ---- playback ----
     steps_per_update: IntProperty(
-        name="Steps per Update", default=2, min=1, max=1000, soft_max=20,
-        description="Simulation steps between two updates of the image while running")
+        name="Steps per Update", default=0, min=0, max=1000, soft_max=20,
+        description="Simulation steps between two updates of the image while running. "
+                    "0 = as many as the machine manages: the mold grows on a thread "
+                    "while the viewport redraws (the panel shows steps per second)")
+    update_time: IntProperty(
+        name="Update Time", default=50, min=5, max=500, subtype='NONE',
+        description="Milliseconds of stepping in one go while running with Steps per "
+                    "Update 0: the longest the interface waits for the simulation "
+                    "(shorter: more responsive, longer: slightly faster growth)")
     thread_count: IntProperty(
         name="Threads", default=0, min=0, max=1024, soft_max=64,
         description="CPU threads (0 = all cores); the result does not depend on it. "
@@ -448,14 +455,14 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         description="Colour ramp stops of the last preset, for Set Up Material")
     # ---- bake (image sequence, bake.py) ----
     bake_use_scene_range: BoolProperty(
-        name="Scene Frame Range", default=True,
+        name="Scene Frame Range", default=False,
         description="Bake the scene's frame range (Output Properties ▸ Frame Range); off: "
                     "bake from Start to End below")
     bake_frame_start: IntProperty(
         name="Start", default=1, min=0, max=999999,
         description="First frame to bake when not using the scene's frame range")
     bake_frame_end: IntProperty(
-        name="End", default=250, min=0, max=999999,
+        name="End", default=48, min=0, max=999999,
         description="Last frame to bake when not using the scene's frame range")
     bake_steps_per_frame: IntProperty(
         name="Steps per Frame", default=2, min=1, max=100000, soft_max=60,

@@ -64,6 +64,8 @@ class MOLDTEX_PT_main(bpy.types.Panel):
 
         column = layout.column(align=True)
         running = entry is not None and entry.running
+        # In the order of the work: material (Start also sets it up), grow, adjust.
+        column.operator("moldtex.setup_material", icon='MATERIAL')
         row = column.row(align=True)
         row.scale_y = 1.4
         row.operator("moldtex.start", text="Pause" if running else "Start",
@@ -71,7 +73,6 @@ class MOLDTEX_PT_main(bpy.types.Panel):
         row = column.row(align=True)
         row.operator("moldtex.step", icon='FRAME_NEXT')
         row.operator("moldtex.reset", icon='FILE_REFRESH')
-        column.operator("moldtex.setup_material", icon='MATERIAL')
 
         if live.needs_reset(obj):
             _wrapped(layout, "Resolution, agents, seed, backend, UV map, species or start "
@@ -83,7 +84,7 @@ class MOLDTEX_PT_main(bpy.types.Panel):
                      " (the live simulation waits)", icon='RENDER_ANIMATION')
 
         box = layout.box()
-        stats = entry.stats if entry is not None and entry.sim is not None else None
+        stats = entry.stats if entry is not None and entry.has_sim else None
         if not stats:
             box.label(text="Not running yet", icon='TIME')
         else:
@@ -92,7 +93,14 @@ class MOLDTEX_PT_main(bpy.types.Panel):
             grid = box.grid_flow(row_major=True, columns=2, even_columns=True,
                                  align=True)
             grid.label(text="Steps")
-            grid.label(text=f"{stats['step_count']:,}")
+            if entry.baking:  # the bake's worker steps it; entry.stats are from before
+                grid.label(text=f"{(entry.bake_progress or {}).get('step_count', 0):,} "
+                                f"(bake)")
+            else:
+                grid.label(text=f"{stats['step_count']:,}")
+            if running and entry.steps_per_second > 0.0:
+                grid.label(text="Speed")
+                grid.label(text=f"{entry.steps_per_second:,.0f} steps/s")
             grid.label(text="Agents")
             grid.label(text=f"{stats['agent_count']:,}")
             grid.label(text="Coverage")
@@ -178,6 +186,8 @@ class MOLDTEX_PT_setup(_SubPanel, bpy.types.Panel):
             _wrapped(layout, f"OpenCL unavailable: {reason}", icon='INFO')
         column = layout.column(align=True)
         column.prop(settings, "steps_per_update")
+        if settings.steps_per_update == 0:
+            column.prop(settings, "update_time")
         column.prop(settings, "thread_count")
         layout.prop(settings, "image")
 
@@ -335,6 +345,10 @@ class MOLDTEX_PT_bake(_SubPanel, bpy.types.Panel):
                 plan = bake.plan_for(obj, scene)
                 _wrapped(layout, f"{plan.frame_count} frames: {plan.describe_files()}",
                          icon='FILE_IMAGE')
+                if not baking and not settings.bake_resume:
+                    _wrapped(layout, "Bakes from step 0 (restarts the simulation as "
+                                     "Reset does): the live state is not kept.",
+                             icon='INFO')
             except bake.BakeError as error:
                 _wrapped(layout, str(error), icon='ERROR')
 
@@ -350,8 +364,9 @@ class MOLDTEX_PT_bake(_SubPanel, bpy.types.Panel):
         if entry is None:
             return
         if baking:
+            timing = bake.timing_text(entry)
             _wrapped(layout, "Baking: " + _bake_progress_text(entry.bake_progress) +
-                     ". Esc cancels.", icon='TIME')
+                     (f"; {timing}" if timing else "") + ". Esc cancels.", icon='TIME')
         elif entry.bake_summary:
             _wrapped(layout, entry.bake_summary, icon='INFO')
 
