@@ -88,7 +88,7 @@ MTX_FN int mtx_is_obstacle(MTX_GLOBAL const float* field, mtx_u32 texel,
   return MTX_FIELDS && k->has_fields && field[texel] < MTX_OBSTACLE_THRESHOLD;
 }
 
-/* Surface units, single-point sensor: the strongest value among the texels whose centres
+/* Surface units, single-point sensor: the strongest value among the texels whose cells
  * lie within half a length unit of the sensor point along each texel axis (the deposit
  * footprint's size), or an obstacle if one lies there. Deposits set texels to a value
  * (MoMaS), so a trail that passes within half a unit reads the same where texels are
@@ -97,11 +97,13 @@ MTX_FN int mtx_is_obstacle(MTX_GLOBAL const float* field, mtx_u32 texel,
 MTX_FN float mtx_sense_footprint(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
                                  MTX_GLOBAL const float* field, const mtx_walker* w,
                                  mtx_u32 texel, mtx_u32 species, const mtx_momas_constants* k) {
+  /* Texel centres within half a unit less half a texel: those texels' cells cover half
+   * a unit around the point (at one texel per unit: the texel under the point alone). */
   MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * w->triangle;
-  const float ex = fmin(0.5f * k->length_unit * tpu[0], MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
-  const float ey = fmin(0.5f * k->length_unit * tpu[1], MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
+  const float ex = fmin(0.5f * k->length_unit * tpu[0] - 0.5f, MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
+  const float ey = fmin(0.5f * k->length_unit * tpu[1] - 0.5f, MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
   float best = mtx_sensed_value(pheromone, field, texel, species, k);
-  if (ex < 0.5f && ey < 0.5f) return best;
+  if (ex <= 0.0f && ey <= 0.0f) return best;
   MTX_GLOBAL const float* uv = s.corner_uvs + 6 * w->triangle;
   const float x = (w->bary[0] * uv[0] + w->bary[1] * uv[2] + w->bary[2] * uv[4]) * MTX_CAST(float, k->width);
   const float y = (w->bary[0] * uv[1] + w->bary[1] * uv[3] + w->bary[2] * uv[5]) * MTX_CAST(float, k->height);
