@@ -59,6 +59,7 @@ class RecordingLayout:
         self._icon(kwargs)
         self.test.assertTrue(hasattr(bpy.types, idname), f"no menu {idname}")
         self.log.append(("menu", idname))
+        self.log.append(("menu_text", text))
 
     def separator(self, **kwargs):
         pass

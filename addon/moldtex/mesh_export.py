@@ -89,7 +89,13 @@ def check_transform(obj):
         raise MeshExportError(
             f"Object '{obj.name}' has a transform that is not a number (NaN or infinite): "
             f"reset its location, rotation and scale (Object ▸ Clear).")
-    scale = matrix.to_scale()
+    # The length of each axis in Python's doubles (Matrix.to_scale works in floats,
+    # which turns 1e-18 into 0 and 1e30 into inf).
+    scale = [math.hypot(matrix[0][i], matrix[1][i], matrix[2][i]) for i in range(3)]
+    if obj.matrix_world.is_negative:
+        scale[0] = -scale[0]
+    if obj.parent is None:
+        scale = [math.copysign(length, axis) for length, axis in zip(scale, obj.scale)]
     low, high = SCALE_LIMITS
     for axis, value in zip("XYZ", scale):
         if value == 0.0:
