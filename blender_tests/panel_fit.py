@@ -18,7 +18,9 @@ Xvfb gives; see gui_panel.py's screenshot):
     screenshot shows "Moldtex core 0.1.0 (ABI 1)", 133 px, whole beside an icon).
 Checked against the screenshot of the old layout: it cuts "Turn Speed" (55 px at font
 size 11) and "Evaporation" (59 px) in a split column with decorators, and shows
-"Substeps" (44 px) whole; "Collection" (50 px) is cut in a box.
+"Substeps" (44 px) whole; "Collection" (50 px) is cut in a box. Blender 4.0+ draw
+with another font (Inter, a little wider) and about the same layout; there the check
+measures with that font and the same geometry (no interface here to screenshot them).
 """
 
 import blf
@@ -43,8 +45,8 @@ def set_font_size(scale=1.0):
 
 
 def fonts_work():
-    """blf measures text (not in Debian's Blender 3.4 in background mode, which loads
-    no font without a window)."""
+    """blf measures text with the interface's font (it does in background mode too,
+    once a size is set; a build without fonts would measure 0)."""
     set_font_size()
     return blf.dimensions(0, "Evaporation")[0] > 20.0
 

@@ -241,8 +241,10 @@ class PanelLayoutTests(unittest.TestCase):
         # The old panel: split columns with decorators; "Turn Speed" and "Evaporation"
         # were shown cut, "Substeps" whole (Blender 3.4, see panel_fit's notes).
         import panel_fit
+        if bpy.app.version >= (4, 0, 0):
+            self.skipTest("calibrated on Blender 3.4's interface font (4.0+ use Inter)")
         if not panel_fit.fonts_work():
-            self.skipTest("blf has no font in background mode here (Blender 3.4)")
+            self.skipTest("blf has no font in background mode here")
         log = []
         column = panel_fit.GeometryLayout(log, panel_fit.CONTENT).column()
         column.use_property_split = True

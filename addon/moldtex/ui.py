@@ -89,7 +89,7 @@ class MOLDTEX_PT_main(bpy.types.Panel):
     def draw(self, context):
         layout = self.layout
         if engine.available():
-            layout.label(text=engine.status_text(), icon='CHECKMARK')
+            layout.label(text=engine.status_text())  # (with an icon it would be cut)
         else:
             box = layout.box()
             _wrapped(box, engine.status_text(), icon='ERROR')
