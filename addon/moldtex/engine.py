@@ -164,6 +164,8 @@ class SimParams(ctypes.Structure):
         ("food_radius", ctypes.c_float),
         # Sensing square radius in texels; 0 = one texel (the default).
         ("sensor_size", ctypes.c_uint32),
+        # Surface units: 3D length (mesh units) of one pattern texel; 0 = texel units.
+        ("length_unit", ctypes.c_float),
     ]
 
 

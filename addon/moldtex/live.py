@@ -189,9 +189,31 @@ def config_from_settings(settings):
     return config
 
 
-def params_from_settings(settings):
+# Surface units: a pattern scale of 1 makes one pattern "texel" the side of a square of
+# 1/1024² of the object's area (the texel of a 1024² texture on a UV layout that fills it).
+REFERENCE_RESOLUTION = 1024
+
+
+def length_unit(settings, area):
+    """The core's length_unit (mesh units) for settings on a surface of 3D area `area`:
+    0 in texel units, or where the area is not known yet."""
+    if _enum(settings, "pattern_units", 'SURFACE') != 'SURFACE' or not area or area <= 0:
+        return 0.0
+    return math.sqrt(area) / REFERENCE_RESOLUTION * float(settings.pattern_scale)
+
+
+def _enum(settings, name, default):
+    try:
+        return getattr(settings, name) or default  # "" for a value it does not know
+    except (AttributeError, TypeError, ValueError):
+        return default
+
+
+def params_from_settings(settings, area=None):
     params = {name: getattr(settings, name) for name in PARAM_PROPERTIES}
     params["thread_count"] = min(int(params["thread_count"]), 256)  # the core's limit
+    params["time_step"] = float(settings.time_step)
+    params["length_unit"] = length_unit(settings, area)
     params["hunger_rate"] = settings.hunger_rate
     obj = settings.id_data
     params["food_radius"] = (length_in_mesh_units(obj, settings.food_radius)
@@ -459,7 +481,8 @@ def _build(entry, obj, mesh, depsgraph=None):
                                       surface, depsgraph)
         _check_spawn_map(settings, fields)
         surface_info = surface.info()
-        sim = engine.Simulation(surface, create_config, params_from_settings(settings),
+        sim = engine.Simulation(surface, create_config,
+                                params_from_settings(settings, surface_info.get("area")),
                                 fields)
     except engine.EngineError as error:
         # The core's message says what failed (out of memory already suggests what to
@@ -563,7 +586,7 @@ def push_params(obj):
     entry = _registry.get(obj.name) if obj is not None else None
     if entry is None or entry.sim is None or entry.baking:
         return  # a running bake keeps the parameters it started with
-    entry.sim.set_params(params_from_settings(obj.moldtex))
+    entry.sim.set_params(params_from_settings(obj.moldtex, entry.surface_info.get("area")))
     _push_species(entry, obj.moldtex)
 
 
@@ -595,7 +618,7 @@ def push_fields(obj):
 
 def step(entry, obj, steps):
     """Advances the simulation (with the object's current parameters) and caches stats."""
-    entry.sim.set_params(params_from_settings(obj.moldtex))
+    entry.sim.set_params(params_from_settings(obj.moldtex, entry.surface_info.get("area")))
     _push_species(entry, obj.moldtex)
     _push_food(entry, obj, fresh=False)
     entry.sim.step(steps)

@@ -374,6 +374,28 @@ class MoldtexSettings(bpy.types.PropertyGroup):
     vision_angle_ui: _angle_ui(
         "vision_angle", "Vision Angle (ϑs): angle between the front and side sensors. "
                         "Larger = thicker trails")
+    pattern_units: EnumProperty(
+        name="Units",
+        items=(('SURFACE', "Surface",
+                "Pattern lengths are measured on the surface: the same look at any texture "
+                "resolution and across UV seams and poles (resolution only sharpens it)"),
+               ('TEXELS', "Texels",
+                "MoMaS' texel units: lengths are in texels of this resolution, so a higher "
+                "resolution gives a finer pattern")),
+        default='SURFACE', update=_push_params)
+    pattern_scale: FloatProperty(
+        name="Pattern Scale", default=1.0, min=0.01, max=100.0, soft_min=0.25, soft_max=4.0,
+        description="Pattern Scale (surface units): the size of one pattern 'texel' as a fraction of the "
+                    "object's size (1 = a 1024² texel of the object's area). Larger = "
+                    "bigger cells and thicker trails, whatever the resolution",
+        update=_push_params)
+    time_step: FloatProperty(
+        name="Time Step", default=1.0 / 60.0, min=0.001, max=0.25, precision=4,
+        unit='TIME_ABSOLUTE',
+        description="Time Step: simulated seconds per step (Δt; 1/60 s reproduces the papers). In "
+                    "surface units the result depends on simulated time, not on the step "
+                    "count: a smaller step is finer in time, not slower in motion",
+        update=_push_params)
     sensor_size: IntProperty(
         name="Sensor Size", default=0, min=0, max=4,
         description="Sensor Size: each sensor sums a (2r + 1)² texel square around its point (the "

@@ -18,6 +18,7 @@ from .properties import invalid_enum_notes
 # Short labels shown in the panel: property identifier -> label.
 LABELS = {
     "resolution": "Texture",
+    "pattern_scale": "Scale",
     "agent_count": "Agents",
     "steps_per_update": "Steps",
     "movement_speed": "Speed",
@@ -193,6 +194,12 @@ class MOLDTEX_PT_agents(_SubPanel, bpy.types.Panel):
 
     def draw(self, context):
         settings = context.active_object.moldtex
+        units = _split(self.layout)
+        _prop(units, settings, "pattern_units")
+        sub = units.column(align=True)
+        sub.active = settings.pattern_units == 'SURFACE'
+        _prop(sub, settings, "pattern_scale")
+        _prop(units, settings, "time_step")
         column = _split(self.layout)
         for name in ("movement_speed", "turn_speed", "vision_distance", "vision_angle_ui",
                      "sensor_size"):

@@ -236,6 +236,19 @@ typedef struct moldtex_sim_params {
                              texel under it, clamped to the texture, as MoMaS' reference
                              code does; 0 (default) = that one texel, bit for bit as before
                              the field existed; hard 0 .. 4 */
+  /* Pattern lengths in surface units; appended, so a caller whose struct ends at
+   * sensor_size gets 0. 0 (default) = "texel" means the mean 3D length of one texel at
+   * this resolution (the MoMaS behaviour, bit for bit as before the field existed).
+   * > 0: the 3D length (mesh units) that one "texel" of movement_speed, vision_distance
+   * and sensor_size stands for, whatever the resolution, and the texture domain measures
+   * the surface: a step moves movement_speed * length_unit * 60 * time_step (simulated
+   * time, not step count, sets the result); the blur becomes surface diffusion with the
+   * 3x3 Gaussian's reach in 3D (variance diffusion_rate * time_step / 2 * length_unit^2
+   * per axis and step, whatever the texel size, through every UV seam, open boundaries
+   * closed); a deposit marks every texel within half a length_unit of the agent (at most
+   * 8 texels each side). So 512^2, 1024^2 and 2048^2 show the same cells, sharper.
+   * Finite, <= 10 * sqrt(surface area). */
+  float length_unit;
 } moldtex_sim_params;
 
 MOLDTEX_API void moldtex_sim_config_init(moldtex_sim_config* config);

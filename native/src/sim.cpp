@@ -132,8 +132,22 @@ void validate_params(const moldtex_sim_params& p) {
   if (p.sensor_size > 4)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
          "Sensor size must be between 0 (one texel) and 4 (a 9x9 texel square)");
+  if (!std::isfinite(p.length_unit) || p.length_unit < 0.f)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "The length unit (pattern scale) must be a finite length >= 0 in mesh units (0 = one texel)");
   if (p.thread_count > 256)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Thread count must be between 0 (all cores) and 256");
+}
+
+// A length unit beyond the object's size would make every step cross the whole surface.
+void check_length_unit(const moldtex_sim_params& p, const Surface& surface) {
+  const double limit = 10.0 * std::sqrt(surface.area);
+  if (p.length_unit > limit) {
+    std::ostringstream m;
+    m << "The length unit " << p.length_unit << " is larger than this object (10 x the square root "
+      << "of its area is " << limit << " mesh units): lower the pattern scale";
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, m.str());
+  }
 }
 
 void validate_species_params(const moldtex_species_params& p) {
@@ -226,6 +240,7 @@ Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim
 
 void Simulation::set_params(const moldtex_sim_params& params) {
   validate_params(params);
+  check_length_unit(params, *surface_);
   if (backend_ && params.thread_count != settings_.params.thread_count)
     backend_->set_thread_count(params.thread_count);
   settings_.params = params;
@@ -560,6 +575,7 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
     if (sp >= planes) fail(MOLDTEX_ERROR_IO, "The checkpoint " + path + " is damaged");
   c.params.thread_count = settings_.params.thread_count;  // a machine setting, not part of the state
   validate_params(c.params);
+  check_length_unit(c.params, *surface_);
   for (uint32_t k = 0; k < planes; ++k) validate_species_params(c.species[k]);
   for (float h : a.hunger)
     if (!(h >= 0.f && h <= 1.f)) fail(MOLDTEX_ERROR_IO, "The checkpoint " + path + " is damaged");

@@ -16,6 +16,7 @@ namespace moldtex {
 
 void validate_config(const moldtex_sim_config& config, const Surface& surface);
 void validate_params(const moldtex_sim_params& params);
+void check_length_unit(const moldtex_sim_params& params, const Surface& surface);
 void validate_species_params(const moldtex_species_params& params);
 
 class Simulation {

@@ -8,14 +8,18 @@ namespace moldtex {
 MomasStepConstants momas_constants(const StepSettings& settings, const TextureDomain& d,
                                    uint64_t seed, uint64_t step) {
   const moldtex_sim_params& p = settings.params;
-  const float texel = static_cast<float>(d.texel_length);
+  // Surface units: a "texel" of the parameters is length_unit in 3D at any resolution,
+  // and a move covers movement_speed texels per 1/60 s of simulated time.
+  const bool surface_units = p.length_unit > 0.f;
+  const float texel = surface_units ? p.length_unit : static_cast<float>(d.texel_length);
+  const float ticks = surface_units ? 60.f * p.time_step : 1.f;
   MomasStepConstants c{};
   c.seed = seed;
   c.step = step;
   for (uint32_t s = 0; s < settings.species_count; ++s) {
     const moldtex_species_params& sp = settings.species[s];
     const float angle = sp.vision_angle * std::numbers::pi_v<float> / 180.f;
-    c.move_length[s] = sp.movement_speed * texel;
+    c.move_length[s] = sp.movement_speed * texel * ticks;
     c.sensor_length[s] = sp.vision_distance * MTX_VISION_UNIT_TEXELS * texel;
     c.sensor_cos[s] = std::cos(angle);
     c.sensor_sin[s] = std::sin(angle);
@@ -31,13 +35,16 @@ MomasStepConstants momas_constants(const StepSettings& settings, const TextureDo
   c.hunger_step = p.hunger_rate * p.time_step;
   c.food_radius = p.food_radius;
   c.sensor_size = p.sensor_size;
+  c.length_unit = surface_units ? p.length_unit : 0.f;
+  c.surface_mode = surface_units ? 1u : 0u;
   c.food_count = c.hunger_step > 0.f ? static_cast<uint32_t>(settings.food.size() / 4) : 0u;
   return c;
 }
 
 mtx_surface_tables surface_tables(const Surface& s, const TextureDomain& d) {
   return mtx_surface_tables{s.frames.data(), s.adjacency.data(), s.corner_uvs.data(),
-                            d.classes.data(), s.frame3d.data(), nullptr, nullptr};
+                            d.classes.data(), s.frame3d.data(), nullptr, nullptr,
+                            d.texels_per_unit.data(), d.texel_triangle.data(), s.island.data()};
 }
 
 void momas_update_agents(const mtx_surface_tables& tables, const MomasStepConstants& c,

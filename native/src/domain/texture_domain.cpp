@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "domain/seam_neighbours.h"
 #include "shared/field.h"
 #include "shared/walk.h"
 
@@ -10,7 +11,8 @@ namespace moldtex {
 
 size_t TextureDomain::bytes() const {
   return texel_triangle.capacity() * 4 + classes.capacity() + gutter_texel.capacity() * 4 +
-         gutter_source.capacity() * 4 + triangle_area_scale.capacity() * 4;
+         gutter_source.capacity() * 4 + triangle_area_scale.capacity() * 4 +
+         texels_per_unit.capacity() * 4 + seam_texel.capacity() * 4 + seam_neighbour.capacity() * 4;
 }
 
 namespace {
@@ -174,6 +176,15 @@ TextureDomain build_texture_domain(const Surface& s, uint32_t width, uint32_t he
   for (uint32_t t = 0; t < s.triangle_count(); ++t)
     d.triangle_area_scale[t] = static_cast<float>(s.area_per_uv_area(t));
   d.texel_length = std::sqrt(s.area / (s.uv_area * static_cast<double>(width) * height));
+  d.texels_per_unit.assign(2 * static_cast<size_t>(s.triangle_count()), 0.f);
+  for (uint32_t t = 0; t < s.triangle_count(); ++t) {
+    const auto g = s.metric(t);
+    if (g[0] > 0 && g[3] > 0) {
+      d.texels_per_unit[2 * t] = static_cast<float>(width / std::sqrt(g[0]));
+      d.texels_per_unit[2 * t + 1] = static_cast<float>(height / std::sqrt(g[3]));
+    }
+  }
+  build_seam_neighbours(s, d, pool);
   return d;
 }
 

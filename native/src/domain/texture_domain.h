@@ -24,6 +24,14 @@ struct TextureDomain {
   std::vector<uint32_t> gutter_texel, gutter_source;
   std::vector<float> triangle_area_scale;  // 3D area per UV area, for Eq. 1 weights
   double texel_length = 0;                 // 3D length of one texel on this mesh
+  // Texels per mesh unit along the texel axes, 2 per triangle: W / |dP/du|, H / |dP/dv|
+  // (0 for degenerate triangles). Surface units scale footprints and diffusion by it.
+  std::vector<float> texels_per_unit;
+  // The seam correspondence (see seam_neighbours.h): island texels with a west, east,
+  // south or north neighbour that is not a texel of their own island (a UV seam, an
+  // island that touches another, the texture border, an open boundary), and for each
+  // the 4 texels (W, E, S, N) at the same surface points, found by walking the surface.
+  std::vector<uint32_t> seam_texel, seam_neighbour;
 
   size_t texel_count() const { return static_cast<size_t>(width) * height; }
   size_t bytes() const;

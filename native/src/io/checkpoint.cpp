@@ -14,8 +14,8 @@ namespace {
 // Version 2: species (per-agent species, one pheromone plane per species, species
 // parameters) and static fields. Version 3: food with hunger (per-agent hunger, food
 // sources with their amounts left, the hunger parameters). Version 4: sensor_size
-// appended to the parameters.
-constexpr char kMagic[8] = {'M', 'T', 'X', 'C', 'K', 'P', 'T', '4'};
+// appended to the parameters. Version 5: length_unit appended to the parameters.
+constexpr char kMagic[8] = {'M', 'T', 'X', 'C', 'K', 'P', 'T', '5'};
 
 struct Writer {
   std::vector<char> bytes;

@@ -29,6 +29,9 @@
  * threshold below which a texel's field value marks an obstacle. */
 #define MTX_OBSTACLE_FIELD (-1e9f)
 #define MTX_OBSTACLE_THRESHOLD (-1e8f)
+/* Surface units: a deposit footprint or a sensing square reaches at most this many
+ * texels to each side (bounded work where texels are tiny, e.g. at UV poles). */
+#define MTX_MAX_FOOTPRINT_TEXELS 8
 
 MTX_BEGIN_NAMESPACE
 
@@ -52,6 +55,11 @@ typedef struct mtx_momas_constants {
   float hunger_step;   /* hunger gained per step; 0 = food with hunger is off */
   float food_radius;   /* 3D distance within which an agent eats */
   mtx_u32 sensor_size; /* sensing square radius r in texels: (2r+1)^2 texels; 0 = one */
+  /* Surface units (moldtex_sim_params.length_unit > 0): the 3D length of one pattern
+   * "texel"; deposits mark a footprint of that size and the sensing square scales with it.
+   * 0 = MoMaS' texel units. */
+  float length_unit;
+  mtx_u32 surface_mode;
 } mtx_momas_constants;
 
 MTX_END_NAMESPACE

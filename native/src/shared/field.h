@@ -34,6 +34,19 @@ MTX_FN float mtx_diffuse_evaporate_texel(MTX_GLOBAL const float* in,
   return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v);
 }
 
+/* Surface diffusion (moldtex_sim_params.length_unit > 0), one explicit pass on island
+ * texel value u with its four neighbours along the texel axes (west, east, south, north):
+ *   u + ax / 2 (w + e - 2u) + ay / 2 (s + n - 2u) - evaporation, clamped to [0, 1].
+ * ax, ay are this pass's share of the variance (in texels^2) that the step adds along
+ * each axis; the caller splits a step into passes so that ax + ay <= 1 (a kernel with
+ * non-negative weights: no oscillation, no blow-up). A neighbour that does not exist
+ * (open boundary) is the texel itself: nothing flows out. */
+MTX_FN float mtx_surface_diffuse(float u, float w, float e, float s, float n, float ax,
+                                 float ay, float evaporation) {
+  const float v = u + 0.5f * ax * (w + e - 2.0f * u) + 0.5f * ay * (s + n - 2.0f * u) - evaporation;
+  return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v);
+}
+
 MTX_END_NAMESPACE
 
 #endif

@@ -44,6 +44,12 @@ typedef struct mtx_surface_tables {
   MTX_GLOBAL const float* frame3d;
   MTX_GLOBAL const float* food;
   MTX_GLOBAL mtx_u32* eaters;
+  /* Surface units (k->surface_mode): texels per mesh unit along x and y, 2 per triangle
+   * (W / |dP/du|, H / |dP/dv|); the triangle under each texel (-1 outside islands) and
+   * the UV island of each triangle, so a footprint stays on its own island. */
+  MTX_GLOBAL const float* texels_per_unit;
+  MTX_GLOBAL const int* texel_triangle;
+  MTX_GLOBAL const mtx_u32* island;
 } mtx_surface_tables;
 
 MTX_FN mtx_u32 mtx_texel_of_uv(float u, float v, mtx_u32 width, mtx_u32 height) {
@@ -82,6 +88,38 @@ MTX_FN int mtx_is_obstacle(MTX_GLOBAL const float* field, mtx_u32 texel,
   return MTX_FIELDS && k->has_fields && field[texel] < MTX_OBSTACLE_THRESHOLD;
 }
 
+/* Surface units, single-point sensor: the mean over the texels whose centres lie within
+ * half a length unit of the sensor point along each texel axis (the deposit footprint's
+ * size), so a sensor reads the same 3D neighbourhood at any resolution. */
+MTX_FN float mtx_sense_footprint(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
+                                 MTX_GLOBAL const float* field, const mtx_walker* w,
+                                 mtx_u32 texel, mtx_u32 species, const mtx_momas_constants* k) {
+  MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * w->triangle;
+  const float ex = fmin(0.5f * k->length_unit * tpu[0], MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
+  const float ey = fmin(0.5f * k->length_unit * tpu[1], MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
+  if (ex < 0.5f && ey < 0.5f) return mtx_sensed_value(pheromone, field, texel, species, k);
+  MTX_GLOBAL const float* uv = s.corner_uvs + 6 * w->triangle;
+  const float x = (w->bary[0] * uv[0] + w->bary[1] * uv[2] + w->bary[2] * uv[4]) * MTX_CAST(float, k->width);
+  const float y = (w->bary[0] * uv[1] + w->bary[1] * uv[3] + w->bary[2] * uv[5]) * MTX_CAST(float, k->height);
+  const int w_ = MTX_CAST(int, k->width), h_ = MTX_CAST(int, k->height);
+  int x0 = MTX_CAST(int, ceil(x - ex - 0.5f)), x1 = MTX_CAST(int, floor(x + ex - 0.5f));
+  int y0 = MTX_CAST(int, ceil(y - ey - 0.5f)), y1 = MTX_CAST(int, floor(y + ey - 0.5f));
+  x0 = x0 < 0 ? 0 : x0;
+  y0 = y0 < 0 ? 0 : y0;
+  x1 = x1 >= w_ ? w_ - 1 : x1;
+  y1 = y1 >= h_ ? h_ - 1 : y1;
+  float sum = mtx_sensed_value(pheromone, field, texel, species, k);
+  float count = 1.0f;
+  for (int iy = y0; iy <= y1; ++iy)
+    for (int ix = x0; ix <= x1; ++ix) {
+      const mtx_u32 i = MTX_CAST(mtx_u32, iy) * k->width + MTX_CAST(mtx_u32, ix);
+      if (i == texel || s.classes[i] != MTX_TEXEL_INSIDE) continue;
+      sum += mtx_sensed_value(pheromone, field, i, species, k);
+      count += 1.0f;
+    }
+  return sum / count;
+}
+
 MTX_FN float mtx_sense(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
                        MTX_GLOBAL const float* field, const mtx_walker* from, float c, float sn,
                        mtx_u32 species, const mtx_momas_constants* k) {
@@ -89,19 +127,62 @@ MTX_FN float mtx_sense(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
   probe.heading = mtx_rotate(probe.heading, c, sn);
   mtx_walk(s.frames, s.adjacency, &probe, k->sensor_length[species], 0, 0);
   const mtx_u32 texel = mtx_walker_texel(s.corner_uvs, &probe, k->width, k->height);
-  const int r = MTX_CAST(int, k->sensor_size);
-  if (r == 0) return mtx_sensed_value(pheromone, field, texel, species, k);
+  int rx = MTX_CAST(int, k->sensor_size), ry = rx;
+  if (rx == 0 && k->surface_mode) return mtx_sense_footprint(s, pheromone, field, &probe, texel, species, k);
+  if (rx == 0) return mtx_sensed_value(pheromone, field, texel, species, k);
+  if (k->surface_mode) {
+    /* The square's reach is in surface units: r length units along each texel axis. */
+    MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * probe.triangle;
+    const float fx = MTX_CAST(float, rx) * k->length_unit * tpu[0] + 0.5f;
+    const float fy = MTX_CAST(float, ry) * k->length_unit * tpu[1] + 0.5f;
+    rx = fx < MTX_MAX_FOOTPRINT_TEXELS ? MTX_CAST(int, fx) : MTX_MAX_FOOTPRINT_TEXELS;
+    ry = fy < MTX_MAX_FOOTPRINT_TEXELS ? MTX_CAST(int, fy) : MTX_MAX_FOOTPRINT_TEXELS;
+  }
   /* MoMaS' square kernel: the sum over the (2r+1)^2 texels around the sensor texel,
    * clamped to the texture (texels outside every island hold 0). */
   const int cx = MTX_CAST(int, texel % k->width), cy = MTX_CAST(int, texel / k->width);
   const int w = MTX_CAST(int, k->width), h = MTX_CAST(int, k->height);
-  const int x0 = cx - r < 0 ? 0 : cx - r, x1 = cx + r >= w ? w - 1 : cx + r;
-  const int y0 = cy - r < 0 ? 0 : cy - r, y1 = cy + r >= h ? h - 1 : cy + r;
+  const int x0 = cx - rx < 0 ? 0 : cx - rx, x1 = cx + rx >= w ? w - 1 : cx + rx;
+  const int y0 = cy - ry < 0 ? 0 : cy - ry, y1 = cy + ry >= h ? h - 1 : cy + ry;
   float v = 0.0f;
   for (int y = y0; y <= y1; ++y)
     for (int x = x0; x <= x1; ++x)
       v += mtx_sensed_value(pheromone, field, MTX_CAST(mtx_u32, y * w + x), species, k);
   return v;
+}
+
+/* Surface units: marks every texel of the walker's UV island, free of obstacles, whose
+ * centre lies within half a length unit of the walker along each texel axis (the
+ * footprint has the same 3D size wherever texels are small or large; at most
+ * MTX_MAX_FOOTPRINT_TEXELS each side), and always the texel under the walker. */
+MTX_FN void mtx_mark_footprint(mtx_surface_tables s, MTX_GLOBAL const float* field,
+                               MTX_GLOBAL mtx_u8* own_marks, const mtx_walker* w,
+                               mtx_u32 texel, const mtx_momas_constants* k) {
+  MTX_MARK(own_marks, texel);
+  MTX_GLOBAL const float* uv = s.corner_uvs + 6 * w->triangle;
+  const float x = (w->bary[0] * uv[0] + w->bary[1] * uv[2] + w->bary[2] * uv[4]) * MTX_CAST(float, k->width);
+  const float y = (w->bary[0] * uv[1] + w->bary[1] * uv[3] + w->bary[2] * uv[5]) * MTX_CAST(float, k->height);
+  MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * w->triangle;
+  const float ex = fmin(0.5f * k->length_unit * tpu[0], MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
+  const float ey = fmin(0.5f * k->length_unit * tpu[1], MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
+  if (ex < 0.5f && ey < 0.5f) return; /* the footprint lies within the one texel */
+  const int w_ = MTX_CAST(int, k->width), h_ = MTX_CAST(int, k->height);
+  /* Texel centres ix + 0.5 within [x - ex, x + ex]. */
+  int x0 = MTX_CAST(int, ceil(x - ex - 0.5f)), x1 = MTX_CAST(int, floor(x + ex - 0.5f));
+  int y0 = MTX_CAST(int, ceil(y - ey - 0.5f)), y1 = MTX_CAST(int, floor(y + ey - 0.5f));
+  x0 = x0 < 0 ? 0 : x0;
+  y0 = y0 < 0 ? 0 : y0;
+  x1 = x1 >= w_ ? w_ - 1 : x1;
+  y1 = y1 >= h_ ? h_ - 1 : y1;
+  const mtx_u32 island = s.island[w->triangle];
+  for (int iy = y0; iy <= y1; ++iy)
+    for (int ix = x0; ix <= x1; ++ix) {
+      const mtx_u32 i = MTX_CAST(mtx_u32, iy) * k->width + MTX_CAST(mtx_u32, ix);
+      const int t = s.texel_triangle[i];
+      if (t < 0 || s.classes[i] != MTX_TEXEL_INSIDE || s.island[t] != island) continue;
+      if (mtx_is_obstacle(field, i, k)) continue;
+      MTX_MARK(own_marks, i);
+    }
 }
 
 /* Food with hunger (plasmodial-slime-readme.md, "Food Sources"), after the MoMaS turn:
@@ -205,7 +286,11 @@ MTX_FN void mtx_momas_agent_step(mtx_surface_tables s, MTX_GLOBAL const float* p
       }
       continue; /* nothing is deposited in an obstacle */
     }
-    if (s.classes[texel] == MTX_TEXEL_INSIDE) MTX_MARK(own_marks, texel);
+    if (s.classes[texel] != MTX_TEXEL_INSIDE) continue;
+    if (k->surface_mode)
+      mtx_mark_footprint(s, field, own_marks, w, texel, k);
+    else
+      MTX_MARK(own_marks, texel);
   }
 }
 

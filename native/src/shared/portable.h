@@ -38,8 +38,10 @@ typedef uint64_t mtx_u64;
   std::atomic_ref<mtx_u32>((counters)[index]).fetch_add(1u, std::memory_order_relaxed)
 #define MTX_BEGIN_NAMESPACE namespace moldtex {
 #define MTX_END_NAMESPACE }
+using std::ceil;
 using std::cos;
 using std::fabs;
+using std::floor;
 using std::fmax;
 using std::fmin;
 using std::sin;

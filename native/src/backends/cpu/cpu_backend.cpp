@@ -62,9 +62,17 @@ void CpuBackend::step(const StepSettings& settings, uint64_t seed, uint64_t step
   //    (which then mixes across seams) and evaporate.
   const size_t texels = d.texel_count();
   const float mix = std::min(1.f, p.diffusion_rate * p.time_step);
+  const bool surface_units = p.length_unit > 0.f;
+  if (surface_units && !plan_.matches(p.diffusion_rate * p.time_step, p.length_unit))
+    plan_ = plan_surface_diffusion(d, p.diffusion_rate * p.time_step, p.length_unit);
   for (uint32_t k = 0; k < species_count_; ++k) {
     float* plane = pheromone_.data() + k * texels;
     apply_deposits(d, plane, marks_.data() + k * texels, settings.species[k].deposit, *pool_);
+    if (surface_units) {
+      surface_diffuse(d, plan_, plane, scratch_.data() + k * texels, fine_scratch_,
+                      p.evaporation_rate * p.time_step, *pool_);
+      continue;
+    }
     fill_gutter(d, plane, *pool_);
     diffuse_and_evaporate(d, plane, scratch_.data() + k * texels, mix,
                           p.evaporation_rate * p.time_step, *pool_);

@@ -6,6 +6,7 @@
 
 #include "agents/agents.h"
 #include "backends/backend.h"
+#include "domain/surface_diffusion.h"
 #include "domain/texture_domain.h"
 
 namespace moldtex {
@@ -38,6 +39,9 @@ class CpuBackend final : public Backend {
   std::vector<float> pheromone_, scratch_;  // species_count_ planes each
   std::vector<float> field_;
   std::vector<uint8_t> marks_;
+  // Surface units: the diffusion plan for the current mix and length unit.
+  DiffusionPlan plan_;
+  std::vector<float> fine_scratch_;
 };
 
 }  // namespace moldtex

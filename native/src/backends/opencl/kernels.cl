@@ -11,8 +11,9 @@ __kernel void momas_agents(__global const mtx_frame* frames, __global const uint
                            __global float* b2, __global float* hx, __global float* hy,
                            __global const uchar* species, __global float* hunger,
                            __global const float* frame3d, __global const float* food,
-                           __global uint* eaters, const mtx_momas_constants k,
-                           const uint count) {
+                           __global uint* eaters, __global const float* texels_per_unit,
+                           __global const int* texel_triangle, __global const uint* island,
+                           const mtx_momas_constants k, const uint count) {
   const uint i = get_global_id(0);
   if (i >= count) return;
   mtx_surface_tables s;
@@ -23,6 +24,9 @@ __kernel void momas_agents(__global const mtx_frame* frames, __global const uint
   s.frame3d = frame3d;
   s.food = food;
   s.eaters = eaters;
+  s.texels_per_unit = texels_per_unit;
+  s.texel_triangle = texel_triangle;
+  s.island = island;
   mtx_walker w;
   w.triangle = triangle[i];
   w.bary[1] = b1[i];
@@ -81,4 +85,74 @@ __kernel void diffuse_evaporate(__global const float* in, __global float* out,
             ? mtx_diffuse_evaporate_texel(in + p * texels, classes, x, y, width, height, mix,
                                           evaporation)
             : 0.0f;
+}
+
+/* Surface diffusion (see domain/surface_diffusion.h): one pass over every texel with its
+ * grid neighbours; coef holds ax, ay per triangle. */
+__kernel void surface_diffuse(__global const float* in, __global float* out,
+                              __global const uchar* classes, __global const int* texel_triangle,
+                              __global const float* coef, const int width, const int height,
+                              const float evaporation, const uint planes) {
+  const int x = get_global_id(0), y = get_global_id(1);
+  if (x >= width || y >= height) return;
+  const uint i = (uint)y * (uint)width + (uint)x;
+  const uint texels = (uint)width * (uint)height;
+  const int t = texel_triangle[i];
+  for (uint p = 0; p < planes; ++p) {
+    __global const float* src = in + p * texels;
+    if (classes[i] != MTX_TEXEL_INSIDE) {
+      out[p * texels + i] = 0.0f;
+      continue;
+    }
+    const float u = src[i];
+    out[p * texels + i] = mtx_surface_diffuse(
+        u, x > 0 ? src[i - 1] : u, x + 1 < width ? src[i + 1] : u, y > 0 ? src[i - width] : u,
+        y + 1 < height ? src[i + width] : u, coef[2 * t], coef[2 * t + 1], evaporation);
+  }
+}
+
+/* The same for the texels at seams, with their neighbours across the seam. */
+__kernel void seam_diffuse(__global const float* in, __global float* out,
+                           __global const uint* seam_texel, __global const uint* seam_neighbour,
+                           __global const int* texel_triangle, __global const float* coef,
+                           const uint count, const uint texels, const float evaporation,
+                           const uint planes) {
+  const uint j = get_global_id(0);
+  if (j >= count) return;
+  const uint i = seam_texel[j];
+  __global const uint* n = seam_neighbour + 4 * j;
+  const int t = texel_triangle[i];
+  for (uint p = 0; p < planes; ++p) {
+    __global const float* src = in + p * texels;
+    out[p * texels + i] = mtx_surface_diffuse(src[i], src[n[0]], src[n[1]], src[n[2]], src[n[3]],
+                                              coef[2 * t], coef[2 * t + 1], evaporation);
+  }
+}
+
+/* Extra pass `pass` of the small texels: new values into scratch (count per plane)... */
+__kernel void fine_diffuse(__global const float* field, __global float* scratch,
+                           __global const uint* fine_texel, __global const uint* fine_neighbour,
+                           __global const float* fine_coef, __global const uint* fine_extra,
+                           const uint pass, const uint count, const uint texels,
+                           const uint planes) {
+  const uint j = get_global_id(0);
+  if (j >= count) return;
+  const uint i = fine_texel[j];
+  __global const uint* n = fine_neighbour + 4 * j;
+  for (uint p = 0; p < planes; ++p) {
+    __global const float* src = field + p * texels;
+    scratch[p * count + j] =
+        fine_extra[j] < pass ? src[i]
+                             : mtx_surface_diffuse(src[i], src[n[0]], src[n[1]], src[n[2]], src[n[3]],
+                                                   fine_coef[2 * j], fine_coef[2 * j + 1], 0.0f);
+  }
+}
+
+/* ... then written back. */
+__kernel void fine_scatter(__global float* field, __global const float* scratch,
+                           __global const uint* fine_texel, const uint count, const uint texels,
+                           const uint planes) {
+  const uint j = get_global_id(0);
+  if (j >= count) return;
+  for (uint p = 0; p < planes; ++p) field[p * texels + fine_texel[j]] = scratch[p * count + j];
 }

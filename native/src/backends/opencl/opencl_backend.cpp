@@ -62,9 +62,18 @@ struct OpenClBackend::State {
   cl_program programs[4] = {};
   cl_kernel agent_kernels[4] = {};
   cl_kernel deposit_kernel = nullptr, gutter_kernel = nullptr, diffuse_kernel = nullptr;
+  // Surface units (see domain/surface_diffusion.h).
+  cl_kernel surface_kernel = nullptr, seam_kernel = nullptr, fine_kernel = nullptr,
+            scatter_kernel = nullptr;
   // Surface and layout tables (read-only).
   cl_mem frames = nullptr, adjacency = nullptr, corner_uvs = nullptr, classes = nullptr,
-         gutter_texel = nullptr, gutter_source = nullptr, frame3d = nullptr;
+         gutter_texel = nullptr, gutter_source = nullptr, frame3d = nullptr,
+         texels_per_unit = nullptr, texel_triangle = nullptr, island = nullptr,
+         seam_texel = nullptr, seam_neighbour = nullptr;
+  // The diffusion plan on the device (remade when the mix or the length unit changes).
+  cl_mem coef = nullptr, fine_texel = nullptr, fine_neighbour = nullptr, fine_coef = nullptr,
+         fine_extra = nullptr, fine_scratch = nullptr;
+  size_t plan_bytes = 0;
   // Food sources (MTX_MAX_FOOD x 4 floats) and their eater counters.
   cl_mem food = nullptr, eaters = nullptr;
   // State.
@@ -75,16 +84,27 @@ struct OpenClBackend::State {
   ~State() {
     for (cl_mem m : {frames, adjacency, corner_uvs, classes, gutter_texel, gutter_source, frame3d,
                      food, eaters, triangle, b1, b2, hx, hy, species, hunger, pheromone, scratch,
-                     marks, field})
+                     marks, field, texels_per_unit, texel_triangle, island, seam_texel,
+                     seam_neighbour})
       if (m) r.clReleaseMemObject(m);
+    release_plan();
     for (cl_kernel k : agent_kernels)
       if (k) r.clReleaseKernel(k);
-    for (cl_kernel k : {deposit_kernel, gutter_kernel, diffuse_kernel})
+    for (cl_kernel k : {deposit_kernel, gutter_kernel, diffuse_kernel, surface_kernel, seam_kernel,
+                        fine_kernel, scatter_kernel})
       if (k) r.clReleaseKernel(k);
     for (cl_program p : programs)
       if (p) r.clReleaseProgram(p);
     if (queue) r.clReleaseCommandQueue(queue);
     if (context) r.clReleaseContext(context);
+  }
+
+  void release_plan() {
+    for (cl_mem* m : {&coef, &fine_texel, &fine_neighbour, &fine_coef, &fine_extra, &fine_scratch})
+      if (*m) {
+        r.clReleaseMemObject(*m);
+        *m = nullptr;
+      }
   }
 
   cl_mem buffer(size_t bytes, const void* data, size_t& total) {
@@ -140,13 +160,23 @@ OpenClBackend::OpenClBackend(std::shared_ptr<const Surface> surface,
   check(err, "creating the gutter kernel");
   s.diffuse_kernel = r.clCreateKernel(s.programs[0], "diffuse_evaporate", &err);
   check(err, "creating the diffusion kernel");
+  s.surface_kernel = r.clCreateKernel(s.programs[0], "surface_diffuse", &err);
+  check(err, "creating the surface diffusion kernel");
+  s.seam_kernel = r.clCreateKernel(s.programs[0], "seam_diffuse", &err);
+  check(err, "creating the seam diffusion kernel");
+  s.fine_kernel = r.clCreateKernel(s.programs[0], "fine_diffuse", &err);
+  check(err, "creating the fine diffusion kernel");
+  s.scatter_kernel = r.clCreateKernel(s.programs[0], "fine_scatter", &err);
+  check(err, "creating the fine diffusion kernel");
 
   // Refuse up front what cannot fit, with the numbers, rather than failing mid-step.
   const Surface& sf = *surface_;
   const TextureDomain& d = *domain_;
   const size_t texels = d.texel_count();
   const double need = agent_count_ * 25.0 + sf.frame3d.size() * 4.0 + texels * (9.0 * species_count_ + 5.0) + sf.frames.size() * sizeof(mtx_frame) +
-                      sf.adjacency.size() * 4.0 + sf.corner_uvs.size() * 4.0 + d.gutter_texel.size() * 8.0;
+                      sf.adjacency.size() * 4.0 + sf.corner_uvs.size() * 4.0 + d.gutter_texel.size() * 8.0 +
+                      texels * 4.0 + d.texels_per_unit.size() * 4.0 + sf.island.size() * 4.0 +
+                      d.seam_texel.size() * 20.0;
   if (device_.global_memory && need > 0.9 * static_cast<double>(device_.global_memory))
     fail(MOLDTEX_ERROR_OUT_OF_MEMORY,
          "The simulation needs about " + std::to_string(static_cast<long long>(need / (1 << 20))) +
@@ -162,6 +192,12 @@ OpenClBackend::OpenClBackend(std::shared_ptr<const Surface> surface,
   s.gutter_source = s.buffer(d.gutter_source.size() * 4, d.gutter_source.data(), device_bytes_);
   reserve_agents(agent_count_);
   s.frame3d = s.buffer(sf.frame3d.size() * 4, sf.frame3d.data(), device_bytes_);
+  s.texels_per_unit = s.buffer(d.texels_per_unit.size() * 4, d.texels_per_unit.data(), device_bytes_);
+  s.texel_triangle = s.buffer(texels * 4, d.texel_triangle.data(), device_bytes_);
+  s.island = s.buffer(sf.island.size() * 4, sf.island.data(), device_bytes_);
+  s.seam_texel = s.buffer(d.seam_texel.size() * 4, d.seam_texel.empty() ? nullptr : d.seam_texel.data(), device_bytes_);
+  s.seam_neighbour = s.buffer(d.seam_neighbour.size() * 4,
+                              d.seam_neighbour.empty() ? nullptr : d.seam_neighbour.data(), device_bytes_);
   s.food = s.buffer(MTX_MAX_FOOD * 4 * 4, nullptr, device_bytes_);
   s.eaters = s.buffer(MTX_MAX_FOOD * 4, nullptr, device_bytes_);
   s.pheromone = s.buffer(texels * 4 * species_count_, nullptr, device_bytes_);
@@ -295,10 +331,11 @@ void OpenClBackend::step(const StepSettings& settings, uint64_t seed, uint64_t s
   cl_kernel k = agent_kernel(c.hunger_step > 0.0f, c.has_fields != 0);
   cl_mem agent_args[] = {s.frames, s.adjacency, s.corner_uvs, s.classes, s.pheromone, s.field,
                          s.marks, s.triangle, s.b1, s.b2, s.hx, s.hy, s.species, s.hunger,
-                         s.frame3d, s.food, s.eaters};
-  for (cl_uint i = 0; i < 17; ++i) s.arg(k, i, agent_args[i]);
-  s.arg(k, 17, c);
-  s.arg(k, 18, static_cast<cl_uint>(agent_count_));
+                         s.frame3d, s.food, s.eaters, s.texels_per_unit, s.texel_triangle,
+                         s.island};
+  for (cl_uint i = 0; i < 20; ++i) s.arg(k, i, agent_args[i]);
+  s.arg(k, 20, c);
+  s.arg(k, 21, static_cast<cl_uint>(agent_count_));
   s.run(k, agent_count_);
   if (c.food_count > 0)  // the host needs the counts before the next step's food
     check(s.r.clEnqueueReadBuffer(s.queue, s.eaters, CL_TRUE, 0, c.food_count * 4ull, eaters, 0,
@@ -323,6 +360,11 @@ void OpenClBackend::step(const StepSettings& settings, uint64_t seed, uint64_t s
     s.arg(s.gutter_kernel, 5, planes);
     s.run(s.gutter_kernel, gutter);
   };
+  if (p.length_unit > 0.f) {
+    surface_diffusion(p);
+    gutter_pass();
+    return;
+  }
   gutter_pass();
 
   const float mix = std::min(1.f, p.diffusion_rate * p.time_step);
@@ -337,6 +379,77 @@ void OpenClBackend::step(const StepSettings& settings, uint64_t seed, uint64_t s
   s.run(s.diffuse_kernel, d.width, d.height);
   std::swap(s.pheromone, s.scratch);
   gutter_pass();
+}
+
+void OpenClBackend::surface_diffusion(const moldtex_sim_params& p) {
+  State& s = *state_;
+  const TextureDomain& d = *domain_;
+  const cl_uint planes = species_count_;
+  const cl_uint texels = static_cast<cl_uint>(d.texel_count());
+  const float mix = p.diffusion_rate * p.time_step;
+  if (!plan_.matches(mix, p.length_unit)) {
+    DiffusionPlan plan = plan_surface_diffusion(d, mix, p.length_unit);
+    s.release_plan();
+    device_bytes_ -= s.plan_bytes;
+    s.plan_bytes = 0;
+    const size_t fine = plan.fine_texel.size();
+    auto data = [](const auto& v) { return v.empty() ? nullptr : static_cast<const void*>(v.data()); };
+    s.coef = s.buffer(plan.triangle_coef.size() * 4, data(plan.triangle_coef), s.plan_bytes);
+    s.fine_texel = s.buffer(fine * 4, data(plan.fine_texel), s.plan_bytes);
+    s.fine_neighbour = s.buffer(fine * 16, data(plan.fine_neighbour), s.plan_bytes);
+    s.fine_coef = s.buffer(fine * 8, data(plan.fine_coef), s.plan_bytes);
+    s.fine_extra = s.buffer(fine * 4, data(plan.fine_extra), s.plan_bytes);
+    s.fine_scratch = s.buffer(fine * 4 * planes, nullptr, s.plan_bytes);
+    device_bytes_ += s.plan_bytes;
+    plan_ = std::move(plan);
+  }
+  const cl_uint seams = static_cast<cl_uint>(d.seam_texel.size());
+  for (uint32_t pass = 0; pass < plan_.passes; ++pass) {
+    const float evaporation = pass == 0 ? p.evaporation_rate * p.time_step : 0.f;
+    s.arg(s.surface_kernel, 0, s.pheromone);
+    s.arg(s.surface_kernel, 1, s.scratch);
+    s.arg(s.surface_kernel, 2, s.classes);
+    s.arg(s.surface_kernel, 3, s.texel_triangle);
+    s.arg(s.surface_kernel, 4, s.coef);
+    s.arg(s.surface_kernel, 5, static_cast<cl_int>(d.width));
+    s.arg(s.surface_kernel, 6, static_cast<cl_int>(d.height));
+    s.arg(s.surface_kernel, 7, evaporation);
+    s.arg(s.surface_kernel, 8, planes);
+    s.run(s.surface_kernel, d.width, d.height);
+    s.arg(s.seam_kernel, 0, s.pheromone);
+    s.arg(s.seam_kernel, 1, s.scratch);
+    s.arg(s.seam_kernel, 2, s.seam_texel);
+    s.arg(s.seam_kernel, 3, s.seam_neighbour);
+    s.arg(s.seam_kernel, 4, s.texel_triangle);
+    s.arg(s.seam_kernel, 5, s.coef);
+    s.arg(s.seam_kernel, 6, seams);
+    s.arg(s.seam_kernel, 7, texels);
+    s.arg(s.seam_kernel, 8, evaporation);
+    s.arg(s.seam_kernel, 9, planes);
+    s.run(s.seam_kernel, seams);
+    std::swap(s.pheromone, s.scratch);
+  }
+  const cl_uint fine = static_cast<cl_uint>(plan_.fine_texel.size());
+  for (cl_uint pass = 1; pass <= plan_.max_extra; ++pass) {
+    s.arg(s.fine_kernel, 0, s.pheromone);
+    s.arg(s.fine_kernel, 1, s.fine_scratch);
+    s.arg(s.fine_kernel, 2, s.fine_texel);
+    s.arg(s.fine_kernel, 3, s.fine_neighbour);
+    s.arg(s.fine_kernel, 4, s.fine_coef);
+    s.arg(s.fine_kernel, 5, s.fine_extra);
+    s.arg(s.fine_kernel, 6, pass);
+    s.arg(s.fine_kernel, 7, fine);
+    s.arg(s.fine_kernel, 8, texels);
+    s.arg(s.fine_kernel, 9, planes);
+    s.run(s.fine_kernel, fine);
+    s.arg(s.scatter_kernel, 0, s.pheromone);
+    s.arg(s.scatter_kernel, 1, s.fine_scratch);
+    s.arg(s.scatter_kernel, 2, s.fine_texel);
+    s.arg(s.scatter_kernel, 3, fine);
+    s.arg(s.scatter_kernel, 4, texels);
+    s.arg(s.scatter_kernel, 5, planes);
+    s.run(s.scatter_kernel, fine);
+  }
 }
 
 void OpenClBackend::finish() { check(state_->r.clFinish(state_->queue), "finishing the step"); }

@@ -9,6 +9,7 @@
 #include "agents/agents.h"
 #include "backends/backend.h"
 #include "backends/opencl/devices.h"
+#include "domain/surface_diffusion.h"
 #include "domain/texture_domain.h"
 
 namespace moldtex {
@@ -42,6 +43,9 @@ class OpenClBackend final : public Backend {
   // The agent kernel specialised for food with hunger on/off and fields on/off (and this
   // simulation's species count), built on first use.
   cl_kernel agent_kernel(bool food, bool fields);
+  // Surface units: diffusion and evaporation of the deposited pheromone (result in the
+  // pheromone buffer).
+  void surface_diffusion(const moldtex_sim_params& params);
 
   struct State;
   std::shared_ptr<const Surface> surface_;
@@ -54,6 +58,7 @@ class OpenClBackend final : public Backend {
   cl::Device device_;
   size_t device_bytes_ = 0;
   std::unique_ptr<State> state_;
+  DiffusionPlan plan_;  // the one on the device
 };
 
 }  // namespace moldtex
