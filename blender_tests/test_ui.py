@@ -127,7 +127,8 @@ class PanelTests(unittest.TestCase):
         h.configure(obj, agents=2000)
         log = draw_all(self, obj)
         shown = {name for kind, name in log if kind == "prop"}
-        self.assertEqual(shown, {"movement_speed", "turn_speed", "vision_distance",
+        self.assertEqual(shown, {"pattern_units", "pattern_scale", "time_step",
+                                 "movement_speed", "turn_speed", "vision_distance",
                                  "vision_angle_ui", "sensor_size", "evaporation_rate",
                                  "diffusion_rate",
                                  "deposit", "substeps", "resolution", "agent_count",
