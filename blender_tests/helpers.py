@@ -105,7 +105,12 @@ def mesh_object(name, vertices, faces, with_uvs=True):
 
 
 def configure(obj, resolution=RESOLUTION, agents=AGENTS, seed=SEED, **params):
+    """Test settings. Surface units (the default) with a pattern scale that makes one
+    pattern texel about one texel at this (small, quick) resolution, the scale the
+    tests' step counts and thresholds were made for."""
+    from moldtex import live as live_module
     settings = obj.moldtex
+    settings.pattern_scale = live_module.REFERENCE_RESOLUTION / int(resolution)
     settings.resolution = resolution
     settings.agent_count = agents
     settings.seed = seed
@@ -243,7 +248,8 @@ def fresh_sim(obj):
     surface = eng.Surface(mesh.positions, mesh.triangles, mesh.uvs, mesh.triangle_uvs)
     try:
         return eng.Simulation(surface, live_module.config_from_settings(obj.moldtex),
-                              live_module.params_from_settings(obj.moldtex))
+                              live_module.params_from_settings(obj.moldtex,
+                                                               surface.info()["area"]))
     finally:
         surface.release()
 

@@ -28,6 +28,8 @@ NON_DEFAULTS = {
     "obstacle_attribute": "Walls", "attractor_attribute": "Goal", "show_fields": True,
     # Food (test_food.py checks the Food collection).
     "hunger_rate": 2.5, "food_radius": 0.3,
+    # Surface units (Agents panel).
+    "pattern_units": "TEXELS", "pattern_scale": 2.5, "time_step": 0.025,
     "ramp_stops": '{"stops": [[0.0, [0.1, 0.2, 0.3, 1.0]], [1.0, [0.9, 0.8, 0.7, 1.0]]], '
                   '"interpolation": "EASE"}',
     # The look last applied (the preset menu's label for this object).

@@ -190,8 +190,9 @@ def config_from_settings(settings):
 
 
 # Surface units: a pattern scale of 1 makes one pattern "texel" the side of a square of
-# 1/1024² of the object's area (the texel of a 1024² texture on a UV layout that fills it).
-REFERENCE_RESOLUTION = 1024
+# 1/512² of the object's area (the texel of a 512² texture on a UV layout that fills it),
+# so at the default resolution the look is MoMaS' and higher resolutions sharpen it.
+REFERENCE_RESOLUTION = 512
 
 
 def length_unit(settings, area):

@@ -386,7 +386,7 @@ class MoldtexSettings(bpy.types.PropertyGroup):
     pattern_scale: FloatProperty(
         name="Pattern Scale", default=1.0, min=0.01, max=100.0, soft_min=0.25, soft_max=4.0,
         description="Pattern Scale (surface units): the size of one pattern 'texel' as a fraction of the "
-                    "object's size (1 = a 1024² texel of the object's area). Larger = "
+                    "object's size (1 = a 512² texel of the object's area). Larger = "
                     "bigger cells and thicker trails, whatever the resolution",
         update=_push_params)
     time_step: FloatProperty(
