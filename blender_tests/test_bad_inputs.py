@@ -144,6 +144,27 @@ class EnumTests(unittest.TestCase):
         self.assertTrue(any(name.endswith(".exr") for name in os.listdir(self.folder)))
 
 
+class BrushEnumTests(unittest.TestCase):
+    def test_unknown_brush_target_paints_the_default_with_a_note(self):
+        h.clear_scene()
+        obj = h.subdivided_plane()
+        h.configure(obj, agents=2000, resolution="128")
+        scene = bpy.context.scene
+        scene.moldtex_brush["target"] = 99  # e.g. a target a newer version added
+        self.assertIn("Paint held a value", labels(draw_all(self, obj)))
+        food = bpy.data.collections.get("Food")
+        before = len(food.objects) if food is not None else 0
+        self.assertEqual(bpy.ops.moldtex.brush_stroke(stroke=[
+            {"name": "", "location": (0.0, 0.0, 1.0), "direction": (0.0, 0.0, -1.0)}]),
+            {'FINISHED'})
+        self.assertEqual(scene.moldtex_brush.target, 'OBSTACLE')  # the default
+        food = bpy.data.collections.get("Food")
+        self.assertEqual(len(food.objects) if food is not None else 0, before,
+                         "an unknown target must not place food")
+        image = obj.moldtex.fields_image
+        self.assertIsNotNone(image)  # it painted an obstacle into the Fields image
+
+
 class LimitTests(unittest.TestCase):
     def setUp(self):
         h.clear_scene()

@@ -485,6 +485,16 @@ class _FoodEdit:
         return ""
 
 
+def repair_settings(settings):
+    """Sets brush enums holding a value this version does not know (a file from another
+    version) back to their defaults, with a note on the console; returns the notes."""
+    from .properties import repair_enums  # (properties imports live, not this module)
+    notes = repair_enums(settings)
+    for note in notes:
+        print(f"Moldtex brush: {note}")
+    return notes
+
+
 class Stroke:
     """One press-drag-release of the brush (or one moldtex.brush_stroke call)."""
 
@@ -492,6 +502,7 @@ class Stroke:
         self.obj_name = obj.name
         self.context = context
         settings = context.scene.moldtex_brush
+        repair_settings(settings)
         self.target = settings.target
         self.last_centre = None
         if self.target in FIELD_CHANNELS:

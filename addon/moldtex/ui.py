@@ -427,6 +427,8 @@ class MOLDTEX_PT_brush(_SubPanel, bpy.types.Panel):
         row.scale_y = 1.4
         row.operator("moldtex.brush_paint", icon='BRUSH_DATA')
         row.prop(obj.moldtex, "show_fields", text="", icon='HIDE_OFF')
+        for note in invalid_enum_notes(settings):
+            _wrapped(layout, note, icon='ERROR')
         _prop(_split(layout), settings, "target")
         row = layout.row(align=True)
         row.prop(settings, "erase", toggle=True, icon='REMOVE' if settings.erase else 'ADD',
