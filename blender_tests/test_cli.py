@@ -99,7 +99,7 @@ class KilledBakeTests(CliTestCase):
         # The reference: the same look, frames and steps baked in this process.
         h.activate(self.obj)
         path = self.preset_path("golden_web")
-        bpy.ops.script.execute_preset(filepath=path, menu_idname="MOLDTEX_MT_presets")
+        bpy.ops.moldtex.preset_apply(filepath=path)
         reference = os.path.join(self.folder, "reference")
         h.bake_settings(self.obj, reference, 1, self.FRAMES, self.SPF, "EXR_HALF")
         self.assertEqual(bpy.ops.moldtex.bake(), {'FINISHED'})

@@ -32,9 +32,12 @@ NON_DEFAULTS = {
     "pattern_units": "TEXELS", "pattern_scale": 2.5, "time_step": 0.025,
     "ramp_stops": '{"stops": [[0.0, [0.1, 0.2, 0.3, 1.0]], [1.0, [0.9, 0.8, 0.7, 1.0]]], '
                   '"interpolation": "EASE"}',
+    # The look last applied (the preset menu's label for this object).
+    "preset_name": "Golden Web",
 }
-# Not stored: shown by get/set from backend_type and the opencl_* properties.
-DERIVED = {"backend"}
+# Not stored: shown by get/set from backend_type and the opencl_* properties, and the
+# panel's angle (°) view of vision_angle.
+DERIVED = {"backend", "vision_angle_ui"}
 # A collection and pointers: test_species.py and test_food.py check that they survive.
 NOT_SCALAR = {"species", "fields_image", "food_collection"}
 

@@ -42,7 +42,7 @@ def presets_module():
 
 def execute_preset(path):
     # What clicking an entry of MOLDTEX_MT_presets runs.
-    return bpy.ops.script.execute_preset(filepath=path, menu_idname="MOLDTEX_MT_presets")
+    return bpy.ops.moldtex.preset_apply(filepath=path)
 
 
 def ramp_of(obj):
@@ -72,8 +72,7 @@ class ShippedPresetTests(unittest.TestCase):
             self.assertEqual(bpy.ops.moldtex.setup_material(), {'FINISHED'})
             before = ramp_of(obj)
             self.assertEqual(execute_preset(presets.find(name)), {'FINISHED'})
-            self.assertEqual(bpy.types.MOLDTEX_MT_presets.bl_label,
-                             bpy.path.display_name(name, title_case=False))
+            self.assertEqual(presets.menu_label(obj), bpy.path.display_name(name))
             settings = obj.moldtex
             self.assertGreater(settings.agent_count, 100, name)  # scaled from 512²
             self.assertNotEqual(ramp_of(obj), before, f"{name} kept the default ramp")
@@ -123,6 +122,37 @@ class PresetMenuTests(unittest.TestCase):
     def setUp(self):
         h.clear_scene()
 
+    def test_menu_label_belongs_to_each_object(self):
+        # A sphere that never had a preset does not show the torus's look.
+        presets = presets_module()
+        torus = h.add_primitive("torus")
+        self.assertEqual(execute_preset(presets.find("marble")), {'FINISHED'})
+        sphere = h.add_primitive("sphere")
+        from test_ui import draw_all
+
+        def menu_text(obj):
+            return next(text for kind, text in draw_all(self, obj) if kind == "menu_text")
+        self.assertEqual(menu_text(torus), "Marble")
+        self.assertEqual(menu_text(sphere), "Presets")
+        h.activate(sphere)
+        self.assertEqual(execute_preset(presets.find("moss")), {'FINISHED'})
+        self.assertEqual((menu_text(torus), menu_text(sphere)), ("Marble", "Moss"))
+        # Saved with the file, per object.
+        self.assertEqual(torus.moldtex.preset_name, "Marble")
+
+    def test_each_entry_has_its_own_tooltip(self):
+        presets = presets_module()
+        operator = bpy.types.MOLDTEX_OT_preset_apply
+        tips = {}
+        for name in SHIPPED:
+            props = types.SimpleNamespace(filepath=presets.find(name))
+            tips[name] = operator.description(bpy.context, props)
+        self.assertEqual(len(set(tips.values())), len(SHIPPED), tips)
+        self.assertIn("veins", tips["marble"])
+        self.assertIn("scratches", tips["metal_scratches"])
+        for name, tip in tips.items():
+            self.assertNotIn("Apply this look", tip, name)  # not the generic text
+
     def draw_menu(self):
         log = []
         menu = bpy.types.MOLDTEX_MT_presets
@@ -164,9 +194,18 @@ class PresetMenuTests(unittest.TestCase):
             self.assertIn("s.agent_count = s.scaled_agent_count(32000)", text)  # 2000 at 128²
             self.assertIn("s.apply_ramp([", text)
             self.assertIn("Moldtex Test Look 1234", self.draw_menu())
+            self.assertEqual(obj.moldtex.preset_name, "Moldtex Test Look 1234")
+            tip = bpy.types.MOLDTEX_OT_preset_apply.description(
+                bpy.context, types.SimpleNamespace(filepath=path))
+            self.assertIn("Moldtex Test Look 1234", tip)  # an own preset's tooltip
             obj.moldtex.turn_speed = 11.0
             self.assertEqual(execute_preset(path), {'FINISHED'})
             self.assertAlmostEqual(obj.moldtex.turn_speed, 27.5)
+            # The - button removes the active object's own look.
+            self.assertEqual(bpy.ops.moldtex.preset_add(remove_active=True), {'FINISHED'})
+            self.assertFalse(os.path.exists(path))
+            self.assertEqual(obj.moldtex.preset_name, "")
+            self.assertEqual(bpy.ops.moldtex.preset_add(name=name), {'FINISHED'})
             self.assertEqual(bpy.ops.moldtex.preset_add(name=name, remove_name=True),
                              {'FINISHED'})
             self.assertFalse(os.path.exists(path))

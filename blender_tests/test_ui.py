@@ -59,6 +59,7 @@ class RecordingLayout:
         self._icon(kwargs)
         self.test.assertTrue(hasattr(bpy.types, idname), f"no menu {idname}")
         self.log.append(("menu", idname))
+        self.log.append(("menu_text", text))
 
     def separator(self, **kwargs):
         pass
@@ -128,7 +129,7 @@ class PanelTests(unittest.TestCase):
         shown = {name for kind, name in log if kind == "prop"}
         self.assertEqual(shown, {"pattern_units", "pattern_scale", "time_step",
                                  "movement_speed", "turn_speed", "vision_distance",
-                                 "vision_angle", "sensor_size", "evaporation_rate",
+                                 "vision_angle_ui", "sensor_size", "evaporation_rate",
                                  "diffusion_rate",
                                  "deposit", "substeps", "resolution", "agent_count",
                                  "seed", "backend", "steps_per_update", "update_time",
@@ -219,6 +220,113 @@ class PanelTests(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class PanelLayoutTests(unittest.TestCase):
+    """What an artist sees at the sidebar's default width (the Xvfb check gui_panel.py
+    does the same with Blender 3.4's interface and takes a screenshot)."""
+
+    def setUp(self):
+        h.clear_scene()
+
+    def context(self, obj):
+        return types.SimpleNamespace(active_object=obj, scene=bpy.context.scene)
+
+    def test_every_label_fits_at_the_default_sidebar_width(self):
+        import panel_fit
+        if not panel_fit.fonts_work():
+            self.skipTest("blf has no font in background mode here (Blender 3.4): "
+                          "gui_panel.py checks this under Xvfb")
+        obj = h.add_primitive("torus")
+        h.configure(obj, agents=2000)
+        for running in (False, True):
+            if running:
+                h.run(obj, 2)  # the stats box and the backend line
+            for state in panel_fit.busy_scene_states():
+                self.assertEqual(panel_fit.labels_cut(self.context(obj)), [], state)
+
+    def test_the_fit_check_sees_the_cut_labels_of_the_old_layout(self):
+        # The old panel: split columns with decorators; "Turn Speed" and "Evaporation"
+        # were shown cut, "Substeps" whole (Blender 3.4, see panel_fit's notes).
+        import panel_fit
+        if bpy.app.version >= (4, 0, 0):
+            self.skipTest("calibrated on Blender 3.4's interface font (4.0+ use Inter)")
+        if not panel_fit.fonts_work():
+            self.skipTest("blf has no font in background mode here")
+        log = []
+        column = panel_fit.GeometryLayout(log, panel_fit.CONTENT).column()
+        column.use_property_split = True
+        settings = h.add_primitive("torus").moldtex
+        for name in ("turn_speed", "evaporation_rate", "substeps"):
+            column.prop(settings, name)
+        panel_fit.set_font_size()
+        fits = {text: panel_fit.text_width(text) <= room - panel_fit.SAFETY
+                for _kind, text, room in log}
+        self.assertEqual(fits, {"Turn Speed": False, "Evaporation": False,
+                                "Substeps": True})
+
+    def test_everyday_controls_are_at_the_top(self):
+        obj = h.add_primitive("torus")
+        log = draw_all(self, obj)
+        shown = [name for kind, name in log if kind in ("prop", "prop_search")]
+        start = [name for kind, name in log if kind == "operator"].index("Start")
+        # Texture resolution, agents and steps per update come first, on the main
+        # panel (before the Start button), not in a closed sub-panel.
+        self.assertEqual(shown[:4], ["uv_map", "resolution", "agent_count",
+                                     "steps_per_update"])
+        order = [entry for entry in log if entry[0] in ("prop", "operator")]
+        self.assertLess(order.index(("prop", "steps_per_update")),
+                        order.index(("operator", "Start")))
+        self.assertGreater(start, 0)
+
+    def test_short_labels_name_each_setting_and_tooltips_the_long_name(self):
+        from moldtex import ui
+        from moldtex.properties import ensure_species
+        settings = h.add_primitive("torus").moldtex
+        settings.species_count = 2
+        ensure_species(settings)
+        checked = 0
+        for data in (settings, settings.species[0], bpy.context.scene.moldtex_brush):
+            for name, label in ui.LABELS.items():
+                if name not in data.bl_rna.properties or label == data.bl_rna.properties[
+                        name].name:
+                    continue
+                prop = data.bl_rna.properties[name]
+                self.assertIn(prop.name.lower(), prop.description.lower(),
+                              f"{name}: the tooltip does not give the long name")
+                checked += 1
+        self.assertGreater(checked, 20)
+        # Live steps and bake steps no longer read alike.
+        self.assertNotEqual(ui.LABELS["steps_per_update"], ui.LABELS["bake_steps_per_frame"])
+
+    def test_empty_uv_map_says_which_map_is_used(self):
+        obj = h.add_primitive("torus")
+        text = labels(draw_all(self, obj))
+        self.assertIn("Empty: the render UV map", text)
+        self.assertIn(obj.data.uv_layers[0].name, text)
+        obj.moldtex.uv_map = obj.data.uv_layers[0].name
+        self.assertNotIn("Empty: the render UV map", labels(draw_all(self, obj)))
+
+    def test_vision_angle_shows_as_an_angle_and_keeps_degrees(self):
+        import math
+        obj = h.add_primitive("torus")
+        h.configure(obj, agents=2000)
+        settings = obj.moldtex
+        prop = settings.bl_rna.properties["vision_angle_ui"]
+        self.assertEqual(prop.subtype, 'ANGLE')  # Blender shows degrees (°)
+        settings.vision_angle = 22.0  # presets, scripts and saved files: degrees
+        self.assertAlmostEqual(settings.vision_angle_ui, math.radians(22.0), places=5)
+        settings.vision_angle_ui = math.radians(40.0)  # what the panel's field sets
+        self.assertAlmostEqual(settings.vision_angle, 40.0, places=4)
+        h.run(obj, 1)
+        self.assertAlmostEqual(h.live().get(obj.name).sim.get_params()["vision_angle"],
+                               40.0, places=4)  # the core still gets degrees
+        settings.species_count = 2
+        from moldtex.properties import ensure_species
+        ensure_species(settings)
+        item = settings.species[1]
+        item.vision_angle_ui = math.radians(12.5)
+        self.assertAlmostEqual(item.vision_angle, 12.5, places=4)
 
 
 class LoaderTests(unittest.TestCase):

@@ -2,6 +2,7 @@
 # middle). Fast turning, wide sensors and little diffusion keep the trails thin and
 # crisp. Coverage (Eq. 1) on a 512² plane: 0.39 after 300 steps, about 0.28 once the
 # network has settled.
+# Look: A fine gold network on black: fast turning and wide sensors keep the trails thin and crisp.
 import bpy
 obj = bpy.context.object
 s = obj.moldtex

@@ -2,6 +2,7 @@
 # Slow, far-sighted agents with narrow sensors lay long thin trails; strong diffusion
 # softens them into veins. Coverage (Eq. 1) on a 512² plane: 0.54 after 300 steps,
 # about 0.30 once the network has settled.
+# Look: Grey veins in off-white stone: long thin trails softened into veins by strong diffusion.
 import bpy
 obj = bpy.context.object
 s = obj.moldtex

@@ -2,6 +2,7 @@
 # dark metal (momas-paper.md Fig. 11, "metal incisions"). Few agents that hardly turn
 # and look far ahead, narrow sensors, fast evaporation and almost no diffusion: each
 # agent keeps to its own line. Coverage (Eq. 1) on a 512² plane about 0.5.
+# Look: Sparse, long, nearly straight bright scratches on dark metal.
 import bpy
 obj = bpy.context.object
 s = obj.moldtex

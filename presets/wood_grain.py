@@ -4,6 +4,7 @@
 # pheromone's smooth rise and fall around each trail into rings of light and dark
 # brown. Coverage (Eq. 1) on a 512² plane: 0.72 after 300 steps, about 0.54 once
 # settled.
+# Look: Banded browns: rings of light and dark brown around each trail (no grain direction yet).
 import bpy
 obj = bpy.context.object
 s = obj.moldtex

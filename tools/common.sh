@@ -4,8 +4,10 @@ set -euo pipefail
 
 MOLDTEX_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 MOLDTEX_BUILD="${MOLDTEX_BUILD:-$MOLDTEX_ROOT/build}"
-# The modern-Blender test target: PyPI's bpy wheel (Blender as a Python module).
+# The modern-Blender test targets: PyPI's bpy wheels (Blender as a Python module), the
+# 4.2 LTS and 5.0 (the newest for CPython 3.11), each in its own venv.
 MOLDTEX_BPY_VERSION="${MOLDTEX_BPY_VERSION:-4.2.23}"
+MOLDTEX_BPY5_VERSION="${MOLDTEX_BPY5_VERSION:-5.0.1}"
 
 moldtex_install_packages() {
   # OpenCL: Khronos headers to build the backend, the ICD loader, and PoCL (OpenCL on
@@ -36,18 +38,22 @@ moldtex_build() {
   cmake --build "$MOLDTEX_BUILD" -j"$(nproc)"
 }
 
-# Python venv with the bpy wheel; prints the interpreter path.
+# Python venv with a bpy wheel; prints the interpreter path.
+#   moldtex_bpy_python                      -> build/venv-bpy, bpy $MOLDTEX_BPY_VERSION
+#   moldtex_bpy_python venv-bpy5 5.0.1      -> build/venv-bpy5, bpy 5.0.1
 moldtex_bpy_python() {
-  local venv="$MOLDTEX_BUILD/venv-bpy"
+  local venv="$MOLDTEX_BUILD/${1:-venv-bpy}"
+  local version="${2:-$MOLDTEX_BPY_VERSION}"
   if [ ! -x "$venv/bin/python" ]; then
     # bpy wheels are built for CPython 3.11: prefer an interpreter of that version.
     local py=python3
     command -v python3.11 >/dev/null && py=python3.11
     "$py" -m venv "$venv" >&2
   fi
-  if ! "$venv/bin/python" -c "import bpy" >/dev/null 2>&1; then
-    echo "== Installing bpy==$MOLDTEX_BPY_VERSION from PyPI into $venv" >&2
-    "$venv/bin/pip" install -q "bpy==$MOLDTEX_BPY_VERSION" >&2
+  # (bpy.app.version_string is e.g. "4.2.23 LTS" or "5.0.1".)
+  if ! "$venv/bin/python" -c "import bpy, sys; sys.exit(bpy.app.version_string.split()[0] != '$version')" >/dev/null 2>&1; then
+    echo "== Installing bpy==$version from PyPI into $venv" >&2
+    "$venv/bin/pip" install -q "bpy==$version" >&2
   fi
   echo "$venv/bin/python"
 }

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what is needed, builds everything, and runs every test: the GoogleTest suite
-# (CTest) and the Blender background tests on Debian's Blender and on PyPI's bpy.
+# (CTest), the Blender background tests on Debian's Blender (3.4) and on PyPI's bpy 4.2
+# and 5.0, and the interactive checks under a virtual X server.
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 moldtex_install_packages
 moldtex_build
@@ -30,8 +31,16 @@ timeout 300 xvfb-run -a -s "-screen 0 1024x768x24" blender --factory-startup \
   -P "$MOLDTEX_ROOT/blender_tests/gui_viewport.py" -- --addon-dir "$MOLDTEX_BUILD/addon"
 rm -rf "$VIEWPORT_TMP"
 
-BPY_PYTHON="$(moldtex_bpy_python)"
-echo "== Blender tests on bpy $("$BPY_PYTHON" -c 'import bpy; print(bpy.app.version_string)' 2>/dev/null)"
-"$BPY_PYTHON" "$MOLDTEX_ROOT/blender_tests/run_all.py" --addon-dir "$MOLDTEX_BUILD/addon"
+echo "== The sidebar at its default width: every label fits (Blender's interface under Xvfb)"
+timeout 120 xvfb-run -a -s "-screen 0 1600x1000x24" blender --factory-startup \
+  --python-exit-code 1 -P "$MOLDTEX_ROOT/blender_tests/gui_panel.py" -- \
+  --addon-dir "$MOLDTEX_BUILD/addon" --screenshot "$MOLDTEX_BUILD/moldtex_sidebar.png"
+
+for target in "venv-bpy $MOLDTEX_BPY_VERSION" "venv-bpy5 $MOLDTEX_BPY5_VERSION"; do
+  # shellcheck disable=SC2086  # two words: the venv and the bpy version
+  BPY_PYTHON="$(moldtex_bpy_python $target)"
+  echo "== Blender tests on bpy $("$BPY_PYTHON" -c 'import bpy; print(bpy.app.version_string)' 2>/dev/null)"
+  "$BPY_PYTHON" "$MOLDTEX_ROOT/blender_tests/run_all.py" --addon-dir "$MOLDTEX_BUILD/addon"
+done
 
 echo "== All Moldtex tests passed"

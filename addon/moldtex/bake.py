@@ -31,6 +31,7 @@ FORMAT_VALUES = {
     "PNG16": engine.IMAGE_PNG16,
 }
 MAX_FRAME = 999999  # moldtex.h: 0 <= first <= last <= 999999
+MAX_PREFIX = 200  # the core's limit (file names stay below the usual 255 bytes)
 _POLL_SECONDS = 0.02  # how often the synchronous path looks at the progress
 
 
@@ -122,8 +123,13 @@ def plan_for(obj, scene):
     if first > last:
         raise BakeError(f"The start frame {first} is after the end frame {last} ({where}): "
                         f"swap them.")
-    return BakePlan(obj.name, output_directory(obj), file_prefix(obj), first, last,
-                    settings.bake_steps_per_frame, settings.bake_format,
+    prefix = file_prefix(obj)
+    if len(prefix.encode("utf-8")) > MAX_PREFIX:
+        raise BakeError(f"The File Prefix is {len(prefix)} characters long; at most "
+                        f"{MAX_PREFIX} fit in a file name: shorten it.")
+    from .properties import enum_value  # (properties imports live, which imports us)
+    return BakePlan(obj.name, output_directory(obj), prefix, first, last,
+                    settings.bake_steps_per_frame, enum_value(settings, "bake_format"),
                     settings.bake_resume)
 
 

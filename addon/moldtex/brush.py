@@ -74,16 +74,17 @@ class MoldtexBrushSettings(bpy.types.PropertyGroup):
                     "rim (fields and slime; food is placed or removed whole)")
     agents_per_dab: IntProperty(
         name="Agents per Dab", default=2000, min=1, max=1_000_000,
-        description="Agents a slime dab adds, spread evenly over the brush disk")
+        description="Agents per Dab: agents a slime dab adds, spread evenly over the "
+                    "brush disk")
     species: IntProperty(name="Species", default=1, min=1, max=4,
                          description="Species of the agents a slime dab adds")
     food_strength: FloatProperty(
         name="Food Strength", default=1.0, min=0.0, soft_max=100.0,
-        description="moldtex_strength of new food Empties (scene units²)")
+        description="Food Strength: moldtex_strength of new food Empties (scene units²)")
     food_amount: FloatProperty(
         name="Food Amount", default=-1.0, min=-1.0, soft_max=1e6,
-        description="moldtex_amount of new food Empties: units of food (-1 = never runs "
-                    "out)")
+        description="Food Amount: moldtex_amount of new food Empties, units of food "
+                    "(-1 = never runs out)")
 
 
 # ---- where the brush lands ---------------------------------------------------------
@@ -484,6 +485,16 @@ class _FoodEdit:
         return ""
 
 
+def repair_settings(settings):
+    """Sets brush enums holding a value this version does not know (a file from another
+    version) back to their defaults, with a note on the console; returns the notes."""
+    from .properties import repair_enums  # (properties imports live, not this module)
+    notes = repair_enums(settings)
+    for note in notes:
+        print(f"Moldtex brush: {note}")
+    return notes
+
+
 class Stroke:
     """One press-drag-release of the brush (or one moldtex.brush_stroke call)."""
 
@@ -491,6 +502,7 @@ class Stroke:
         self.obj_name = obj.name
         self.context = context
         settings = context.scene.moldtex_brush
+        repair_settings(settings)
         self.target = settings.target
         self.last_centre = None
         if self.target in FIELD_CHANNELS:

@@ -198,6 +198,8 @@ ends"""
         except brush.BrushError as error:
             self.report({'ERROR'}, str(error))
             return {'CANCELLED'}
+        for note in brush.repair_settings(context.scene.moldtex_brush):
+            self.report({'WARNING'}, note)
         self.obj_name = obj.name
         self.area = context.area
         self.region = next((r for r in context.area.regions if r.type == 'WINDOW'), None)

@@ -117,10 +117,9 @@ def _apply_preset(bpy, package, obj, name):
     override = getattr(bpy.context, "temp_override", None)
     if override is not None:
         with override(object=obj, active_object=obj):
-            bpy.ops.script.execute_preset(filepath=path,
-                                          menu_idname=package.presets.MENU_IDNAME)
+            bpy.ops.moldtex.preset_apply(filepath=path)
     else:
-        bpy.ops.script.execute_preset(filepath=path, menu_idname=package.presets.MENU_IDNAME)
+        bpy.ops.moldtex.preset_apply(filepath=path)
     _say(f"applied preset {os.path.basename(path)[:-3]} ({path})")
 
 

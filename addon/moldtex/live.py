@@ -225,10 +225,11 @@ def backend_note(settings):
 
 
 def config_from_settings(settings):
-    size = int(settings.resolution)
+    from .properties import enum_value  # (properties imports this module)
+    size = int(enum_value(settings, "resolution"))
     config = {"width": size, "height": size, "agent_count": int(settings.agent_count),
               "seed": int(settings.seed), "species_count": int(settings.species_count),
-              "seed_shape": SEED_SHAPES[settings.seed_shape],
+              "seed_shape": SEED_SHAPES[enum_value(settings, "seed_shape")],
               "seed_radius": float(settings.seed_radius),
               "seed_rays": int(settings.seed_rays)}
     config.update(backend_from_settings(settings)[0])
@@ -251,13 +252,14 @@ def length_unit(settings, area):
 
 def _enum(settings, name, default):
     try:
-        return getattr(settings, name)
+        return getattr(settings, name) or default  # "" for a value it does not know
     except (AttributeError, TypeError, ValueError):
         return default
 
 
 def params_from_settings(settings, area=None):
     params = {name: getattr(settings, name) for name in PARAM_PROPERTIES}
+    params["thread_count"] = min(int(params["thread_count"]), 256)  # the core's limit
     params["time_step"] = float(settings.time_step)
     params["length_unit"] = length_unit(settings, area)
     params["hunger_rate"] = settings.hunger_rate
@@ -472,6 +474,24 @@ def _check_spawn_map(settings, fields):
             f"another Start.")
 
 
+def _check_seed_radius(obj, settings, radius, mesh):
+    """Refuses a Circle or Starburst radius the core cannot use, saying why (the core
+    only knows that its number is out of range)."""
+    if settings.seed_shape not in {'CIRCLE', 'STARBURST'}:
+        return
+    positions = mesh.positions
+    extent = max((max(positions[a::3]) - min(positions[a::3]) for a in range(3)),
+                 default=0.0)
+    if not (math.isfinite(radius) and 0.0 < radius <= 1e6 * max(extent, 1e-30)):
+        shape = settings.bl_rna.properties["seed_shape"].enum_items[settings.seed_shape].name
+        raise engine.EngineError(
+            f"The {shape} Radius ({settings.seed_radius:.3g}) is far larger than "
+            f"'{obj.name}' itself (about {extent:.3g} across in its own units"
+            f"{'' if radius == settings.seed_radius else f', where the radius is {radius:.3g}'}"
+            f"): use a radius the size of the object or smaller (Moldtex ▸ Species & "
+            f"Start).", engine.ERROR_INVALID_ARGUMENT)
+
+
 def seed_center(obj, surface, location):
     """(triangle, barycentrics) of the surface point nearest `location` (world space),
     in mesh_export's triangle order (the core's exact closest-point query)."""
@@ -491,13 +511,17 @@ def needs_reset(obj):
 
 def _build(entry, obj, mesh, depsgraph=None):
     settings = obj.moldtex
+    from .properties import repair_enums  # (properties imports this module)
+    repaired = " ".join(repair_enums(settings))  # unknown enum values -> defaults
     config = config_from_settings(settings)
-    note = backend_note(settings)
+    device_note = backend_note(settings)
+    note = " ".join(filter(None, (repaired, device_note)))
     if len(settings.species) < settings.species_count:
         from .properties import ensure_species  # (properties imports this module)
         ensure_species(settings)
     create_config = dict(config)
     create_config["seed_radius"] = length_in_mesh_units(obj, config["seed_radius"])
+    _check_seed_radius(obj, settings, create_config["seed_radius"], mesh)
     surface = engine.Surface(mesh.positions, mesh.triangles, mesh.uvs, mesh.triangle_uvs)
     try:
         if settings.seed_shape in CENTERED_SHAPES:
@@ -545,7 +569,7 @@ def _build(entry, obj, mesh, depsgraph=None):
     entry.dirty = False
     entry.stats = sim.get_stats()
     entry.backend_name = sim.backend_name()
-    entry.backend_note = note
+    entry.backend_note = device_note
     entry.warning = note
     entry.food_key, entry.food_names = holder.food_key, holder.food_names
     entry.food_dropped = holder.food_dropped

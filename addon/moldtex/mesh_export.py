@@ -69,6 +69,71 @@ def check_object(obj):
             f"select a mesh object, or convert it with Object ▸ Convert ▸ Mesh.")
 
 
+# What the core's float arithmetic handles: each scale axis within SCALE_LIMITS, and a
+# mesh (after the export's scale) spanning EXTENT_LIMITS units. Outside them lengths and
+# areas underflow or overflow float32 (a 1e-18 scale, a mesh 1e-30 units across) and
+# the world-to-mesh transform has no inverse (a scale of 0).
+SCALE_LIMITS = (1e-6, 1e6)
+EXTENT_LIMITS = (1e-6, 1e9)
+
+
+def _axes_text(values):
+    return ", ".join(f"{v:.6g}" for v in values)
+
+
+def check_transform(obj):
+    """Raises MeshExportError if obj's world transform cannot be simulated: a scale of 0
+    (or nearly 0, or huge) on some axis, or values that are not numbers."""
+    matrix = obj.matrix_world
+    if not all(math.isfinite(v) for row in matrix for v in row):
+        raise MeshExportError(
+            f"Object '{obj.name}' has a transform that is not a number (NaN or infinite): "
+            f"reset its location, rotation and scale (Object ▸ Clear).")
+    # The length of each axis in Python's doubles (Matrix.to_scale works in floats,
+    # which turns 1e-18 into 0 and 1e30 into inf).
+    scale = [math.hypot(matrix[0][i], matrix[1][i], matrix[2][i]) for i in range(3)]
+    if obj.matrix_world.is_negative:
+        scale[0] = -scale[0]
+    if obj.parent is None:
+        scale = [math.copysign(length, axis) for length, axis in zip(scale, obj.scale)]
+    low, high = SCALE_LIMITS
+    for axis, value in zip("XYZ", scale):
+        if value == 0.0:
+            raise MeshExportError(
+                f"Object '{obj.name}' has a scale of 0 on {axis} (scale {_axes_text(scale)}): "
+                f"that flattens it, so there is no surface to grow on. Give {axis} a "
+                f"non-zero scale (Object Properties ▸ Transform ▸ Scale).")
+        if not low <= abs(value) <= high:
+            raise MeshExportError(
+                f"Object '{obj.name}' has a scale of {value:.3g} on {axis} (scale "
+                f"{_axes_text(scale)}): Moldtex works with scales between {low:g} and "
+                f"{high:g} on each axis. Set the scale nearer to 1 (resize the mesh in Edit "
+                f"Mode instead).")
+    if abs(matrix.to_3x3().determinant()) == 0.0:  # e.g. a zero scale hidden by a parent
+        raise MeshExportError(
+            f"Object '{obj.name}' is flattened by its transform (or its parent's): set "
+            f"a non-zero scale on every axis.")
+
+
+def check_extent(obj, positions):
+    """Raises MeshExportError if the exported mesh is too small or too large for the
+    core's float arithmetic (a mesh scaled to 1e-30 has areas of 0)."""
+    if not positions:
+        return
+    extent = max(max(positions[axis::3]) - min(positions[axis::3]) for axis in range(3))
+    low, high = EXTENT_LIMITS
+    if not math.isfinite(extent) or extent > high:
+        raise MeshExportError(
+            f"Object '{obj.name}' is too large for Moldtex: its mesh spans "
+            f"{extent:.3g} units (with its scale); at most {high:g} works. Scale the mesh "
+            f"down in Edit Mode.")
+    if extent < low:
+        raise MeshExportError(
+            f"Object '{obj.name}' is too small for Moldtex: its mesh spans only "
+            f"{extent:.3g} units (without its object scale); at least {low:g} works. "
+            f"Scale the mesh up in Edit Mode (the object's own scale can stay small).")
+
+
 def export_scale(obj):
     """The object scale applied to the exported coordinates: its world scale when that
     is not uniform, else None (a uniform scale is left out, see the module's note)."""
@@ -80,8 +145,15 @@ def export_scale(obj):
 
 
 def world_to_mesh(obj):
-    """4x4 matrix from world space to the exported mesh's coordinates."""
-    matrix = obj.matrix_world.inverted()
+    """4x4 matrix from world space to the exported mesh's coordinates. Raises
+    MeshExportError for a transform without an inverse (check_transform)."""
+    check_transform(obj)
+    try:
+        matrix = obj.matrix_world.inverted()
+    except ValueError:
+        raise MeshExportError(
+            f"Object '{obj.name}' is flattened by its transform: set a non-zero scale on "
+            f"every axis.") from None
     scale = export_scale(obj)
     if scale is not None:
         matrix = Matrix.Diagonal((scale[0], scale[1], scale[2], 1.0)) @ matrix
@@ -100,6 +172,7 @@ def length_in_mesh_units(obj, length):
 def export_object(obj, depsgraph, uv_map_name=""):
     """MeshArrays of the evaluated `obj`. uv_map_name "" means the render UV map."""
     check_object(obj)
+    check_transform(obj)
     evaluated = obj.evaluated_get(depsgraph)
     mesh = evaluated.to_mesh()
     try:
@@ -141,6 +214,7 @@ def _read_mesh(obj, mesh, uv_map_name):
 
     positions = array.array("f", bytes(4 * 3 * vertex_count))
     mesh.vertices.foreach_get("co", positions)
+    check_extent(obj, positions)
     triangles = array.array("I", bytes(4 * 3 * triangle_count))
     mesh.loop_triangles.foreach_get("vertices", triangles)
     triangle_uvs = array.array("I", bytes(4 * 3 * triangle_count))

@@ -25,6 +25,10 @@ Where presets are found (the same on Blender 3.4 and 4.2+):
 MOLDTEX_MT_presets lists both (its draw passes both folders to Menu.path_menu), so
 nothing is copied into the user's folders and the shipped presets are updated with
 the add-on. bpy.utils.register_preset_path would do this on 4.2+ only.
+
+Each entry runs moldtex.preset_apply (Blender's script.execute_preset, then the name
+is stored on the object: the menu shows the look of the active object, not the last
+one picked anywhere); its tooltip is the preset's "# Look: ..." comment line.
 """
 
 import os
@@ -102,6 +106,33 @@ def find(name):
     return ""
 
 
+LOOK_PREFIX = "# Look:"
+
+
+def display_name(path):
+    """ "Wood Grain" for .../wood_grain.py."""
+    return bpy.path.display_name(os.path.basename(path))
+
+
+def describe(path):
+    """The look a preset file describes (its "# Look: ..." line), for its tooltip."""
+    try:
+        with open(path, encoding="utf-8") as file:
+            for _index, line in zip(range(40), file):
+                if line.startswith(LOOK_PREFIX):
+                    return line[len(LOOK_PREFIX):].strip()
+    except OSError:
+        return ""
+    return ""
+
+
+def menu_label(obj):
+    """What the preset menu shows for obj: the look last applied to it, else
+    "Presets"."""
+    name = obj.moldtex.preset_name if obj is not None else ""
+    return name or "Presets"
+
+
 def scaled_agent_count(agents_at_512, resolution):
     """The agent count with the density of `agents_at_512` agents on 512² texels."""
     count = round(float(agents_at_512) * (int(resolution) / REFERENCE_RESOLUTION) ** 2)
@@ -131,12 +162,14 @@ def current_ramp(obj):
 def preset_text(obj, title=""):
     """The preset file for obj's current look, in the shipped presets' format."""
     settings = obj.moldtex
-    lines = [f"# Moldtex preset{': ' + title if title else ''}", "import bpy",
-             "obj = bpy.context.object", "s = obj.moldtex"]
+    lines = [f"# Moldtex preset{': ' + title if title else ''}",
+             f"{LOOK_PREFIX} Your look{' ' + repr(title) if title else ''}, saved from "
+             f"'{obj.name}'.", "import bpy", "obj = bpy.context.object", "s = obj.moldtex"]
     for name in PRESET_PROPERTIES:
         value = getattr(settings, name)
         lines.append(f"s.{name} = {round(value, 6) if isinstance(value, float) else value!r}")
-    resolution = int(settings.resolution)
+    from .properties import enum_value
+    resolution = int(enum_value(settings, "resolution"))
     at_512 = round(settings.agent_count * (REFERENCE_RESOLUTION / resolution) ** 2)
     lines.append(f"s.agent_count = s.scaled_agent_count({max(1, at_512)})  "
                  f"# agents on {REFERENCE_RESOLUTION} x {REFERENCE_RESOLUTION} texels")
@@ -155,14 +188,11 @@ class MOLDTEX_MT_presets(bpy.types.Menu):
     bl_label = "Presets"
     bl_idname = MENU_IDNAME
     preset_subdir = SUBDIR
-    preset_operator = "script.execute_preset"
+    preset_operator = "moldtex.preset_apply"
     preset_add_operator = "moldtex.preset_add"
 
     def draw(self, context):
         layout = self.layout
-
-        def display_name(path):
-            return bpy.path.display_name(os.path.basename(path))
 
         def is_py(extension):
             return extension.lower() == ".py"
@@ -187,6 +217,41 @@ class MOLDTEX_MT_presets(bpy.types.Menu):
             props.name = window_manager.preset_name
 
 
+class MOLDTEX_OT_preset_apply(bpy.types.Operator):
+    """Apply this look to the active object"""
+    bl_idname = "moldtex.preset_apply"
+    bl_label = "Apply Moldtex Preset"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    filepath: bpy.props.StringProperty(subtype='FILE_PATH', options={'SKIP_SAVE'})
+    menu_idname: bpy.props.StringProperty(options={'SKIP_SAVE', 'HIDDEN'})
+
+    @classmethod
+    def description(cls, context, properties):
+        look = describe(properties.filepath) if properties.filepath else ""
+        return look or cls.__doc__
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.object
+        return obj is not None and obj.type == 'MESH'
+
+    def execute(self, context):
+        obj = context.object
+        label = MOLDTEX_MT_presets.bl_label
+        try:
+            result = bpy.ops.script.execute_preset(filepath=self.filepath,
+                                                   menu_idname=MENU_IDNAME)
+        except RuntimeError as error:  # e.g. the preset raised: reported as an error
+            self.report({'ERROR'}, str(error).replace("Error: ", "", 1).strip())
+            return {'CANCELLED'}
+        finally:
+            MOLDTEX_MT_presets.bl_label = label  # the menu's label is per object
+        if 'FINISHED' in result and obj is not None:
+            obj.moldtex.preset_name = display_name(self.filepath)
+        return result
+
+
 class MOLDTEX_OT_preset_add(AddPresetBase, bpy.types.Operator):
     """Save the active object's look (parameters, agent density and colour ramp) as a \
 preset, or remove one of your presets"""
@@ -202,6 +267,27 @@ preset, or remove one of your presets"""
         obj = context.object
         return obj is not None and obj.type == 'MESH'
 
+    def execute(self, context):
+        # Blender removes "the active preset" by the menu class's label; here the
+        # active object's look is the active one.
+        obj = context.object
+        if self.remove_active:
+            MOLDTEX_MT_presets.bl_label = menu_label(obj)
+        try:
+            result = super().execute(context)
+        finally:
+            MOLDTEX_MT_presets.bl_label = "Presets"
+        if obj is not None and 'FINISHED' in result:
+            settings = obj.moldtex
+            if self.remove_active:
+                settings.preset_name = ""
+            elif self.remove_name:
+                if settings.preset_name == bpy.path.display_name(self.name):
+                    settings.preset_name = ""
+            else:
+                settings.preset_name = bpy.path.display_name(self.as_filename(self.name))
+        return result
+
     def add(self, context, filepath):
         # Our own writer, so a saved preset also keeps the colour ramp and scales the
         # agent count with the resolution like the shipped ones.
@@ -210,7 +296,7 @@ preset, or remove one of your presets"""
             file.write(preset_text(context.object, self.name.strip()))
 
 
-CLASSES = (MOLDTEX_MT_presets, MOLDTEX_OT_preset_add)
+CLASSES = (MOLDTEX_MT_presets, MOLDTEX_OT_preset_apply, MOLDTEX_OT_preset_add)
 
 
 def register():

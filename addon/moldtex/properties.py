@@ -13,6 +13,8 @@ machine lacks then reads as Auto, and live.backend_note() says why, instead of B
 showing an invalid enum value.
 """
 
+import math
+
 import bpy
 from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty,
                        FloatVectorProperty, IntProperty, PointerProperty, StringProperty)
@@ -20,6 +22,7 @@ from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProp
 from . import engine, live
 
 _RESET_NOTE = " Takes effect on Reset (or Start)"
+MAX_THREADS = 256  # the core refuses more (moldtex_sim_set_params)
 
 # Bake file formats: identifier -> engine.IMAGE_* (bake.py maps them).
 BAKE_FORMAT_ITEMS = [
@@ -41,6 +44,111 @@ RESOLUTION_ITEMS = [
     ("8192", "8192 × 8192", "Pheromone texture of 8192 × 8192 texels (uses much memory)",
      5),
 ]
+
+
+# ---- path options -----------------------------------------------------------------
+# Blender 5.0 warns about a path property holding a blend-relative "//" path unless it
+# declares PATH_SUPPORTS_BLEND_RELATIVE; Blender 4.2 and 3.4 reject that option. Which
+# one runs is only known when the add-on registers (this module is imported then).
+
+def _supports_blend_relative_paths():
+    if bpy.app.version >= (5, 0, 0):
+        return True
+    if bpy.app.version < (4, 5, 0):
+        return False
+    # 4.5.x: try it on a throwaway class (an unknown option fails its registration).
+    probe = type("MOLDTEX_PG_path_option_probe", (bpy.types.PropertyGroup,), {
+        "__annotations__": {"path": StringProperty(
+            subtype='DIR_PATH', options={'PATH_SUPPORTS_BLEND_RELATIVE'})}})
+    try:
+        bpy.utils.register_class(probe)
+    except (TypeError, ValueError, RuntimeError):
+        return False
+    bpy.utils.unregister_class(probe)
+    return True
+
+
+PATH_OPTIONS = ({'PATH_SUPPORTS_BLEND_RELATIVE'} if _supports_blend_relative_paths()
+                else set())
+
+
+# ---- angles -----------------------------------------------------------------------
+# The vision angles are stored in degrees (what the core, presets, scripts and saved
+# files use). The panel shows them through *_ui twins of subtype ANGLE, which Blender
+# keeps in radians and displays in degrees: this is the one place that converts.
+
+def _degrees_as_radians(name):
+    def getter(self):
+        return math.radians(getattr(self, name))
+
+    def setter(self, value):
+        setattr(self, name, math.degrees(value))
+    return getter, setter
+
+
+def _angle_ui(name, description, soft_min=10.0, soft_max=50.0):
+    getter, setter = _degrees_as_radians(name)
+    return FloatProperty(
+        name="Vision Angle", subtype='ANGLE', min=0.0, max=math.pi,
+        soft_min=math.radians(soft_min), soft_max=math.radians(soft_max), precision=1,
+        step=100, get=getter, set=setter, options=set(),
+        description=description)
+
+
+# ---- enum values this version does not know -------------------------------------------
+# A file from another version (or a script writing the raw number, e.g.
+# obj.moldtex["resolution"] = 99) can leave an enum holding a number none of its items
+# has. Blender then reads it as "" (and prints a warning at each read).
+
+def invalid_enums(data):
+    """[(name, stored number)] of data's static enum properties that hold a value
+    matching none of their items."""
+    found = []
+    for prop in data.bl_rna.properties:
+        if prop.type != 'ENUM' or prop.is_enum_flag or prop.is_readonly:
+            continue
+        raw = data.get(prop.identifier) if hasattr(data, "get") else None
+        if not isinstance(raw, int):  # unset (= the default), or a dynamic enum
+            continue
+        items = prop.enum_items
+        if len(items) and raw not in {item.value for item in items}:
+            found.append((prop.identifier, raw))
+    return found
+
+
+def enum_value(data, name):
+    """The identifier of enum `name` of data, or the property's default when the stored
+    value matches none of its items."""
+    raw = data.get(name) if hasattr(data, "get") else None
+    prop = data.bl_rna.properties[name]
+    if isinstance(raw, int) and raw not in {item.value for item in prop.enum_items}:
+        return prop.default
+    return getattr(data, name) or prop.default
+
+
+def _enum_label(data, name, identifier):
+    items = data.bl_rna.properties[name].enum_items
+    return items[identifier].name if identifier in items else identifier
+
+
+def invalid_enum_notes(data):
+    """A sentence per unknown enum value of data, saying what is used instead."""
+    notes = []
+    for name, raw in invalid_enums(data):
+        prop = data.bl_rna.properties[name]
+        notes.append(f"{prop.name} held a value this version of Moldtex does not know "
+                     f"({raw}, from another version?): {_enum_label(data, name, prop.default)}"
+                     f" is used instead.")
+    return notes
+
+
+def repair_enums(data):
+    """Sets every enum of data holding an unknown value back to its default; returns
+    the notes (invalid_enum_notes) for the user."""
+    notes = invalid_enum_notes(data)
+    for name, _raw in invalid_enums(data):
+        data.property_unset(name)
+    return notes
 
 
 def _push(obj, push):
@@ -128,20 +236,27 @@ class MoldtexSpecies(bpy.types.PropertyGroup):
     """Behaviour of one species (used when Species is 2 or more)."""
     movement_speed: FloatProperty(
         name="Movement Speed", default=1.0, min=0.0, max=64.0, soft_min=1.0, soft_max=2.0,
-        description="Texels an agent of this species travels per step", update=_push_params)
+        description="Movement Speed: texels an agent of this species travels per step",
+        update=_push_params)
     turn_speed: FloatProperty(
         name="Turn Speed", default=20.0, min=0.0, max=1000.0, soft_min=10.0, soft_max=50.0,
-        description="How fast agents of this species turn towards what attracts them",
+        description="Turn Speed: how fast agents of this species turn towards what "
+                    "attracts them",
         update=_push_params)
     vision_distance: FloatProperty(
         name="Vision Distance", default=1.0, min=0.0, max=50.0, soft_min=0.4, soft_max=2.0,
-        description="How far ahead this species' sensors are, in units of 10 texels",
+        description="Vision Distance: how far ahead this species' sensors are, in units "
+                    "of 10 texels",
         update=_push_params)
     vision_angle: FloatProperty(
         name="Vision Angle", default=30.0, min=0.0, max=180.0, soft_min=10.0,
         soft_max=50.0, precision=1,
-        description="Angle between the front and side sensors, in degrees",
+        description="Vision Angle: angle between the front and side sensors of this "
+                    "species, in degrees",
         update=_push_params)
+    vision_angle_ui: _angle_ui(
+        "vision_angle", "Vision Angle: angle between the front and side sensors of this "
+                        "species")
     deposit: FloatProperty(
         name="Deposit", default=1.0, min=0.0, max=1.0,
         description="Pheromone this species leaves in its own trail", update=_push_params)
@@ -237,24 +352,28 @@ class MoldtexSettings(bpy.types.PropertyGroup):
     # ---- agents (momas-paper.md Table 1) ----
     movement_speed: FloatProperty(
         name="Movement Speed", default=1.0, min=0.0, max=64.0, soft_min=1.0, soft_max=2.0,
-        description="Texels an agent travels per step (δa). Larger = coarser pattern",
+        description="Movement Speed (δa): texels an agent travels per step. Larger = "
+                    "coarser pattern",
         update=_push_params)
     turn_speed: FloatProperty(
         name="Turn Speed", default=20.0, min=0.0, max=1000.0, soft_min=10.0, soft_max=50.0,
-        description="How fast agents turn towards pheromone (ϑa). Larger = the pattern "
-                    "stabilises less",
+        description="Turn Speed (ϑa): how fast agents turn towards pheromone. Larger = "
+                    "the pattern stabilises less",
         update=_push_params)
     vision_distance: FloatProperty(
         name="Vision Distance", default=1.0, min=0.0, max=50.0, soft_min=0.4, soft_max=2.0,
-        description="How far ahead the sensors are, in units of 10 texels (δs). "
-                    "Larger = bigger cells",
+        description="Vision Distance (δs): how far ahead the sensors are, in units of 10 "
+                    "texels. Larger = bigger cells",
         update=_push_params)
     vision_angle: FloatProperty(
         name="Vision Angle", default=30.0, min=0.0, max=180.0, soft_min=10.0,
         soft_max=50.0, precision=1,
-        description="Angle between the front and side sensors, in degrees (ϑs). "
-                    "Larger = thicker trails",
+        description="Vision Angle (ϑs): angle between the front and side sensors, in "
+                    "degrees. Larger = thicker trails",
         update=_push_params)
+    vision_angle_ui: _angle_ui(
+        "vision_angle", "Vision Angle (ϑs): angle between the front and side sensors. "
+                        "Larger = thicker trails")
     pattern_units: EnumProperty(
         name="Units",
         items=(('SURFACE', "Surface",
@@ -266,36 +385,36 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         default='SURFACE', update=_push_params)
     pattern_scale: FloatProperty(
         name="Pattern Scale", default=1.0, min=0.01, max=100.0, soft_min=0.25, soft_max=4.0,
-        description="Surface units: the size of one pattern 'texel' as a fraction of the "
+        description="Pattern Scale (surface units): the size of one pattern 'texel' as a fraction of the "
                     "object's size (1 = a 512² texel of the object's area). Larger = "
                     "bigger cells and thicker trails, whatever the resolution",
         update=_push_params)
     time_step: FloatProperty(
         name="Time Step", default=1.0 / 60.0, min=0.001, max=0.25, precision=4,
         unit='TIME_ABSOLUTE',
-        description="Simulated seconds per step (Δt; 1/60 s reproduces the papers). In "
+        description="Time Step: simulated seconds per step (Δt; 1/60 s reproduces the papers). In "
                     "surface units the result depends on simulated time, not on the step "
                     "count: a smaller step is finer in time, not slower in motion",
         update=_push_params)
     sensor_size: IntProperty(
         name="Sensor Size", default=0, min=0, max=4,
-        description="Each sensor sums a (2r + 1)² texel square around its point (the "
+        description="Sensor Size: each sensor sums a (2r + 1)² texel square around its point (the "
                     "MoMaS reference's kernel); 0 = the single texel under it. 2 gives "
                     "the paper's Fig. 8c: coverage falls as evaporation rises",
         update=_push_params)
     # ---- pheromone ----
     evaporation_rate: FloatProperty(
         name="Evaporation", default=0.5, min=0.0, max=1000.0, soft_min=0.2, soft_max=1.0,
-        description="Pheromone lost per second (εd). Larger = smaller clusters, less "
-                    "coverage",
+        description="Evaporation Rate (εd): pheromone lost per second. Larger = smaller "
+                    "clusters, less coverage",
         update=_push_params)
     diffusion_rate: FloatProperty(
         name="Diffusion", default=10.0, min=0.0, max=1000.0, soft_min=0.0, soft_max=60.0,
-        description="How fast the pheromone blurs, per second",
+        description="Diffusion Rate: how fast the pheromone blurs, per second",
         update=_push_params)
     deposit: FloatProperty(
         name="Deposit", default=1.0, min=0.0, max=1.0,
-        description="Pheromone an agent leaves behind (the texel becomes at least this)",
+        description="Deposit: pheromone an agent leaves behind (the texel becomes at least this)",
         update=_push_params)
     substeps: IntProperty(
         name="Substeps", default=2, min=1, max=64,
@@ -304,11 +423,11 @@ class MoldtexSettings(bpy.types.PropertyGroup):
     # ---- simulation setup (need a reset) ----
     agent_count: IntProperty(
         name="Agents", default=60000, min=1, max=67108864, soft_max=4000000,
-        description="Number of agents." + _RESET_NOTE,
+        description="Agents: number of agents." + _RESET_NOTE,
         update=_config_changed)
     resolution: EnumProperty(
         name="Resolution", items=RESOLUTION_ITEMS, default="512",
-        description="Size of the pheromone texture." + _RESET_NOTE,
+        description="Resolution: size of the pheromone texture." + _RESET_NOTE,
         update=_config_changed)
     seed: IntProperty(
         name="Seed", default=0, min=0,
@@ -347,7 +466,8 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         update=_config_changed)
     uv_map: StringProperty(
         name="UV Map", default="",
-        description="UV map the mold grows in (empty = the mesh's active render UV map)."
+        description="UV Map the mold grows in. Empty = the mesh's render UV map (the one "
+                    "marked with the camera icon in Object Data ▸ UV Maps)."
                     + _RESET_NOTE,
         update=_config_changed)
     # ---- species, starting seeds and fields (momas-paper.md §2.5) ----
@@ -362,7 +482,7 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         description="Where the agents start." + _RESET_NOTE,
         update=_config_changed)
     seed_radius: FloatProperty(
-        name="Radius", default=0.5, min=1e-6, soft_min=0.01, soft_max=10.0,
+        name="Radius", default=0.5, min=1e-6, max=1e9, soft_min=0.01, soft_max=10.0,
         subtype='DISTANCE', unit='LENGTH',
         description="Radius of the Circle or Starburst, in scene units, measured along "
                     "the surface from the point nearest the 3D cursor." + _RESET_NOTE,
@@ -373,7 +493,7 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         update=_config_changed)
     fields_image: PointerProperty(
         name="Fields", type=bpy.types.Image,
-        description="Maze image painted in this object's UV space: red = where agents "
+        description="Fields: maze image painted in this object's UV space: red = where agents "
                     "start (Spawn Map), green = walls, blue = attractors (food). Applied "
                     "when picked and on Reset (after painting it, press Reset)",
         update=_fields_changed)
@@ -408,7 +528,7 @@ class MoldtexSettings(bpy.types.PropertyGroup):
     # ---- food (plasmodial-slime-readme.md, "Food Sources") ----
     food_collection: PointerProperty(
         name="Food", type=bpy.types.Collection,
-        description="Collection whose Empties are food sources (up to 64, by name). Each "
+        description="Food Collection: collection whose Empties are food sources (up to 64, by name). Each "
                     "Empty attracts hungry agents to the surface point near it. Custom "
                     "properties of an Empty (Object Properties ▸ Custom Properties): "
                     "'moldtex_strength' = attraction, in scene units² (default 1: full "
@@ -418,29 +538,29 @@ class MoldtexSettings(bpy.types.PropertyGroup):
                     "moves its food at once")
     hunger_rate: FloatProperty(
         name="Hunger Rate", default=0.0, min=0.0, max=1000.0, soft_min=0.0, soft_max=5.0,
-        description="Hunger agents gain per second (60 steps); hungry agents steer "
+        description="Hunger Rate: hunger agents gain per second (60 steps); hungry agents steer "
                     "towards the nearest food and become sated when they reach it. "
                     "0 = food is ignored",
         update=_push_params)
     food_radius: FloatProperty(
         name="Food Radius", default=0.1, min=0.0, max=1e6, soft_min=0.0, soft_max=1.0,
         subtype='DISTANCE', unit='LENGTH',
-        description="Distance (scene units, in 3D) from a food Empty within which an "
+        description="Food Radius: distance (scene units, in 3D) from a food Empty within which an "
                     "agent eats",
         update=_push_params)
     # ---- playback ----
     steps_per_update: IntProperty(
         name="Steps per Update", default=0, min=0, max=1000, soft_max=20,
-        description="Simulation steps between two updates of the image while running. "
-                    "0 = as many as the machine manages: the mold grows on a thread "
-                    "while the viewport redraws (the panel shows steps per second)")
+        description="Steps per Update: simulation steps between two updates of the image "
+                    "while running. 0 = as many as the machine manages: the mold grows on a "
+                    "thread while the viewport redraws (the panel shows steps per second)")
     update_time: IntProperty(
         name="Update Time", default=50, min=5, max=500, subtype='NONE',
-        description="Milliseconds of stepping in one go while running with Steps per "
-                    "Update 0: the longest the interface waits for the simulation "
+        description="Update Time: milliseconds of stepping in one go while running with "
+                    "Steps per Update 0: the longest the interface waits for the simulation "
                     "(shorter: more responsive, longer: slightly faster growth)")
     thread_count: IntProperty(
-        name="Threads", default=0, min=0, max=1024, soft_max=64,
+        name="Threads", default=0, min=0, max=MAX_THREADS, soft_max=64,
         description="CPU threads (0 = all cores); the result does not depend on it. "
                     "Unused when the simulation runs on OpenCL",
         update=_push_params)
@@ -448,6 +568,10 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         name="Image", type=bpy.types.Image,
         description="Image that receives the pheromone (made by Set Up Material or the "
                     "first step)")
+    preset_name: StringProperty(
+        name="Preset", default="",
+        description="Name of the look (preset) last applied to this object, shown on "
+                    "its preset menu")
     # Colour ramp of the last preset (JSON: [[position, [r, g, b, a]], ...] and the
     # interpolation), used when Set Up Material creates the ramp later.
     ramp_stops: StringProperty(
@@ -466,18 +590,19 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         description="Last frame to bake when not using the scene's frame range")
     bake_steps_per_frame: IntProperty(
         name="Steps per Frame", default=2, min=1, max=100000, soft_max=60,
-        description="Simulation steps between two frames (60 steps = 1 s of the paper's "
+        description="Steps per Frame: simulation steps between two baked frames (60 steps = 1 s of the paper's "
                     "clock). Frame f shows the mold after (f - start + 1) × this many steps")
     bake_directory: StringProperty(
         name="Output Folder", default="//moldtex_bake/", subtype='DIR_PATH',
-        description="Folder for the frames, metrics.csv and the checkpoint (// = next to "
+        options=PATH_OPTIONS,
+        description="Output Folder for the frames, metrics.csv and the checkpoint (// = next to "
                     "the .blend file); created if missing")
     bake_format: EnumProperty(
         name="Format", items=BAKE_FORMAT_ITEMS, default="EXR_HALF",
         description="File format of the baked frames")
     bake_prefix: StringProperty(
         name="File Prefix", default="",
-        description="Start of every file name, e.g. 'rock_' gives rock_0001.exr (empty = "
+        description="File Prefix: start of every file name, e.g. 'rock_' gives rock_0001.exr (empty = "
                     "the object's name and '_'). Characters other than letters, digits, "
                     "'.', '-' and '_' become '_'")
     bake_resume: BoolProperty(

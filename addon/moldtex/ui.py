@@ -1,17 +1,72 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The "Moldtex" tab of the 3D Viewport sidebar. Draws only; never calls the engine's
-C functions (it reads cached stats from live.py)."""
+C functions (it reads cached stats from live.py).
+
+Settings use Blender's property-split layout (label column, value column, no animate
+dots) with the short labels of LABELS, which fit the label column at the sidebar's
+default width (blender_tests/panel_fit.py checks it); the long names start each
+property's tooltip (its description)."""
 
 import textwrap
 
 import bpy
 
 from . import bake, brush, engine, live, presets
+from .mesh_export import MeshExportError, check_transform, resolve_uv_map_name
+from .properties import invalid_enum_notes
+
+# Short labels shown in the panel: property identifier -> label.
+LABELS = {
+    "resolution": "Texture",
+    "pattern_scale": "Scale",
+    "agent_count": "Agents",
+    "steps_per_update": "Steps",
+    "update_time": "Update",
+    "movement_speed": "Speed",
+    "turn_speed": "Turning",
+    "vision_distance": "Sight",
+    "vision_angle_ui": "Angle",
+    "sensor_size": "Sensor",
+    "evaporation_rate": "Decay",
+    "diffusion_rate": "Diffusion",
+    "thread_count": "Threads",
+    "species_count": "Species",
+    "fields_image": "Image",
+    "food_collection": "Empties",
+    "hunger_rate": "Hunger",
+    "food_radius": "Radius",
+    "bake_frame_start": "Start",
+    "bake_frame_end": "End",
+    "bake_steps_per_frame": "Per Frame",
+    "bake_directory": "Folder",
+    "bake_prefix": "Prefix",
+    # the Brush panel (scene settings)
+    "target": "Paint",
+    "agents_per_dab": "Agents",
+    "food_strength": "Strength",
+    "food_amount": "Amount",
+}
 
 
-# Characters a line of the sidebar shows at its default width next to an icon (seen in
-# Blender 3.4); longer lines would be cut with an ellipsis.
-WIDTH = 23
+def _prop(layout, data, name, **kwargs):
+    """layout.prop with the panel's short label."""
+    if name in LABELS and "text" not in kwargs:
+        kwargs["text"] = LABELS[name]
+    layout.prop(data, name, **kwargs)
+
+
+def _split(layout):
+    """A column in Blender's property-split layout (labels left, values right)."""
+    column = layout.column(align=True)
+    column.use_property_split = True
+    column.use_property_decorate = False
+    return column
+
+
+# Characters a line of the sidebar shows at its default width next to an icon, inside
+# a box (seen in Blender 3.4; blender_tests/panel_fit.py checks every line drawn);
+# longer lines would be cut with an ellipsis.
+WIDTH = 21
 
 
 def _wrapped(layout, text, icon='NONE', width=WIDTH):
@@ -36,7 +91,7 @@ class MOLDTEX_PT_main(bpy.types.Panel):
     def draw(self, context):
         layout = self.layout
         if engine.available():
-            layout.label(text=engine.status_text(), icon='CHECKMARK')
+            layout.label(text=engine.status_text())  # (with an icon it would be cut)
         else:
             box = layout.box()
             _wrapped(box, engine.status_text(), icon='ERROR')
@@ -50,17 +105,34 @@ class MOLDTEX_PT_main(bpy.types.Panel):
 
         layout.label(text=obj.name, icon='OBJECT_DATA')
         row = layout.row(align=True)
-        row.menu(presets.MENU_IDNAME, text=presets.MOLDTEX_MT_presets.bl_label,
-                 icon='PRESET')
+        # The look last applied to this object (not the last one picked anywhere).
+        row.menu(presets.MENU_IDNAME, text=presets.menu_label(obj), icon='PRESET')
         row.operator("moldtex.preset_add", text="", icon='ADD')
         props = row.operator("moldtex.preset_add", text="", icon='REMOVE')
         props.remove_active = True
+        try:
+            check_transform(obj)
+        except MeshExportError as error:
+            _wrapped(layout.box(), str(error), icon='ERROR')
+        for note in invalid_enum_notes(settings):
+            _wrapped(layout, note + " Reset fixes it.", icon='ERROR')
+        column = _split(layout)
         if len(obj.data.uv_layers) == 0:
             _wrapped(layout.box(), "No UV map: add one (UV ▸ Smart UV Project in Edit "
                                    "Mode).", icon='ERROR')
         else:
-            layout.prop_search(settings, "uv_map", obj.data, "uv_layers", text="UV Map",
+            column.prop_search(settings, "uv_map", obj.data, "uv_layers", text="UV Map",
                                icon='GROUP_UVS')
+            if not settings.uv_map:
+                _wrapped(layout, f"Empty: the render UV map "
+                                 f"('{resolve_uv_map_name(obj, '')}').", icon='BLANK1')
+        # The controls used every minute (the rest is in the sub-panels below).
+        column = _split(layout)
+        _prop(column, settings, "resolution")
+        _prop(column, settings, "agent_count")
+        _prop(column, settings, "steps_per_update")
+        if settings.steps_per_update == 0:
+            _prop(column, settings, "update_time")
 
         column = layout.column(align=True)
         running = entry is not None and entry.running
@@ -133,20 +205,16 @@ class MOLDTEX_PT_agents(_SubPanel, bpy.types.Panel):
 
     def draw(self, context):
         settings = context.active_object.moldtex
-        units = self.layout.column(align=True)
-        units.use_property_split = True
-        units.prop(settings, "pattern_units")
-        row = units.row()
-        row.active = settings.pattern_units == 'SURFACE'
-        row.prop(settings, "pattern_scale")
-        units.prop(settings, "time_step")
-        column = self.layout.column(align=True)
-        column.use_property_split = True
-        column.prop(settings, "movement_speed")
-        column.prop(settings, "turn_speed")
-        column.prop(settings, "vision_distance")
-        column.prop(settings, "vision_angle")
-        column.prop(settings, "sensor_size")
+        units = _split(self.layout)
+        _prop(units, settings, "pattern_units")
+        sub = units.column(align=True)
+        sub.active = settings.pattern_units == 'SURFACE'
+        _prop(sub, settings, "pattern_scale")
+        _prop(units, settings, "time_step")
+        column = _split(self.layout)
+        for name in ("movement_speed", "turn_speed", "vision_distance", "vision_angle_ui",
+                     "sensor_size"):
+            _prop(column, settings, name)
 
 
 class MOLDTEX_PT_pheromone(_SubPanel, bpy.types.Panel):
@@ -155,12 +223,9 @@ class MOLDTEX_PT_pheromone(_SubPanel, bpy.types.Panel):
 
     def draw(self, context):
         settings = context.active_object.moldtex
-        column = self.layout.column(align=True)
-        column.use_property_split = True
-        column.prop(settings, "evaporation_rate")
-        column.prop(settings, "diffusion_rate")
-        column.prop(settings, "deposit")
-        column.prop(settings, "substeps")
+        column = _split(self.layout)
+        for name in ("evaporation_rate", "diffusion_rate", "deposit", "substeps"):
+            _prop(column, settings, name)
 
 
 class MOLDTEX_PT_setup(_SubPanel, bpy.types.Panel):
@@ -171,25 +236,19 @@ class MOLDTEX_PT_setup(_SubPanel, bpy.types.Panel):
     def draw(self, context):
         settings = context.active_object.moldtex
         layout = self.layout
-        layout.use_property_split = True
-        column = layout.column(align=True)
+        column = _split(layout)
         column.label(text="Applied on Reset", icon='FILE_REFRESH')
-        column.prop(settings, "resolution")
-        column.prop(settings, "agent_count")
-        column.prop(settings, "seed")
-        column.prop(settings, "backend")
+        _prop(column, settings, "seed")
+        _prop(column, settings, "backend")
         note = live.backend_note(settings)
         if note:  # e.g. a file saved on a machine with another GPU
             _wrapped(layout, note, icon='ERROR')
         devices, reason = live.opencl_devices()
         if not devices:
             _wrapped(layout, f"OpenCL unavailable: {reason}", icon='INFO')
-        column = layout.column(align=True)
-        column.prop(settings, "steps_per_update")
-        if settings.steps_per_update == 0:
-            column.prop(settings, "update_time")
-        column.prop(settings, "thread_count")
-        layout.prop(settings, "image")
+        column = _split(layout)
+        _prop(column, settings, "thread_count")
+        _prop(column, settings, "image")
 
 
 class MOLDTEX_PT_species(_SubPanel, bpy.types.Panel):
@@ -200,15 +259,14 @@ class MOLDTEX_PT_species(_SubPanel, bpy.types.Panel):
     def draw(self, context):
         settings = context.active_object.moldtex
         layout = self.layout
-        column = layout.column(align=True)
-        column.use_property_split = True
+        column = _split(layout)
         column.label(text="Applied on Reset", icon='FILE_REFRESH')
-        column.prop(settings, "species_count")
-        column.prop(settings, "seed_shape")
+        _prop(column, settings, "species_count")
+        _prop(column, settings, "seed_shape")
         if settings.seed_shape in {'CIRCLE', 'STARBURST'}:
-            column.prop(settings, "seed_radius")
+            _prop(column, settings, "seed_radius")
         if settings.seed_shape == 'STARBURST':
-            column.prop(settings, "seed_rays")
+            _prop(column, settings, "seed_rays")
         if settings.seed_shape in live.CENTERED_SHAPES:
             _wrapped(layout, "Centre: the surface point nearest the 3D cursor.",
                      icon='PIVOT_CURSOR')
@@ -223,15 +281,12 @@ class MOLDTEX_PT_species(_SubPanel, bpy.types.Panel):
             row = box.row()
             row.label(text=f"Species {index + 1}")
             row.prop(item, "color", text="")
+            column = _split(box)
+            for name in ("movement_speed", "turn_speed", "vision_distance",
+                         "vision_angle_ui", "deposit"):
+                _prop(column, item, name)
             column = box.column(align=True)
-            column.use_property_split = True
-            column.prop(item, "movement_speed")
-            column.prop(item, "turn_speed")
-            column.prop(item, "vision_distance")
-            column.prop(item, "vision_angle")
-            column.prop(item, "deposit")
-            column = box.column(align=True)
-            column.label(text="Attraction to (+1 follow, -1 avoid)")
+            column.label(text="Attraction to species:")
             row = column.row(align=True)
             for other in range(count):
                 row.prop(item, "attraction", index=other, text=f"{other + 1}")
@@ -251,13 +306,12 @@ def _draw_fields(layout, obj):
     box.label(text="Fields", icon='MOD_MASK')
     box.row().prop(settings, "fields_source", expand=True)
     if settings.fields_source == 'IMAGE':
-        box.prop(settings, "fields_image")
+        _prop(_split(box), settings, "fields_image")
         if settings.seed_shape == 'SPAWN_MAP' and settings.fields_image is None:
             _wrapped(box, "Spawn Map needs a Fields image whose red channel marks "
                           "where agents start.", icon='ERROR')
         return
-    column = box.column(align=True)
-    column.use_property_split = True
+    column = _split(box)
     for name in live.FIELD_ATTRIBUTES:
         column.prop_search(settings, name, obj, "vertex_groups", icon='GROUP_VERTEX',
                            **_SUGGESTIONS)
@@ -274,19 +328,23 @@ def _draw_food(layout, obj):
     settings = obj.moldtex
     box = layout.box()
     box.label(text="Food", icon='FORCE_FORCE')
-    column = box.column(align=True)
-    column.use_property_split = True
-    column.prop(settings, "food_collection", text="Collection")
+    column = _split(box)
+    _prop(column, settings, "food_collection")
     box.operator("moldtex.food_at_cursor", icon='PIVOT_CURSOR')
-    column.prop(settings, "hunger_rate")
-    column.prop(settings, "food_radius")
+    column = _split(box)
+    _prop(column, settings, "hunger_rate")
+    _prop(column, settings, "food_radius")
     if settings.food_collection is None:
         _wrapped(box, "Pick a collection of Empties: each is a food source "
                       "(custom properties moldtex_strength, moldtex_amount).", icon='INFO')
         return
     status = live.food_status(obj)
     if status is None:
-        sources, dropped = live.food_from_settings(obj)
+        try:
+            sources, dropped = live.food_from_settings(obj)
+        except MeshExportError as error:  # e.g. a scale of 0: no world-to-mesh map
+            _wrapped(box, str(error), icon='ERROR')
+            return
         status = [(name, amount) for name, _position, _strength, amount in sources]
     else:
         entry = live.get(obj.name)
@@ -328,17 +386,18 @@ class MOLDTEX_PT_bake(_SubPanel, bpy.types.Panel):
         layout = self.layout
 
         column = layout.column(align=True)
-        column.use_property_split = True
         column.enabled = not baking
         column.prop(settings, "bake_use_scene_range")
+        column = _split(column)
         if not settings.bake_use_scene_range:
-            column.prop(settings, "bake_frame_start")
-            column.prop(settings, "bake_frame_end")
-        column.prop(settings, "bake_steps_per_frame")
-        column.prop(settings, "bake_directory")
-        column.prop(settings, "bake_format")
-        column.prop(settings, "bake_prefix")
-        column.prop(settings, "bake_resume")
+            _prop(column, settings, "bake_frame_start")
+            _prop(column, settings, "bake_frame_end")
+        for name in ("bake_steps_per_frame", "bake_directory", "bake_format",
+                     "bake_prefix"):
+            _prop(column, settings, name)
+        row = layout.row()
+        row.enabled = not baking
+        row.prop(settings, "bake_resume")
         scene = getattr(context, "scene", None)
         if scene is not None:
             try:
@@ -384,16 +443,17 @@ class MOLDTEX_PT_brush(_SubPanel, bpy.types.Panel):
         row.scale_y = 1.4
         row.operator("moldtex.brush_paint", icon='BRUSH_DATA')
         row.prop(obj.moldtex, "show_fields", text="", icon='HIDE_OFF')
-        layout.prop(settings, "target", expand=False)
+        for note in invalid_enum_notes(settings):
+            _wrapped(layout, note, icon='ERROR')
+        _prop(_split(layout), settings, "target")
         row = layout.row(align=True)
         row.prop(settings, "erase", toggle=True, icon='REMOVE' if settings.erase else 'ADD',
                  text="Erase" if settings.erase else "Add")
-        column = layout.column(align=True)
-        column.use_property_split = True
-        column.prop(settings, "radius")
+        column = _split(layout)
+        _prop(column, settings, "radius")
         if settings.target != 'FOOD':  # an Empty is placed or removed whole
-            column.prop(settings, "strength")
-            column.prop(settings, "falloff")
+            _prop(column, settings, "strength")
+            _prop(column, settings, "falloff")
         if settings.target in brush.FIELD_CHANNELS:
             if obj.moldtex.fields_source != 'IMAGE':
                 _wrapped(layout, "Fields come from vertex groups or attributes: the brush "
@@ -401,14 +461,14 @@ class MOLDTEX_PT_brush(_SubPanel, bpy.types.Panel):
             elif obj.moldtex.fields_image is None:
                 _wrapped(layout, "The first stroke makes a Fields image.", icon='INFO')
         elif settings.target == 'SLIME':
-            column.prop(settings, "agents_per_dab")
+            _prop(column, settings, "agents_per_dab")
             if obj.moldtex.species_count > 1:
-                column.prop(settings, "species")
+                _prop(column, settings, "species")
             _wrapped(layout, "Agents join the live simulation (Reset removes them).",
                      icon='INFO')
         else:
-            column.prop(settings, "food_strength")
-            column.prop(settings, "food_amount")
+            _prop(column, settings, "food_strength")
+            _prop(column, settings, "food_amount")
         done, undone = brush.counts(obj.name)
         row = layout.row(align=True)
         sub = row.row(align=True)
@@ -421,6 +481,8 @@ class MOLDTEX_PT_brush(_SubPanel, bpy.types.Panel):
 
 CLASSES = (MOLDTEX_PT_main, MOLDTEX_PT_agents, MOLDTEX_PT_pheromone, MOLDTEX_PT_species,
            MOLDTEX_PT_brush, MOLDTEX_PT_setup, MOLDTEX_PT_bake)
+# (Resolution, Agents and Steps per Update are on the main panel; the Simulation
+# sub-panel keeps what is changed rarely: seed, backend, threads, image.)
 
 
 register, unregister = bpy.utils.register_classes_factory(CLASSES)
