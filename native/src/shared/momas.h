@@ -88,22 +88,19 @@ MTX_FN int mtx_is_obstacle(MTX_GLOBAL const float* field, mtx_u32 texel,
   return MTX_FIELDS && k->has_fields && field[texel] < MTX_OBSTACLE_THRESHOLD;
 }
 
-/* Surface units, single-point sensor: the strongest value among the texels whose cells
- * lie within half a length unit of the sensor point along each texel axis (the deposit
- * footprint's size), or an obstacle if one lies there. Deposits set texels to a value
- * (MoMaS), so a trail that passes within half a unit reads the same where texels are
- * small (many texels, max over them) as where one texel is a unit or larger (that texel
- * holds the trail): sensing is the same at any resolution and near UV poles. */
+/* Surface units, single-point sensor: the mean over the texels of the walker's island
+ * whose centres lie within half a length unit of the sensor point along each texel axis
+ * (the deposit footprint's size), or an obstacle if one lies there: a sensor reads the
+ * same 3D neighbourhood at any resolution (a texel of one length unit holds what the
+ * mean over the finer texels of that unit holds). */
 MTX_FN float mtx_sense_footprint(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
                                  MTX_GLOBAL const float* field, const mtx_walker* w,
                                  mtx_u32 texel, mtx_u32 species, const mtx_momas_constants* k) {
-  /* Texel centres within half a unit less half a texel: those texels' cells cover half
-   * a unit around the point (at one texel per unit: the texel under the point alone). */
   MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * w->triangle;
-  const float ex = fmin(0.5f * k->length_unit * tpu[0] - 0.5f, MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
-  const float ey = fmin(0.5f * k->length_unit * tpu[1] - 0.5f, MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
-  float best = mtx_sensed_value(pheromone, field, texel, species, k);
-  if (ex <= 0.0f && ey <= 0.0f) return best;
+  const float ex = fmin(0.5f * k->length_unit * tpu[0], MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
+  const float ey = fmin(0.5f * k->length_unit * tpu[1], MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
+  const float here = mtx_sensed_value(pheromone, field, texel, species, k);
+  if ((ex < 0.5f && ey < 0.5f) || mtx_is_obstacle(field, texel, k)) return here;
   MTX_GLOBAL const float* uv = s.corner_uvs + 6 * w->triangle;
   const float x = (w->bary[0] * uv[0] + w->bary[1] * uv[2] + w->bary[2] * uv[4]) * MTX_CAST(float, k->width);
   const float y = (w->bary[0] * uv[1] + w->bary[1] * uv[3] + w->bary[2] * uv[5]) * MTX_CAST(float, k->height);
@@ -114,18 +111,19 @@ MTX_FN float mtx_sense_footprint(mtx_surface_tables s, MTX_GLOBAL const float* p
   y0 = y0 < 0 ? 0 : y0;
   x1 = x1 >= w_ ? w_ - 1 : x1;
   y1 = y1 >= h_ ? h_ - 1 : y1;
-  if (mtx_is_obstacle(field, texel, k)) return best;
   const mtx_u32 island = s.island[w->triangle];
+  float sum = here, count = 1.0f;
   for (int iy = y0; iy <= y1; ++iy)
     for (int ix = x0; ix <= x1; ++ix) {
       const mtx_u32 i = MTX_CAST(mtx_u32, iy) * k->width + MTX_CAST(mtx_u32, ix);
       const int t = s.texel_triangle[i];
-      if (t < 0 || s.classes[i] != MTX_TEXEL_INSIDE || s.island[t] != island) continue;
+      if (i == texel || t < 0 || s.classes[i] != MTX_TEXEL_INSIDE || s.island[t] != island) continue;
       const float v = mtx_sensed_value(pheromone, field, i, species, k);
       if (mtx_is_obstacle(field, i, k)) return v;
-      best = v > best ? v : best;
+      sum += v;
+      count += 1.0f;
     }
-  return best;
+  return sum / count;
 }
 
 MTX_FN float mtx_sense(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
