@@ -3,8 +3,12 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numbers>
+#include <queue>
+#include <utility>
+#include <vector>
 
 namespace moldtex {
 
@@ -109,8 +113,75 @@ double texel_width(const Surface& s, uint32_t t, uint32_t width, uint32_t height
   return side > 0 && area > 0 ? area / side : std::numeric_limits<double>::infinity();
 }
 
-void sample_disk(const Surface& s, const moldtex_surface_point& center, float radius,
+float disk_reach(const Surface& s, const moldtex_surface_point& center, float radius) {
+  float c[3];
+  float bary[3] = {center.bary[0], center.bary[1], center.bary[2]};
+  mtx_clamp_bary(bary);
+  s.evaluate(center.triangle, bary, c, nullptr);
+  const P3 centre{c[0], c[1], c[2]};
+  auto vertex = [&](uint32_t v) {
+    return P3{s.positions[3 * v], s.positions[3 * v + 1], s.positions[3 * v + 2]};
+  };
+  double farthest = 0;
+  for (uint32_t v = 0; v < s.vertex_count(); ++v) farthest = std::max(farthest, length(centre, vertex(v)));
+  if (radius <= farthest) return radius;
+  // Dijkstra over the triangles the walker can enter (adjacency: walls excluded).
+  const uint32_t nt = s.triangle_count();
+  auto corner = [&](uint32_t t, int k) { return vertex(s.triangles[3 * t + k]); };
+  auto centroid = [&](uint32_t t) {
+    const P3 a = corner(t, 0), b = corner(t, 1), d = corner(t, 2);
+    return P3{(a.x + b.x + d.x) / 3, (a.y + b.y + d.y) / 3, (a.z + b.z + d.z) / 3};
+  };
+  std::vector<double> dist(nt, std::numeric_limits<double>::infinity());
+  using Item = std::pair<double, uint32_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  dist[center.triangle] = length(centre, centroid(center.triangle));
+  queue.push({dist[center.triangle], center.triangle});
+  double extent = 0;
+  while (!queue.empty()) {
+    const auto [d, t] = queue.top();
+    queue.pop();
+    if (d > dist[t]) continue;
+    const P3 ct = centroid(t);
+    double spread = 0;
+    for (int k = 0; k < 3; ++k) spread = std::max(spread, length(ct, corner(t, k)));
+    extent = std::max(extent, d + spread);
+    for (int e = 0; e < 3; ++e) {
+      const uint32_t code = s.adjacency[3 * t + e];
+      if (code == kNoNeighbour) continue;
+      const uint32_t n = code >> 3;
+      const P3 a = corner(t, (e + 1) % 3), b = corner(t, (e + 2) % 3);
+      const P3 mid{(a.x + b.x) / 2, (a.y + b.y) / 2, (a.z + b.z) / 2};
+      const double dn = d + length(ct, mid) + length(mid, centroid(n));
+      if (dn < dist[n]) {
+        dist[n] = dn;
+        queue.push({dn, n});
+      }
+    }
+  }
+  return static_cast<float>(std::min<double>(radius, 2.0 * extent));
+}
+
+std::vector<uint8_t> reachable_triangles(const Surface& s, uint32_t triangle) {
+  std::vector<uint8_t> reached(s.triangle_count(), 0);
+  std::vector<uint32_t> stack{triangle};
+  reached[triangle] = 1;
+  while (!stack.empty()) {
+    const uint32_t t = stack.back();
+    stack.pop_back();
+    for (int e = 0; e < 3; ++e) {
+      const uint32_t code = s.adjacency[3 * t + e];
+      if (code == kNoNeighbour || reached[code >> 3]) continue;
+      reached[code >> 3] = 1;
+      stack.push_back(code >> 3);
+    }
+  }
+  return reached;
+}
+
+void sample_disk(const Surface& s, const moldtex_surface_point& center, float brush_radius,
                  uint32_t width, uint32_t height, DiskVisitor& visitor) {
+  const float radius = disk_reach(s, center, brush_radius);
   Walker start{center.triangle, {center.bary[0], center.bary[1], center.bary[2]}, {1.f, 0.f}};
   mtx_clamp_bary(start.bary);
   const float min_step = radius / kMaxStepsPerRadius;

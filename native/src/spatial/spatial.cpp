@@ -3,6 +3,7 @@
 #include <embree3/rtcore.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <vector>
@@ -119,7 +120,56 @@ bool point_query_callback(RTCPointQueryFunctionArguments* args) {
   return false;
 }
 
+// Embree asserts (and Debian's build aborts) on a ray whose origin or direction has a
+// component of magnitude 1.844e18 or more (FLT_LARGE in its Ray::valid()), and it clamps
+// direction components below 1e-18 (min_rcp_input), so shorter directions miss. Queries
+// are kept inside these limits, with a margin.
+constexpr double kMaxQueryCoordinate = 1e18;
+constexpr double kMinDirectionLength = 1e-18;
+
+std::string format_vector(const float v[3]) {
+  char text[96];
+  std::snprintf(text, sizeof(text), "(%g, %g, %g)", v[0], v[1], v[2]);
+  return text;
+}
+
+bool in_query_range(const float v[3]) {
+  for (int k = 0; k < 3; ++k)
+    if (!(std::fabs(v[k]) <= kMaxQueryCoordinate)) return false;
+  return true;
+}
+
+void require_query_point(const float p[3], const char* what) {
+  if (!in_query_range(p))
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         std::string(what) + " " + format_vector(p) +
+             " is too far away: each coordinate must be a finite number within +-1e18 mesh "
+             "units (the ray tracer cannot represent more)");
+}
+
 }  // namespace
+
+void validate_ray(const float origin[3], const float direction[3], float max_distance) {
+  require_query_point(origin, "The ray origin");
+  if (!in_query_range(direction))
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "The ray direction " + format_vector(direction) +
+             " is too long: each component must be a finite number within +-1e18 (any length "
+             "works: pass a unit vector)");
+  double length2 = 0;
+  for (int k = 0; k < 3; ++k) length2 += double(direction[k]) * direction[k];
+  if (!(std::sqrt(length2) >= kMinDirectionLength))
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "The ray direction " + format_vector(direction) +
+             " is zero or too short (length below 1e-18): pass a unit vector");
+  if (std::isnan(max_distance) || max_distance < 0.f)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "The ray's maximum distance must be >= 0 (INFINITY for no limit)");
+}
+
+void validate_query_point(const float position[3]) {
+  require_query_point(position, "The query position");
+}
 
 struct SpatialIndex::Scene {
   RTCDevice device = nullptr;
@@ -180,6 +230,7 @@ const SpatialIndex::Scene& SpatialIndex::scene() const {
 
 RayHitResult SpatialIndex::ray_cast(const float origin[3], const float direction[3],
                                     float max_distance) const {
+  validate_ray(origin, direction, max_distance);
   const Scene& sc = scene();
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
@@ -211,6 +262,7 @@ RayHitResult SpatialIndex::ray_cast(const float origin[3], const float direction
 }
 
 ClosestPointResult SpatialIndex::closest_point(const float position[3]) const {
+  validate_query_point(position);
   const Scene& sc = scene();
   PointQueryState state;
   state.surface = surface_.get();
