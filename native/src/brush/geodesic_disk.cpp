@@ -19,6 +19,11 @@ constexpr float kAcrossRays = 0.5f; // spacing between rays at the rim, in texel
 constexpr float kMaxStepsPerRadius = 1024.f;
 constexpr int kEventCapacity = 64;
 constexpr size_t kMaxCentresPerTriangle = 64;
+constexpr int kStuckCrossings = 256;   // edge crossings in one step (of <= a texel or r / 1024)
+// Edge crossings a dab may walk (its sampling passes; the pilot a quarter more): ~0.3 s. Sane dabs cross a few edges per
+// sample and stay far below (<= 4.3 million samples); only slivers narrower than a step
+// reach it, and then the dab ends with the rays walked so far.
+constexpr int64_t kMaxCrossingsPerDab = int64_t{1} << 24;
 
 struct P3 {
   double x, y, z;
@@ -40,7 +45,8 @@ Vec2 frame_point(const TriangleFrame& f, const float b[3]) {
 
 // One sampling pass; returns the narrowest texel width met.
 double sample_pass(const Surface& s, const Walker& start, float radius, uint32_t width,
-                   uint32_t height, float step, float rim_spacing, DiskVisitor* visitor) {
+                   uint32_t height, float step, float rim_spacing, DiskVisitor* visitor,
+                   int64_t& budget) {
   double narrowest = texel_width(s, start.triangle, width, height);
   auto meet = [&](uint32_t t) {
     if (!s.degenerate[t]) narrowest = std::min(narrowest, texel_width(s, t, width, height));
@@ -49,7 +55,7 @@ double sample_pass(const Surface& s, const Walker& start, float radius, uint32_t
   const uint32_t rays = std::max<uint32_t>(
       8, static_cast<uint32_t>(std::ceil(two_pi * radius / std::max(rim_spacing, 1e-30f))));
   Walker events[kEventCapacity];
-  for (uint32_t ray = 0; ray < rays; ++ray) {
+  for (uint32_t ray = 0; ray < rays && budget > 0; ++ray) {
     // Ray i = odd * 2^k is needed only where the rays that are multiples of 2^(k+1) lie
     // more than rim_spacing apart: beyond d = rim_spacing * rays / (2^(k+1) * 2 pi).
     float d_start = 0.f;
@@ -68,11 +74,15 @@ double sample_pass(const Surface& s, const Walker& start, float radius, uint32_t
       if (static_cast<float>(first) * step > radius) continue;
       // Walk to the first sample in chunks of 16 steps (no visits before it).
       uint32_t done = 0;
-      while (done < first) {
+      bool stuck = false;
+      while (done < first && !stuck) {
         const uint32_t n = std::min<uint32_t>(16, first - done);
-        mtx_walk(s.frames.data(), s.adjacency.data(), &w, static_cast<float>(n) * step, nullptr, 0);
+        const int c = mtx_walk(s.frames.data(), s.adjacency.data(), &w, static_cast<float>(n) * step, nullptr, 0);
+        budget -= c;
+        stuck = c >= MTX_MAX_CROSSINGS_PER_WALK;
         done += n;
       }
+      if (stuck) continue;
     }
     float d = static_cast<float>(first) * step;
     if (visitor) visitor->visit(ray, w, d, true);
@@ -82,6 +92,7 @@ double sample_pass(const Surface& s, const Walker& start, float radius, uint32_t
       const float len = last ? radius - d : step;
       const Walker before = w;
       const int crossings = mtx_walk(s.frames.data(), s.adjacency.data(), &w, len, events, kEventCapacity);
+      budget -= crossings;
       // Crossings between the samples: the path length is the sum of straight 3D segments.
       double travelled = d;
       P3 at = crossings > 0 ? position(s, before) : P3{};
@@ -95,6 +106,10 @@ double sample_pass(const Surface& s, const Walker& start, float radius, uint32_t
       d = last ? radius : d + step;
       if (w.triangle != before.triangle) meet(w.triangle);
       if (visitor) visitor->visit(ray, w, d, true);
+      // A step across this many edges is a ray caught bouncing in a sliver far narrower
+      // than a texel (sane steps cross a few): it ends here, or a dab there would cost
+      // thousands of crossings per sample (found by the fuzz target).
+      if (crossings >= kStuckCrossings || budget <= 0) break;
     }
   }
   return narrowest;
@@ -186,14 +201,15 @@ void sample_disk(const Surface& s, const moldtex_surface_point& center, float br
   mtx_clamp_bary(start.bary);
   const float min_step = radius / kMaxStepsPerRadius;
   // Pilot: 64 steps per radius, to find the texel widths around the centre.
-  double h = sample_pass(s, start, radius, width, height, radius / 64.f, radius / 64.f, nullptr);
+  int64_t pilot_budget = kMaxCrossingsPerDab / 4, budget = kMaxCrossingsPerDab;
+  double h = sample_pass(s, start, radius, width, height, radius / 64.f, radius / 64.f, nullptr, pilot_budget);
   for (int attempt = 0;; ++attempt) {
     const float step = std::max(min_step, static_cast<float>(kAlongRay * h));
     const float rim = std::max(min_step * (kAcrossRays / kAlongRay), static_cast<float>(kAcrossRays * h));
     visitor.begin(step);
-    const double met = sample_pass(s, start, radius, width, height, step, rim, &visitor);
+    const double met = sample_pass(s, start, radius, width, height, step, rim, &visitor, budget);
     // Narrower texels than the pilot saw: sample again at their spacing (twice at most).
-    if (attempt >= 2 || !(met < 0.7 * h) || step <= min_step) break;
+    if (attempt >= 2 || !(met < 0.7 * h) || step <= min_step || budget <= 0) break;
     h = met;
   }
 }

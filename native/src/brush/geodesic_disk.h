@@ -10,7 +10,9 @@
 // (r / step)^2 samples (12 ms for a radius of 96 texels, 105 ms for 384). The step is
 // at least r / 1024: a dab with a radius above 512 texel widths is sampled more
 // coarsely and may miss texels. r is the walked radius (disk_reach): at most about twice
-// the mesh's geodesic extent, whatever the brush radius.
+// the mesh's geodesic extent, whatever the brush radius. On slivers far narrower than a
+// step, where a step would cross hundreds of edges, a ray ends there, and a dab walks at
+// most 2^24 edge crossings in all (sane dabs cross a few per sample).
 #pragma once
 #include <cstdint>
 #include <unordered_map>

@@ -147,6 +147,20 @@ void require_query_point(const float p[3], const char* what) {
              "units (the ray tracer cannot represent more)");
 }
 
+// Embree's (non-robust) triangle test divides by the dot product of the ray and the
+// triangle's normal: for a ray (nearly) in a triangle's plane that can be a denormal, and
+// the hit distance comes back NaN (found by the fuzz target). Such candidates are not
+// hits: reject them here so that traversal goes on to the real nearest hit. Valid hits
+// pass untouched.
+void reject_undefined_hits(const RTCFilterFunctionNArguments* args) {
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    const float t = RTCRayN_tfar(args->ray, args->N, i);
+    const float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
+    if (!(t >= 0.f && std::isfinite(t) && std::isfinite(u) && std::isfinite(v))) args->valid[i] = 0;
+  }
+}
+
 }  // namespace
 
 void validate_ray(const float origin[3], const float direction[3], float max_distance) {
@@ -218,6 +232,7 @@ const SpatialIndex::Scene& SpatialIndex::scene() const {
     if (!idx) embree_fail(RTC_ERROR_OUT_OF_MEMORY, "allocating the index buffer");
     for (size_t i = 0; i < prims; ++i)
       for (int c = 0; c < 3; ++c) idx[3 * i + c] = s.triangles[3 * sc->triangle_of_prim[i] + c];
+    rtcSetGeometryIntersectFilterFunction(g, reject_undefined_hits);
     rtcCommitGeometry(g);
     rtcAttachGeometryByID(sc->scene, g, 0);
     sc->check("building the geometry");
@@ -250,6 +265,8 @@ RayHitResult SpatialIndex::ray_cast(const float origin[3], const float direction
   rtcIntersect1(sc.scene, &context, &rh);
   RayHitResult out;
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return out;
+  if (!(rh.ray.tfar >= 0.f && rh.ray.tfar <= max_distance))
+    fail(MOLDTEX_ERROR_INTERNAL, "Embree reported a hit outside the ray's range");
   if (rh.hit.primID >= sc.triangle_of_prim.size())
     fail(MOLDTEX_ERROR_INTERNAL, "Embree reported a hit on an unknown triangle");
   out.hit = true;
