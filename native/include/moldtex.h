@@ -519,7 +519,7 @@ typedef struct moldtex_brush {
   uint32_t struct_size;
   moldtex_surface_point center;  /* where the dab lands (e.g. a ray hit); not on a
                                     zero-area triangle */
-  float radius;                  /* geodesic radius in mesh units, > 0 and < 1e30 */
+  float radius;                  /* geodesic radius in mesh units, >= 1e-30 and < 1e30 */
   float strength;                /* [0,1]: fraction of the way to the target at full weight */
   float falloff;                 /* [0,1]: 0 hard disk; 1 weight falls smoothly to 0 at the rim */
   uint32_t mode;                 /* moldtex_brush_mode (paint only; the agent calls ignore it) */

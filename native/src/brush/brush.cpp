@@ -83,10 +83,11 @@ class TexelDistances final : public DiskVisitor {
 }  // namespace
 
 void validate_brush(const Surface& s, const moldtex_brush& b) {
-  if (!(std::isfinite(b.radius) && b.radius > 0.f && b.radius < 1e30f)) {
+  // Below 1e-30 the sampling step (radius / 65536 at most) would underflow to 0.
+  if (!(std::isfinite(b.radius) && b.radius >= 1e-30f && b.radius < 1e30f)) {
     std::ostringstream m;
-    m << "The brush radius must be a number > 0 and below 1e30 (mesh units, measured on the "
-         "surface), got "
+    m << "The brush radius must be a number between 1e-30 and 1e30 (mesh units, measured on "
+         "the surface), got "
       << b.radius;
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, m.str());
   }

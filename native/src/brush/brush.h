@@ -10,8 +10,8 @@
 
 namespace moldtex {
 
-// Throws INVALID_ARGUMENT unless the brush is usable on this surface: radius finite,
-// > 0 and < 1e30; strength and falloff in [0, 1]; mode known; value finite; centre
+// Throws INVALID_ARGUMENT unless the brush is usable on this surface: radius in
+// [1e-30, 1e30); strength and falloff in [0, 1]; mode known; value finite; centre
 // triangle in range and not degenerate, barycentrics finite, >= 0 and summing to 1.
 // channel is checked by the caller (image channel or species).
 void validate_brush(const Surface& s, const moldtex_brush& brush);

@@ -19,7 +19,7 @@ constexpr float kAcrossRays = 0.5f; // spacing between rays at the rim, in texel
 constexpr float kMaxStepsPerRadius = 1024.f;
 constexpr int kEventCapacity = 64;
 constexpr size_t kMaxCentresPerTriangle = 64;
-constexpr int kStuckCrossings = 256;   // edge crossings in one step (of <= a texel or r / 1024)
+constexpr int kStuckCrossings = 32;    // edge crossings in one step (of <= a texel or r / 1024)
 // Edge crossings a dab may walk (its sampling passes; the pilot a quarter more): ~0.3 s. Sane dabs cross a few edges per
 // sample and stay far below (<= 4.3 million samples); only slivers narrower than a step
 // reach it, and then the dab ends with the rays walked so far.
@@ -51,6 +51,7 @@ double sample_pass(const Surface& s, const Walker& start, float radius, uint32_t
   auto meet = [&](uint32_t t) {
     if (!s.degenerate[t]) narrowest = std::min(narrowest, texel_width(s, t, width, height));
   };
+  if (!(step > 0.f)) return narrowest;  // no progress possible (radii >= 1e-30 never get here)
   const float two_pi = 2.f * std::numbers::pi_v<float>;
   const uint32_t rays = std::max<uint32_t>(
       8, static_cast<uint32_t>(std::ceil(two_pi * radius / std::max(rim_spacing, 1e-30f))));

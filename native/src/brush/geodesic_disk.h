@@ -11,7 +11,7 @@
 // at least r / 1024: a dab with a radius above 512 texel widths is sampled more
 // coarsely and may miss texels. r is the walked radius (disk_reach): at most about twice
 // the mesh's geodesic extent, whatever the brush radius. On slivers far narrower than a
-// step, where a step would cross hundreds of edges, a ray ends there, and a dab walks at
+// step, where a step would cross 32 edges or more, a ray ends there, and a dab walks at
 // most 2^24 edge crossings in all (sane dabs cross a few per sample).
 #pragma once
 #include <cstdint>
