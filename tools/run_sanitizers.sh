@@ -82,7 +82,7 @@ status=0
 "$BUILD/native/moldtex_fuzz" -max_total_time="$FUZZ_SECONDS" -timeout=120 -report_slow_units=60 -rss_limit_mb=4096 \
   -print_final_stats=1 -artifact_prefix="$BUILD/fuzz-artifacts/" \
   "$fuzz_dir" "$ROOT/native/fuzz/corpus" >"$fuzz_log" 2>&1 || status=$?
-grep -E "^(#[0-9]+ +(INITED|DONE)|stat::number_of_executed_units|stat::new_units_added|stat::peak_rss_mb)" "$fuzz_log" || true
+grep -E "^(#[0-9]+[[:space:]]+(INITED|DONE)|stat::number_of_executed_units|stat::new_units_added|stat::peak_rss_mb)" "$fuzz_log" || true
 if [ "$status" != 0 ]; then
   tail -n 60 "$fuzz_log" >&2
   echo "The fuzz target failed (status $status): the input is in $BUILD/fuzz-artifacts/," \
