@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what is needed, builds everything, and runs every test: the GoogleTest suite
 # (CTest), the Blender background tests on Debian's Blender (3.4) and on PyPI's bpy 4.2
-# and 5.0, and the interactive checks under a virtual X server.
+# and 5.0, the interactive checks under a virtual X server, and the core under ASan/UBSan
+# with its fuzz target (tools/run_sanitizers.sh).
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 moldtex_install_packages
 moldtex_build
@@ -42,5 +43,10 @@ for target in "venv-bpy $MOLDTEX_BPY_VERSION" "venv-bpy5 $MOLDTEX_BPY5_VERSION";
   echo "== Blender tests on bpy $("$BPY_PYTHON" -c 'import bpy; print(bpy.app.version_string)' 2>/dev/null)"
   "$BPY_PYTHON" "$MOLDTEX_ROOT/blender_tests/run_all.py" --addon-dir "$MOLDTEX_BUILD/addon"
 done
+
+# Last, as it builds the core a second time: the core and its CTest suite under
+# ASan/UBSan, then the C API fuzz target for a fixed minute (about 6 minutes in all).
+echo "== Native core under AddressSanitizer/UBSan and the C API fuzz target"
+"$MOLDTEX_ROOT/tools/run_sanitizers.sh"
 
 echo "== All Moldtex tests passed"

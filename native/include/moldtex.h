@@ -504,14 +504,16 @@ typedef struct moldtex_ray_hit {
 } moldtex_ray_hit;
 MOLDTEX_API void moldtex_ray_hit_init(moldtex_ray_hit* hit);
 /* Nearest hit of origin + s*direction, 0 <= s <= max_distance (max_distance may be
- * INFINITY), front and back faces alike. origin and direction must be finite, direction
- * non-zero (any length: s is in units of it), max_distance >= 0. A miss returns
- * MOLDTEX_OK with hit->hit == 0. */
+ * INFINITY), front and back faces alike. origin and direction must be finite with every
+ * component within +-1e18 (Embree's representable range), direction of length >= 1e-18
+ * (any length in between: s is in units of it), max_distance >= 0. Anything else is
+ * refused with MOLDTEX_ERROR_INVALID_ARGUMENT. A miss returns MOLDTEX_OK with
+ * hit->hit == 0. */
 MOLDTEX_API moldtex_status moldtex_surface_ray_cast(moldtex_surface surface,
     const float origin[3], const float direction[3], float max_distance, moldtex_ray_hit* hit);
-/* Nearest point of the surface to `position` (3D, finite), exact (each candidate
- * triangle's closest point in double precision); its 3D distance in *distance (may be
- * NULL). */
+/* Nearest point of the surface to `position` (3D, finite, each coordinate within
+ * +-1e18), exact (each candidate triangle's closest point in double precision); its 3D
+ * distance in *distance (may be NULL). */
 MOLDTEX_API moldtex_status moldtex_surface_closest_point(moldtex_surface surface,
     const float position[3], moldtex_surface_point* point, float* distance);
 
@@ -521,13 +523,16 @@ MOLDTEX_API moldtex_status moldtex_surface_closest_point(moldtex_surface surface
  * straightest paths from the centre (moldtex_surface_trace's walk, across seams into
  * every island the disk reaches; at open boundaries the paths bounce). The weight of a
  * point is w(d / radius) with w(x) = 1 for x <= 1 - falloff, then a smoothstep down to 0
- * at x = 1, and 0 beyond. */
+ * at x = 1, and 0 beyond. The work of a dab is bounded by the mesh, not the radius: a
+ * disk that holds all the surface its centre can reach (radius beyond the farthest
+ * vertex) walks its paths only about twice that part's geodesic extent, which reaches
+ * it all; weights still use the radius. */
 typedef enum moldtex_brush_mode { MOLDTEX_BRUSH_PAINT = 0, MOLDTEX_BRUSH_ERASE = 1 } moldtex_brush_mode;
 typedef struct moldtex_brush {
   uint32_t struct_size;
   moldtex_surface_point center;  /* where the dab lands (e.g. a ray hit); not on a
                                     zero-area triangle */
-  float radius;                  /* geodesic radius in mesh units, > 0 and < 1e30 */
+  float radius;                  /* geodesic radius in mesh units, >= 1e-30 and < 1e30 */
   float strength;                /* [0,1]: fraction of the way to the target at full weight */
   float falloff;                 /* [0,1]: 0 hard disk; 1 weight falls smoothly to 0 at the rim */
   uint32_t mode;                 /* moldtex_brush_mode (paint only; the agent calls ignore it) */
@@ -550,7 +555,8 @@ MOLDTEX_API moldtex_status moldtex_surface_paint(moldtex_surface surface, uint32
     uint32_t height, float* rgba, size_t float_count, const moldtex_brush* brush, uint32_t* changed);
 
 /* Slime brush: adds `count` agents of species brush->channel (< species_count), uniform
- * over the disk (each walks from the centre at a uniform angle for radius * sqrt(u)),
+ * over the disk (each walks from the centre at a uniform angle for r * sqrt(u), r the
+ * radius or, for a disk larger than the reachable surface, the walk length above),
  * headings uniform, hunger 0, tagged with `batch` (1..65535; e.g. one per stroke). Agent
  * k of a batch depends only on (config seed, batch, k) (k counts the batch's agents
  * added before), so re-applying the same dabs after moldtex_sim_undo_agents gives the

@@ -87,9 +87,13 @@ void validate_config(const moldtex_sim_config& c, const Surface& surface) {
       fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The seed centre's barycentric weights must sum to 1");
   }
   if ((c.seed_shape == MOLDTEX_SEED_CIRCLE || c.seed_shape == MOLDTEX_SEED_STARBURST) &&
-      !(std::isfinite(c.seed_radius) && c.seed_radius > 0.f && c.seed_radius < 1e30f))
-    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
-         "The seed radius must be a finite number > 0 (3D units, measured on the surface)");
+      !(std::isfinite(c.seed_radius) && c.seed_radius > 0.f && c.seed_radius < 1e30f)) {
+    std::ostringstream m;
+    m << "The seed radius must be a number > 0 and below 1e30 (3D units, measured on the "
+         "surface), got "
+      << c.seed_radius;
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, m.str());
+  }
   if (c.seed_shape == MOLDTEX_SEED_STARBURST && (c.seed_rays < 1 || c.seed_rays > 1024))
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The number of starburst rays must be between 1 and 1024");
   if (c.agent_count > kMaxAgents) {
@@ -569,16 +573,11 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
       c.species.size() != MTX_MAX_SPECIES ||
       (!c.fields_rgba.empty() && c.fields_rgba.size() != domain_->texel_count() * 4))
     fail(MOLDTEX_ERROR_IO, "The checkpoint " + path + " is damaged");
-  for (uint32_t t : a.triangle)
-    if (t >= surface_->triangle_count()) fail(MOLDTEX_ERROR_IO, "The checkpoint " + path + " is damaged");
-  for (uint8_t sp : a.species)
-    if (sp >= planes) fail(MOLDTEX_ERROR_IO, "The checkpoint " + path + " is damaged");
+  validate_checkpoint_values(c, path, surface_->triangle_count(), planes);
   c.params.thread_count = settings_.params.thread_count;  // a machine setting, not part of the state
   validate_params(c.params);
   check_length_unit(c.params, *surface_);
-  for (uint32_t k = 0; k < planes; ++k) validate_species_params(c.species[k]);
-  for (float h : a.hunger)
-    if (!(h >= 0.f && h <= 1.f)) fail(MOLDTEX_ERROR_IO, "The checkpoint " + path + " is damaged");
+  for (uint32_t k = 0; k < MTX_MAX_SPECIES; ++k) validate_species_params(c.species[k]);
   {
     const std::vector<moldtex_food_source> keep = food_;
     set_food(c.food.data(), static_cast<uint32_t>(c.food.size()));  // validates

@@ -191,6 +191,46 @@ TEST(Spatial, InvalidRaysAreRefusedWithAMessage) {
   EXPECT_EQ(moldtex_surface_closest_point(s.get(), o, nullptr, nullptr), MOLDTEX_ERROR_INVALID_ARGUMENT);
 }
 
+TEST(Spatial, RaysAndPointsBeyondEmbreesRangeAreRefusedNotACrash) {
+  // Issue 14: an origin of 1e19 aborted the process (Embree's assert(ray.valid()) fails
+  // from ~1.8e18). Such queries are refused with a message; the limits themselves (1e18,
+  // a direction of length 1e-18) still answer, and the surface keeps working.
+  auto s = create_surface(Plane());
+  ASSERT_TRUE(s) << LastError();
+  moldtex_ray_hit h;
+  moldtex_ray_hit_init(&h);
+  const float d[3] = {0, 0, -1};
+  for (float far : {1e19f, -1e19f, 1e30f, 3e38f}) {
+    for (int k = 0; k < 3; ++k) {
+      float o[3] = {0.1f, 0.2f, 1.f};
+      o[k] = far;
+      EXPECT_EQ(moldtex_surface_ray_cast(s.get(), o, d, kInf, &h), MOLDTEX_ERROR_INVALID_ARGUMENT) << far;
+      EXPECT_NE(LastError().find("origin"), std::string::npos) << LastError();
+      EXPECT_NE(LastError().find("1e18"), std::string::npos) << LastError();
+      moldtex_surface_point p{};
+      EXPECT_EQ(moldtex_surface_closest_point(s.get(), o, &p, nullptr), MOLDTEX_ERROR_INVALID_ARGUMENT);
+      EXPECT_NE(LastError().find("position"), std::string::npos) << LastError();
+    }
+    const float o[3] = {0.1f, 0.2f, 1.f};
+    const float long_d[3] = {0, 0, -far};
+    EXPECT_EQ(moldtex_surface_ray_cast(s.get(), o, long_d, kInf, &h), MOLDTEX_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(LastError().find("direction"), std::string::npos) << LastError();
+  }
+  const float o[3] = {0.1f, 0.2f, 1.f}, tiny_d[3] = {0, 0, -1e-20f};
+  EXPECT_EQ(moldtex_surface_ray_cast(s.get(), o, tiny_d, kInf, &h), MOLDTEX_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(LastError().find("short"), std::string::npos) << LastError();
+  // At the limits: answered.
+  const float edge_o[3] = {0.1f, 0.2f, 1e18f}, edge_d[3] = {0, 0, -1e18f};
+  EXPECT_EQ(moldtex_surface_ray_cast(s.get(), edge_o, edge_d, kInf, &h), MOLDTEX_OK) << LastError();
+  const float short_d[3] = {0, 0, -1e-17f};
+  EXPECT_EQ(moldtex_surface_ray_cast(s.get(), o, short_d, kInf, &h), MOLDTEX_OK) << LastError();
+  moldtex_surface_point p{};
+  EXPECT_EQ(moldtex_surface_closest_point(s.get(), edge_o, &p, nullptr), MOLDTEX_OK) << LastError();
+  h = Cast(s.get(), {0.1, 0.2, 1}, {0, 0, -1}, kInf);
+  EXPECT_EQ(h.hit, 1u);
+  EXPECT_NEAR(h.distance, 1.f, 1e-6);
+}
+
 TEST(Spatial, ClosestPointOnAPlaneIsTheFootOrTheBorder) {
   // Above the plane: the foot of the perpendicular at the height's distance; beyond its
   // border: the nearest border point. 1e-6: float coordinates of magnitude ~2.

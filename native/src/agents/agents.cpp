@@ -124,8 +124,12 @@ void sort_by_tile(const Surface& s, uint32_t width, uint32_t height, Agents& a) 
     float uv[2];
     s.evaluate(w.triangle, w.bary, nullptr, uv);
     auto tile = [](float x, uint32_t size, uint32_t tiles) {
-      int v = static_cast<int>(x * static_cast<float>(size)) / static_cast<int>(kTile);
-      return static_cast<uint32_t>(v < 0 ? 0 : (v >= static_cast<int>(tiles) ? tiles - 1 : v));
+      // Clamped before the cast (surfaces keep |uv| <= 1e4, but a float -> int
+      // conversion out of range would be undefined); the same tiles as clamping after.
+      const float f = x * static_cast<float>(size);
+      if (!(f >= 0.f)) return 0u;
+      if (f >= static_cast<float>(size)) return tiles - 1;
+      return std::min(static_cast<uint32_t>(f) / kTile, tiles - 1);
     };
     key[i] = tile(uv[1], height, tiles_y) * tiles_x + tile(uv[0], width, tiles_x);
     ++start[key[i] + 1];

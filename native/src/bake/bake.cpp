@@ -18,8 +18,12 @@ BakeOptions validate_bake(const moldtex_bake_desc& d) {
     fail(MOLDTEX_ERROR_IO, std::string("The output folder ") + d.directory + " does not exist");
   o.directory = d.directory;
   o.prefix = d.file_prefix ? d.file_prefix : "moldtex_";
-  if (o.prefix.find('/') != std::string::npos || o.prefix.size() > 200)
+  if (o.prefix.find('/') != std::string::npos)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The file prefix must be a plain name without '/'");
+  if (o.prefix.size() > 200)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "The file prefix is " + std::to_string(o.prefix.size()) +
+             " characters long: use at most 200 (file names have a length limit)");
   if (d.first_frame < 0 || d.last_frame < d.first_frame || d.last_frame > 999999)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The frame range must satisfy 0 <= first <= last <= 999999");
   if (d.steps_per_frame < 1 || d.steps_per_frame > 100000)
@@ -94,14 +98,19 @@ void Bake::run() {
     std::vector<MetricRow> rows;
     int32_t next = options_.first_frame;
     if (options_.resume && std::filesystem::exists(checkpoint_path())) {
-      rows = sim.load_checkpoint(checkpoint_path());
+      rows = sim.load_checkpoint(checkpoint_path());  // frames validated: 0 .. 999999
       // Keep the rows of this bake's range that the checkpoint vouches for.
       std::erase_if(rows, [&](const MetricRow& r) { return r.frame < options_.first_frame; });
       if (!rows.empty()) next = rows.back().frame + 1;
-      const uint64_t expected = static_cast<uint64_t>(next - options_.first_frame) * options_.steps_per_frame;
+      const uint64_t expected =
+          static_cast<uint64_t>(int64_t{next} - options_.first_frame) * options_.steps_per_frame;
       if (sim.step_count() != expected)
         fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
              "The checkpoint was made with another frame range or steps per frame: bake from the start");
+      // The CSV is renamed into place after the checkpoint: a run killed in between left
+      // it a row short. The checkpoint's rows are the truth; write them now (also when
+      // no frame is left to bake).
+      write_metrics_csv(rows);
     } else {
       sim.reset();
     }

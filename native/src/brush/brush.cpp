@@ -5,6 +5,7 @@
 #include <limits>
 #include <cmath>
 #include <numbers>
+#include <sstream>
 #include <string>
 #include <unordered_map>
 
@@ -82,8 +83,14 @@ class TexelDistances final : public DiskVisitor {
 }  // namespace
 
 void validate_brush(const Surface& s, const moldtex_brush& b) {
-  require(std::isfinite(b.radius) && b.radius > 0.f && b.radius < 1e30f,
-          "The brush radius must be a finite number > 0 (mesh units, measured on the surface)");
+  // Below 1e-30 the sampling step (radius / 65536 at most) would underflow to 0.
+  if (!(std::isfinite(b.radius) && b.radius >= 1e-30f && b.radius < 1e30f)) {
+    std::ostringstream m;
+    m << "The brush radius must be a number between 1e-30 and 1e30 (mesh units, measured on "
+         "the surface), got "
+      << b.radius;
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, m.str());
+  }
   require(std::isfinite(b.strength) && b.strength >= 0.f && b.strength <= 1.f,
           "The brush strength must be between 0 and 1");
   require(std::isfinite(b.falloff) && b.falloff >= 0.f && b.falloff <= 1.f,
@@ -133,11 +140,13 @@ Agents place_disk_agents(const Surface& s, const moldtex_brush& brush, uint32_t 
   Agents a;
   a.resize(count);
   const float two_pi = 2.f * std::numbers::pi_v<float>;
+  // A disk that holds the whole reachable surface is walked no further than it needs.
+  const float reach = count > 0 ? disk_reach(s, brush.center, brush.radius) : brush.radius;
   pool.parallel_for(count, 256, [&](size_t begin, size_t end) {
     for (size_t j = begin; j < end; ++j) {
       CounterRng rng(seed, MTX_RNG_BRUSH, (static_cast<uint64_t>(batch) << 40) ^ (first_index + j), 0);
       const float angle = rng.next_float() * two_pi;
-      const float length = brush.radius * std::sqrt(rng.next_float());
+      const float length = reach * std::sqrt(rng.next_float());
       const float heading = rng.next_float() * two_pi;
       Walker w{brush.center.triangle, {brush.center.bary[0], brush.center.bary[1], brush.center.bary[2]},
                {std::cos(angle), std::sin(angle)}};
@@ -158,20 +167,32 @@ Agents place_disk_agents(const Surface& s, const moldtex_brush& brush, uint32_t 
 std::vector<uint8_t> erase_mask(const Surface& s, const moldtex_brush& brush, const Agents& agents,
                                 uint32_t width, uint32_t height, uint64_t seed, uint16_t batch,
                                 uint64_t dab) {
-  DiskDistance disk(s);
-  sample_disk(s, brush.center, brush.radius, width, height, disk);
   std::vector<uint8_t> out(agents.size(), 0);
-  for (size_t i = 0; i < agents.size(); ++i) {
-    const Walker w = agents.load(i);
-    const float d = disk.distance(w.triangle, w.bary);
-    if (!(d <= brush.radius)) continue;
-    const float p = brush.strength * brush_weight(d / brush.radius, brush.falloff);
+  auto draw = [&](size_t i, float p) {
     if (p >= 1.f) {
       out[i] = 1;
     } else if (p > 0.f) {
       CounterRng rng(seed, MTX_RNG_ERASE, (static_cast<uint64_t>(batch) << 40) ^ dab, i);
       out[i] = rng.next_float() < p;
     }
+  };
+  const float reach = disk_reach(s, brush.center, brush.radius);
+  if (reach < brush.radius && brush_weight(reach / brush.radius, brush.falloff) >= 1.f) {
+    // The disk holds every point its centre can reach, all at d <= reach, so at full
+    // weight: no need to sample it, only to know which triangles are reachable.
+    const std::vector<uint8_t> reached = reachable_triangles(s, brush.center.triangle);
+    for (size_t i = 0; i < agents.size(); ++i)
+      if (reached[agents.triangle[i]]) draw(i, brush.strength);
+    return out;
+  }
+  DiskDistance disk(s);
+  sample_disk(s, brush.center, brush.radius, width, height, disk);
+  for (size_t i = 0; i < agents.size(); ++i) {
+    const Walker w = agents.load(i);
+    const float d = disk.distance(w.triangle, w.bary);
+    if (!(d <= brush.radius)) continue;
+    const float p = brush.strength * brush_weight(d / brush.radius, brush.falloff);
+    draw(i, p);
   }
   return out;
 }

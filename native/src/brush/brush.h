@@ -10,8 +10,8 @@
 
 namespace moldtex {
 
-// Throws INVALID_ARGUMENT unless the brush is usable on this surface: radius finite,
-// > 0 and < 1e30; strength and falloff in [0, 1]; mode known; value finite; centre
+// Throws INVALID_ARGUMENT unless the brush is usable on this surface: radius in
+// [1e-30, 1e30); strength and falloff in [0, 1]; mode known; value finite; centre
 // triangle in range and not degenerate, barycentrics finite, >= 0 and summing to 1.
 // channel is checked by the caller (image channel or species).
 void validate_brush(const Surface& s, const moldtex_brush& brush);
@@ -24,7 +24,8 @@ uint32_t paint_dab(const Surface& s, uint32_t width, uint32_t height, float* rgb
                    const moldtex_brush& brush);
 
 // `count` agents uniform over the disk (walked from the centre at a uniform angle for
-// radius * sqrt(u)), headings uniform, hunger 0, of species brush.channel, tagged
+// r * sqrt(u), r = disk_reach(s, centre, radius): the radius unless the disk holds the
+// whole reachable surface), headings uniform, hunger 0, of species brush.channel, tagged
 // `batch`. Agent j is a pure function of (seed, batch, first_index + j).
 Agents place_disk_agents(const Surface& s, const moldtex_brush& brush, uint32_t count,
                          uint64_t seed, uint16_t batch, uint64_t first_index, ThreadPool& pool);

@@ -3,8 +3,12 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numbers>
+#include <queue>
+#include <utility>
+#include <vector>
 
 namespace moldtex {
 
@@ -15,6 +19,11 @@ constexpr float kAcrossRays = 0.5f; // spacing between rays at the rim, in texel
 constexpr float kMaxStepsPerRadius = 1024.f;
 constexpr int kEventCapacity = 64;
 constexpr size_t kMaxCentresPerTriangle = 64;
+constexpr int kStuckCrossings = 32;    // edge crossings in one step (of <= a texel or r / 1024)
+// Edge crossings a dab may walk (its sampling passes; the pilot a quarter more): ~0.3 s. Sane dabs cross a few edges per
+// sample and stay far below (<= 4.3 million samples); only slivers narrower than a step
+// reach it, and then the dab ends with the rays walked so far.
+constexpr int64_t kMaxCrossingsPerDab = int64_t{1} << 24;
 
 struct P3 {
   double x, y, z;
@@ -36,16 +45,18 @@ Vec2 frame_point(const TriangleFrame& f, const float b[3]) {
 
 // One sampling pass; returns the narrowest texel width met.
 double sample_pass(const Surface& s, const Walker& start, float radius, uint32_t width,
-                   uint32_t height, float step, float rim_spacing, DiskVisitor* visitor) {
+                   uint32_t height, float step, float rim_spacing, DiskVisitor* visitor,
+                   int64_t& budget) {
   double narrowest = texel_width(s, start.triangle, width, height);
   auto meet = [&](uint32_t t) {
     if (!s.degenerate[t]) narrowest = std::min(narrowest, texel_width(s, t, width, height));
   };
+  if (!(step > 0.f)) return narrowest;  // no progress possible (radii >= 1e-30 never get here)
   const float two_pi = 2.f * std::numbers::pi_v<float>;
   const uint32_t rays = std::max<uint32_t>(
       8, static_cast<uint32_t>(std::ceil(two_pi * radius / std::max(rim_spacing, 1e-30f))));
   Walker events[kEventCapacity];
-  for (uint32_t ray = 0; ray < rays; ++ray) {
+  for (uint32_t ray = 0; ray < rays && budget > 0; ++ray) {
     // Ray i = odd * 2^k is needed only where the rays that are multiples of 2^(k+1) lie
     // more than rim_spacing apart: beyond d = rim_spacing * rays / (2^(k+1) * 2 pi).
     float d_start = 0.f;
@@ -64,11 +75,15 @@ double sample_pass(const Surface& s, const Walker& start, float radius, uint32_t
       if (static_cast<float>(first) * step > radius) continue;
       // Walk to the first sample in chunks of 16 steps (no visits before it).
       uint32_t done = 0;
-      while (done < first) {
+      bool stuck = false;
+      while (done < first && !stuck) {
         const uint32_t n = std::min<uint32_t>(16, first - done);
-        mtx_walk(s.frames.data(), s.adjacency.data(), &w, static_cast<float>(n) * step, nullptr, 0);
+        const int c = mtx_walk(s.frames.data(), s.adjacency.data(), &w, static_cast<float>(n) * step, nullptr, 0);
+        budget -= c;
+        stuck = c >= MTX_MAX_CROSSINGS_PER_WALK;
         done += n;
       }
+      if (stuck) continue;
     }
     float d = static_cast<float>(first) * step;
     if (visitor) visitor->visit(ray, w, d, true);
@@ -78,6 +93,7 @@ double sample_pass(const Surface& s, const Walker& start, float radius, uint32_t
       const float len = last ? radius - d : step;
       const Walker before = w;
       const int crossings = mtx_walk(s.frames.data(), s.adjacency.data(), &w, len, events, kEventCapacity);
+      budget -= crossings;
       // Crossings between the samples: the path length is the sum of straight 3D segments.
       double travelled = d;
       P3 at = crossings > 0 ? position(s, before) : P3{};
@@ -91,6 +107,10 @@ double sample_pass(const Surface& s, const Walker& start, float radius, uint32_t
       d = last ? radius : d + step;
       if (w.triangle != before.triangle) meet(w.triangle);
       if (visitor) visitor->visit(ray, w, d, true);
+      // A step across this many edges is a ray caught bouncing in a sliver far narrower
+      // than a texel (sane steps cross a few): it ends here, or a dab there would cost
+      // thousands of crossings per sample (found by the fuzz target).
+      if (crossings >= kStuckCrossings || budget <= 0) break;
     }
   }
   return narrowest;
@@ -109,20 +129,88 @@ double texel_width(const Surface& s, uint32_t t, uint32_t width, uint32_t height
   return side > 0 && area > 0 ? area / side : std::numeric_limits<double>::infinity();
 }
 
-void sample_disk(const Surface& s, const moldtex_surface_point& center, float radius,
+float disk_reach(const Surface& s, const moldtex_surface_point& center, float radius) {
+  float c[3];
+  float bary[3] = {center.bary[0], center.bary[1], center.bary[2]};
+  mtx_clamp_bary(bary);
+  s.evaluate(center.triangle, bary, c, nullptr);
+  const P3 centre{c[0], c[1], c[2]};
+  auto vertex = [&](uint32_t v) {
+    return P3{s.positions[3 * v], s.positions[3 * v + 1], s.positions[3 * v + 2]};
+  };
+  double farthest = 0;
+  for (uint32_t v = 0; v < s.vertex_count(); ++v) farthest = std::max(farthest, length(centre, vertex(v)));
+  if (radius <= farthest) return radius;
+  // Dijkstra over the triangles the walker can enter (adjacency: walls excluded).
+  const uint32_t nt = s.triangle_count();
+  auto corner = [&](uint32_t t, int k) { return vertex(s.triangles[3 * t + k]); };
+  auto centroid = [&](uint32_t t) {
+    const P3 a = corner(t, 0), b = corner(t, 1), d = corner(t, 2);
+    return P3{(a.x + b.x + d.x) / 3, (a.y + b.y + d.y) / 3, (a.z + b.z + d.z) / 3};
+  };
+  std::vector<double> dist(nt, std::numeric_limits<double>::infinity());
+  using Item = std::pair<double, uint32_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  dist[center.triangle] = length(centre, centroid(center.triangle));
+  queue.push({dist[center.triangle], center.triangle});
+  double extent = 0;
+  while (!queue.empty()) {
+    const auto [d, t] = queue.top();
+    queue.pop();
+    if (d > dist[t]) continue;
+    const P3 ct = centroid(t);
+    double spread = 0;
+    for (int k = 0; k < 3; ++k) spread = std::max(spread, length(ct, corner(t, k)));
+    extent = std::max(extent, d + spread);
+    for (int e = 0; e < 3; ++e) {
+      const uint32_t code = s.adjacency[3 * t + e];
+      if (code == kNoNeighbour) continue;
+      const uint32_t n = code >> 3;
+      const P3 a = corner(t, (e + 1) % 3), b = corner(t, (e + 2) % 3);
+      const P3 mid{(a.x + b.x) / 2, (a.y + b.y) / 2, (a.z + b.z) / 2};
+      const double dn = d + length(ct, mid) + length(mid, centroid(n));
+      if (dn < dist[n]) {
+        dist[n] = dn;
+        queue.push({dn, n});
+      }
+    }
+  }
+  return static_cast<float>(std::min<double>(radius, 2.0 * extent));
+}
+
+std::vector<uint8_t> reachable_triangles(const Surface& s, uint32_t triangle) {
+  std::vector<uint8_t> reached(s.triangle_count(), 0);
+  std::vector<uint32_t> stack{triangle};
+  reached[triangle] = 1;
+  while (!stack.empty()) {
+    const uint32_t t = stack.back();
+    stack.pop_back();
+    for (int e = 0; e < 3; ++e) {
+      const uint32_t code = s.adjacency[3 * t + e];
+      if (code == kNoNeighbour || reached[code >> 3]) continue;
+      reached[code >> 3] = 1;
+      stack.push_back(code >> 3);
+    }
+  }
+  return reached;
+}
+
+void sample_disk(const Surface& s, const moldtex_surface_point& center, float brush_radius,
                  uint32_t width, uint32_t height, DiskVisitor& visitor) {
+  const float radius = disk_reach(s, center, brush_radius);
   Walker start{center.triangle, {center.bary[0], center.bary[1], center.bary[2]}, {1.f, 0.f}};
   mtx_clamp_bary(start.bary);
   const float min_step = radius / kMaxStepsPerRadius;
   // Pilot: 64 steps per radius, to find the texel widths around the centre.
-  double h = sample_pass(s, start, radius, width, height, radius / 64.f, radius / 64.f, nullptr);
+  int64_t pilot_budget = kMaxCrossingsPerDab / 4, budget = kMaxCrossingsPerDab;
+  double h = sample_pass(s, start, radius, width, height, radius / 64.f, radius / 64.f, nullptr, pilot_budget);
   for (int attempt = 0;; ++attempt) {
     const float step = std::max(min_step, static_cast<float>(kAlongRay * h));
     const float rim = std::max(min_step * (kAcrossRays / kAlongRay), static_cast<float>(kAcrossRays * h));
     visitor.begin(step);
-    const double met = sample_pass(s, start, radius, width, height, step, rim, &visitor);
+    const double met = sample_pass(s, start, radius, width, height, step, rim, &visitor, budget);
     // Narrower texels than the pilot saw: sample again at their spacing (twice at most).
-    if (attempt >= 2 || !(met < 0.7 * h) || step <= min_step) break;
+    if (attempt >= 2 || !(met < 0.7 * h) || step <= min_step || budget <= 0) break;
     h = met;
   }
 }

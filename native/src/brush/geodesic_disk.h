@@ -8,8 +8,11 @@
 // are nested (ray i = odd * 2^k is sampled only where the rays that are multiples of
 // 2^(k+1) lie farther apart than the rim spacing), so a dab costs about 1.3 pi
 // (r / step)^2 samples (12 ms for a radius of 96 texels, 105 ms for 384). The step is
-// at least radius / 1024: a dab with a radius above 512 texel widths is sampled more
-// coarsely and may miss texels.
+// at least r / 1024: a dab with a radius above 512 texel widths is sampled more
+// coarsely and may miss texels. r is the walked radius (disk_reach): at most about twice
+// the mesh's geodesic extent, whatever the brush radius. On slivers far narrower than a
+// step, where a step would cross 32 edges or more, a ray ends there, and a dab walks at
+// most 2^24 edge crossings in all (sane dabs cross a few per sample).
 #pragma once
 #include <cstdint>
 #include <unordered_map>
@@ -34,8 +37,23 @@ class DiskVisitor {
   virtual void visit(uint32_t ray, const Walker& w, float distance, bool is_sample) = 0;
 };
 
+// How far a dab of `radius` around `center` walks: `radius` itself, unless the disk
+// holds all the surface its centre can reach (its connected part), in which case walking
+// further only wraps around it again: then twice an upper bound of the geodesic distance
+// from the centre to any point of that part (a shortest path over the triangles' adjacency,
+// through edge midpoints, plus the farthest corner; twice, as straightest paths bounce
+// instead of bending round corners). So the work of a dab, and of placing its agents, is
+// bounded by the size of the mesh whatever the radius (issue 14: radius 1e4 on a 2 x 2
+// plane took seconds). The cheap test first: a radius up to the largest 3D distance from
+// the centre to a vertex is returned as it is, so such dabs are unchanged bit for bit.
+float disk_reach(const Surface& s, const moldtex_surface_point& center, float radius);
+
+// 1 for every triangle a walker starting on `triangle` can reach (across the adjacency).
+std::vector<uint8_t> reachable_triangles(const Surface& s, uint32_t triangle);
+
 // Samples the disk (centre validated: in range, not degenerate). `width` x `height` is
-// the texture whose texels must all be reached.
+// the texture whose texels must all be reached. Paths are walked to
+// disk_reach(s, center, radius) <= radius.
 void sample_disk(const Surface& s, const moldtex_surface_point& center, float radius,
                  uint32_t width, uint32_t height, DiskVisitor& visitor);
 

@@ -1,8 +1,10 @@
 #include "io/checkpoint.h"
 
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 
 #include "common/error.h"
 #include "io/image_writer.h"
@@ -39,6 +41,7 @@ struct Reader {
   void raw(void* p, size_t n) {
     if (n > bytes.size() - at)
       fail(MOLDTEX_ERROR_IO, "The checkpoint " + path + " is truncated or damaged");
+    if (n == 0) return;  // an empty array's data() may be NULL: no memcpy(NULL, ..., 0)
     std::memcpy(p, bytes.data() + at, n);
     at += n;
   }
@@ -72,6 +75,66 @@ void for_each_array(State& s, F&& f) {
 }
 
 }  // namespace
+
+namespace {
+
+[[noreturn]] void damaged(const std::string& path, const std::string& what) {
+  fail(MOLDTEX_ERROR_IO, "The checkpoint " + path + " is damaged: " + what + ". Bake from the start");
+}
+
+std::string number(double v) {
+  std::ostringstream s;
+  s.precision(9);
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+void validate_checkpoint_values(const Checkpoint& c, const std::string& path, uint32_t triangle_count,
+                                uint32_t species_count) {
+  const Agents& a = c.state.agents;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const std::string agent = "agent " + std::to_string(i);
+    if (a.triangle[i] >= triangle_count)
+      damaged(path, agent + " stands on triangle " + std::to_string(a.triangle[i]) + " but the mesh has " +
+                        std::to_string(triangle_count));
+    const float b1 = a.b1[i], b2 = a.b2[i];
+    // Barycentrics (1 - b1 - b2, b1, b2) on the triangle, up to rounding.
+    if (!(b1 >= 0.f && b1 <= 1.f && b2 >= 0.f && b2 <= 1.f && b1 + b2 <= 1.f + kBaryTolerance))
+      damaged(path, agent + " has barycentric weights (" + number(1.0 - b1 - b2) + ", " + number(b1) + ", " +
+                        number(b2) + ") off its triangle (each must be in 0 .. 1, summing to 1)");
+    const float hx = a.hx[i], hy = a.hy[i];
+    const double length = std::sqrt(double(hx) * hx + double(hy) * hy);
+    if (!(std::fabs(length - 1.0) <= kHeadingTolerance))
+      damaged(path, agent + " has the heading (" + number(hx) + ", " + number(hy) +
+                        "), not a unit vector");
+    if (a.species[i] >= species_count)
+      damaged(path, agent + " is of species " + std::to_string(a.species[i]) + " but the simulation has " +
+                        std::to_string(species_count));
+    if (!(a.hunger[i] >= 0.f && a.hunger[i] <= 1.f))
+      damaged(path, agent + " has the hunger " + number(a.hunger[i]) + " (must be in 0 .. 1)");
+  }
+  for (size_t i = 0; i < c.state.pheromone.size(); ++i) {
+    const float v = c.state.pheromone[i];
+    if (!(v >= 0.f && v <= kMaxPheromone))
+      damaged(path, "texel " + std::to_string(i) + " holds the pheromone " + number(v) +
+                        " (must be a number in 0 .. 1)");
+  }
+  for (size_t r = 0; r < c.metrics.size(); ++r) {
+    const MetricRow& m = c.metrics[r];
+    const std::string row = "metrics row " + std::to_string(r);
+    if (m.frame < 0 || m.frame > kMaxFrame || (r > 0 && m.frame <= c.metrics[r - 1].frame))
+      damaged(path, row + " has the frame " + std::to_string(m.frame) +
+                        " (frames must increase and lie in 0 .. " + std::to_string(kMaxFrame) + ")");
+    if (m.step > c.step_count)
+      damaged(path, row + " is at step " + std::to_string(m.step) + ", after the checkpoint's step " +
+                        std::to_string(c.step_count));
+    if (!(m.coverage >= 0.0 && m.coverage <= 1.0) || !(m.presence >= 0.0 && m.presence <= 1.0))
+      damaged(path, row + " has the coverage " + number(m.coverage) + " and presence " + number(m.presence) +
+                        " (each must be in 0 .. 1)");
+  }
+}
 
 void save_checkpoint(const std::string& path, const Checkpoint& c) {
   Writer w;

@@ -33,6 +33,25 @@ struct Checkpoint {
 };
 
 void save_checkpoint(const std::string& path, const Checkpoint& checkpoint);
+// Reads the file and checks its structure (magic, sizes); the values are checked by
+// validate_checkpoint_values, which the caller runs with what only it knows.
 Checkpoint load_checkpoint(const std::string& path);
+
+// Ranges of a checkpoint's values. The pheromone of a simulation stays in [0, 1] (deposits
+// are max(texel, deposit) with deposit <= 1; blur and evaporation never raise a texel
+// above its neighbours); a bake's frames are 0 .. 999999 (moldtex_bake_desc).
+constexpr float kMaxPheromone = 1.f;
+constexpr int32_t kMaxFrame = 999999;
+constexpr float kBaryTolerance = 1e-4f;    // b1 + b2 may exceed 1 by float rounding
+constexpr double kHeadingTolerance = 1e-3;  // |heading| = 1 up to rounding
+
+// Throws MOLDTEX_ERROR_IO naming the first bad value (the agent, texel or metrics row)
+// unless every value is one the simulation can hold: agents on triangles < triangle_count
+// with finite barycentrics in [0, 1] summing to 1, finite unit headings, species <
+// species_count, hunger in [0, 1]; pheromone in [0, kMaxPheromone]; metrics rows with
+// increasing frames in 0 .. kMaxFrame, steps <= the checkpoint's step and coverage and
+// presence in [0, 1]. Array sizes must have been checked before.
+void validate_checkpoint_values(const Checkpoint& checkpoint, const std::string& path,
+                                uint32_t triangle_count, uint32_t species_count);
 
 }  // namespace moldtex

@@ -3,6 +3,7 @@
 #include <embree3/rtcore.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <vector>
@@ -119,7 +120,70 @@ bool point_query_callback(RTCPointQueryFunctionArguments* args) {
   return false;
 }
 
+// Embree asserts (and Debian's build aborts) on a ray whose origin or direction has a
+// component of magnitude 1.844e18 or more (FLT_LARGE in its Ray::valid()), and it clamps
+// direction components below 1e-18 (min_rcp_input), so shorter directions miss. Queries
+// are kept inside these limits, with a margin.
+constexpr double kMaxQueryCoordinate = 1e18;
+constexpr double kMinDirectionLength = 1e-18;
+
+std::string format_vector(const float v[3]) {
+  char text[96];
+  std::snprintf(text, sizeof(text), "(%g, %g, %g)", v[0], v[1], v[2]);
+  return text;
+}
+
+bool in_query_range(const float v[3]) {
+  for (int k = 0; k < 3; ++k)
+    if (!(std::fabs(v[k]) <= kMaxQueryCoordinate)) return false;
+  return true;
+}
+
+void require_query_point(const float p[3], const char* what) {
+  if (!in_query_range(p))
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         std::string(what) + " " + format_vector(p) +
+             " is too far away: each coordinate must be a finite number within +-1e18 mesh "
+             "units (the ray tracer cannot represent more)");
+}
+
+// Embree's (non-robust) triangle test divides by the dot product of the ray and the
+// triangle's normal: for a ray (nearly) in a triangle's plane that can be a denormal, and
+// the hit distance comes back NaN (found by the fuzz target). Such candidates are not
+// hits: reject them here so that traversal goes on to the real nearest hit. Valid hits
+// pass untouched.
+void reject_undefined_hits(const RTCFilterFunctionNArguments* args) {
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    const float t = RTCRayN_tfar(args->ray, args->N, i);
+    const float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
+    if (!(t >= 0.f && std::isfinite(t) && std::isfinite(u) && std::isfinite(v))) args->valid[i] = 0;
+  }
+}
+
 }  // namespace
+
+void validate_ray(const float origin[3], const float direction[3], float max_distance) {
+  require_query_point(origin, "The ray origin");
+  if (!in_query_range(direction))
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "The ray direction " + format_vector(direction) +
+             " is too long: each component must be a finite number within +-1e18 (any length "
+             "works: pass a unit vector)");
+  double length2 = 0;
+  for (int k = 0; k < 3; ++k) length2 += double(direction[k]) * direction[k];
+  if (!(std::sqrt(length2) >= kMinDirectionLength))
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "The ray direction " + format_vector(direction) +
+             " is zero or too short (length below 1e-18): pass a unit vector");
+  if (std::isnan(max_distance) || max_distance < 0.f)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "The ray's maximum distance must be >= 0 (INFINITY for no limit)");
+}
+
+void validate_query_point(const float position[3]) {
+  require_query_point(position, "The query position");
+}
 
 struct SpatialIndex::Scene {
   RTCDevice device = nullptr;
@@ -168,6 +232,7 @@ const SpatialIndex::Scene& SpatialIndex::scene() const {
     if (!idx) embree_fail(RTC_ERROR_OUT_OF_MEMORY, "allocating the index buffer");
     for (size_t i = 0; i < prims; ++i)
       for (int c = 0; c < 3; ++c) idx[3 * i + c] = s.triangles[3 * sc->triangle_of_prim[i] + c];
+    rtcSetGeometryIntersectFilterFunction(g, reject_undefined_hits);
     rtcCommitGeometry(g);
     rtcAttachGeometryByID(sc->scene, g, 0);
     sc->check("building the geometry");
@@ -180,6 +245,7 @@ const SpatialIndex::Scene& SpatialIndex::scene() const {
 
 RayHitResult SpatialIndex::ray_cast(const float origin[3], const float direction[3],
                                     float max_distance) const {
+  validate_ray(origin, direction, max_distance);
   const Scene& sc = scene();
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
@@ -199,6 +265,8 @@ RayHitResult SpatialIndex::ray_cast(const float origin[3], const float direction
   rtcIntersect1(sc.scene, &context, &rh);
   RayHitResult out;
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return out;
+  if (!(rh.ray.tfar >= 0.f && rh.ray.tfar <= max_distance))
+    fail(MOLDTEX_ERROR_INTERNAL, "Embree reported a hit outside the ray's range");
   if (rh.hit.primID >= sc.triangle_of_prim.size())
     fail(MOLDTEX_ERROR_INTERNAL, "Embree reported a hit on an unknown triangle");
   out.hit = true;
@@ -211,6 +279,7 @@ RayHitResult SpatialIndex::ray_cast(const float origin[3], const float direction
 }
 
 ClosestPointResult SpatialIndex::closest_point(const float position[3]) const {
+  validate_query_point(position);
   const Scene& sc = scene();
   PointQueryState state;
   state.surface = surface_.get();

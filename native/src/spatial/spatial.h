@@ -25,6 +25,13 @@ struct ClosestPointResult {
   double distance = 0;
 };
 
+// Throw INVALID_ARGUMENT (with a message naming the value) unless the query is one
+// Embree can take: every coordinate finite and within +-1e18 (Embree asserts beyond
+// ~1.8e18), a direction of length >= 1e-18 (shorter ones always miss), max_distance >= 0
+// or +infinity. ray_cast and closest_point call them first.
+void validate_ray(const float origin[3], const float direction[3], float max_distance);
+void validate_query_point(const float position[3]);
+
 class SpatialIndex {
  public:
   explicit SpatialIndex(std::shared_ptr<const Surface> surface);
@@ -32,7 +39,7 @@ class SpatialIndex {
   SpatialIndex(const SpatialIndex&) = delete;
   SpatialIndex& operator=(const SpatialIndex&) = delete;
 
-  // origin + s * direction, 0 <= s <= max_distance (inputs validated by the caller).
+  // origin + s * direction, 0 <= s <= max_distance (validated with validate_ray).
   RayHitResult ray_cast(const float origin[3], const float direction[3], float max_distance) const;
   // Exact nearest point (distance computed in double on each candidate triangle).
   ClosestPointResult closest_point(const float position[3]) const;

@@ -89,18 +89,35 @@ void validate(const moldtex_mesh_desc& d) {
   if (d.triangle_uvs == nullptr && d.uv_count != 3ull * d.triangle_count)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
          "Per-corner UVs need exactly 3 UVs per triangle (uv_count == 3 * triangle_count)");
-  for (uint64_t i = 0; i < 3ull * d.vertex_count; ++i)
+  for (uint64_t i = 0; i < 3ull * d.vertex_count; ++i) {
     if (!std::isfinite(d.positions[i])) {
       std::ostringstream m;
       m << "Vertex " << i / 3 << " has a non-finite coordinate (NaN or infinity)";
       fail(MOLDTEX_ERROR_INVALID_MESH, m.str());
     }
-  for (uint64_t i = 0; i < 2ull * d.uv_count; ++i)
+    if (std::fabs(d.positions[i]) > kMaxCoordinate) {
+      std::ostringstream m;
+      m << "Vertex " << i / 3 << " has the coordinate " << d.positions[i] << ", beyond +-"
+        << kMaxCoordinate << " units: float positions that far out cannot hold the mesh's shape. "
+           "Move the mesh toward the origin or scale it down";
+      fail(MOLDTEX_ERROR_INVALID_MESH, m.str());
+    }
+  }
+  for (uint64_t i = 0; i < 2ull * d.uv_count; ++i) {
     if (!std::isfinite(d.uvs[i])) {
       std::ostringstream m;
       m << "UV " << i / 2 << " is not a finite number (NaN or infinity)";
       fail(MOLDTEX_ERROR_MISSING_UVS, m.str());
     }
+    if (std::fabs(d.uvs[i]) > kMaxUvCoordinate) {
+      std::ostringstream m;
+      m << "UV " << i / 2 << " is (" << d.uvs[i - i % 2] << ", " << d.uvs[i - i % 2 + 1]
+        << "), far outside the image: UV coordinates must lie within -" << kMaxUvCoordinate
+        << " .. " << kMaxUvCoordinate
+        << " (the pheromone texture covers 0 .. 1). Fix the UV map (UV > Reset, or Unwrap)";
+      fail(MOLDTEX_ERROR_MISSING_UVS, m.str());
+    }
+  }
   for (uint64_t i = 0; i < 3ull * d.triangle_count; ++i) {
     if (d.triangles[i] >= d.vertex_count) {
       std::ostringstream m;
@@ -186,6 +203,16 @@ Surface build_surface(const moldtex_mesh_desc& d) {
     for (int c = 0; c < 3; ++c)
       max_edge = std::max(max_edge, norm(sub(vertex(s, s.triangles[3 * t + (c + 1) % 3]),
                                              vertex(s, s.triangles[3 * t + c]))));
+  // Lengths are walked and areas summed in float: a mesh whose size float cannot carry
+  // (areas underflow to 0 or overflow to infinity) is refused with its size.
+  if (max_edge > 0 && (max_edge < kMinMeshSize || max_edge > kMaxMeshSize)) {
+    std::ostringstream m;
+    m << "The mesh is too " << (max_edge < kMinMeshSize ? "small" : "large") << " for Moldtex: its longest edge is "
+      << max_edge << " units long, outside " << kMinMeshSize << " .. " << kMaxMeshSize
+      << " units. Scale it (and apply the scale: Object > Apply > Scale) so that its edges "
+         "are between those lengths";
+    fail(MOLDTEX_ERROR_INVALID_MESH, m.str());
+  }
   const double area_eps = 1e-12 * max_edge * max_edge;
   uint32_t flat_3d_count = 0;
   for (uint32_t t = 0; t < nt; ++t) {

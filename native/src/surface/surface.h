@@ -58,6 +58,18 @@ struct Surface {
   void evaluate(uint32_t t, const float bary[3], float position[3], float uv[2]) const;
 };
 
+// Limits that build_surface enforces, so that the float arithmetic downstream stays
+// defined. UVs: every texel index is computed as int(uv * size) with size <= 65536 (the
+// brush image; 16384 for a simulation), so |uv| <= 1e4 keeps it below 2^31 (UDIM tiles
+// 1001..1999 use u, v in 0 .. 100). Mesh size: the longest edge within 1e-9 .. 1e12, so
+// the smallest non-degenerate triangle area (1e-12 of the longest edge squared) and the
+// total area (<= 2^28 triangles) stay normal floats. Coordinates: within +-1e15, well
+// inside the +-1e18 that ray casts accept.
+constexpr double kMaxUvCoordinate = 1e4;
+constexpr double kMinMeshSize = 1e-9, kMaxMeshSize = 1e12;
+constexpr double kMaxCoordinate = 1e15;
+static_assert(kMaxUvCoordinate * 65536.0 < 2147483647.0, "texel indices must fit in int");
+
 // Builds and validates; throws moldtex::Error with a user-facing message.
 Surface build_surface(const moldtex_mesh_desc& desc);
 

@@ -1,0 +1,395 @@
+// libFuzzer target for the C API (issue 14): bytes become meshes, UVs, parameters, ray
+// queries, brushes and damaged checkpoints. The API must answer every call with a known
+// status and, on failure, a message; it must never crash, hang or touch memory it does
+// not own (AddressSanitizer and UBSan watch that), and whatever it accepted must keep the
+// simulation's values finite.
+//
+// Input: byte 0 picks the mode.
+//   even: a mesh from the bytes, then up to 24 operations on it (see Op).
+//   odd:  a valid checkpoint of a small simulation, patched by the bytes, then loaded.
+// Numbers are read little-endian from the front (missing bytes read as 0), so seeds are
+// easy to write (native/fuzz/corpus/, made by native/fuzz/make_corpus.py).
+//
+// Build: cmake -DMOLDTEX_FUZZ=ON with clang (tools/run_sanitizers.sh does it).
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include "moldtex.h"
+
+namespace {
+
+struct Bytes {
+  const uint8_t* data;
+  size_t size, at = 0;
+  bool empty() const { return at >= size; }
+  uint8_t u8() { return at < size ? data[at++] : 0; }
+  uint16_t u16() { return static_cast<uint16_t>(u8() | (u8() << 8)); }
+  uint32_t u32() { return static_cast<uint32_t>(u16()) | (static_cast<uint32_t>(u16()) << 16); }
+  float f32() {
+    const uint32_t bits = u32();
+    float f;
+    std::memcpy(&f, &bits, 4);
+    return f;
+  }
+};
+
+[[noreturn]] void bug(const char* what) {
+  std::fprintf(stderr, "moldtex fuzz: %s (last error: %s)\n", what, moldtex_last_error());
+  std::abort();
+}
+
+// Every call answers a known status, and a failure comes with a message.
+moldtex_status check(moldtex_status st) {
+  if (static_cast<uint32_t>(st) > MOLDTEX_ERROR_BUSY) bug("unknown status");
+  if (st != MOLDTEX_OK && moldtex_last_error()[0] == '\0') bug("a failure without a message");
+  return st;
+}
+
+std::string temp_path(const char* name) {
+  return "/tmp/moldtex_fuzz_" + std::to_string(getpid()) + "_" + name;
+}
+
+moldtex_surface_point point(Bytes& in) {
+  moldtex_surface_point p;
+  p.triangle = in.u8();
+  for (float& b : p.bary) b = in.f32();
+  return p;
+}
+
+moldtex_brush brush(Bytes& in) {
+  moldtex_brush b;
+  moldtex_brush_init(&b);
+  b.center = point(in);
+  b.radius = in.f32();
+  b.strength = in.f32();
+  b.falloff = in.f32();
+  b.mode = in.u8() % 3;
+  b.channel = in.u8() % 5;
+  b.value = in.f32();
+  if (std::getenv("MOLDTEX_FUZZ_TRACE"))
+    std::fprintf(stderr, "brush: triangle %u (%g %g %g), radius %g, strength %g, falloff %g\n", b.center.triangle,
+                 b.center.bary[0], b.center.bary[1], b.center.bary[2], b.radius, b.strength, b.falloff);
+  return b;
+}
+
+// The simulation's pheromone after accepted calls: finite, in [0, 1].
+void check_pheromone(moldtex_sim sim, uint32_t width, uint32_t height) {
+  std::vector<float> rgba(size_t(width) * height * 4);
+  if (check(moldtex_sim_read_rgba(sim, rgba.data(), rgba.size())) != MOLDTEX_OK) bug("read_rgba failed");
+  for (float v : rgba)
+    if (!(v >= 0.f && v <= 1.f)) bug("a pheromone value outside [0, 1]");
+}
+
+enum Op : uint8_t {
+  kRayCast, kClosestPoint, kTrace, kPaint, kCreateSim, kStep, kAddAgents, kEraseAgents, kUndo,
+  kSetFood, kSetFields, kCheckpoint, kRasterize, kSetParams, kReset, kOpCount
+};
+
+void fuzz_mesh(Bytes& in) {
+  const uint32_t nv = in.u8() % 24, nt = in.u8() % 24;
+  const uint8_t flags = in.u8();
+  const bool indexed = flags & 1;
+  std::vector<float> positions(3 * nv);
+  for (float& p : positions) p = (flags & 2) ? in.f32() : static_cast<float>(in.u8() % 16) * 0.25f;
+  std::vector<uint32_t> triangles(3 * nt);
+  for (uint32_t& t : triangles) t = in.u8() % (nv + 1);  // nv: one index out of range
+  const uint32_t uv_count = indexed ? nv : 3 * nt;
+  std::vector<float> uvs(2 * uv_count);
+  for (float& u : uvs) u = (flags & 4) ? in.f32() : static_cast<float>(in.u8() % 16) / 8.f - 0.25f;
+  moldtex_mesh_desc d;
+  moldtex_mesh_desc_init(&d);
+  d.positions = positions.data();
+  d.vertex_count = nv;
+  d.triangles = triangles.data();
+  d.triangle_count = nt;
+  d.uvs = uvs.data();
+  d.uv_count = uv_count;
+  d.triangle_uvs = indexed ? triangles.data() : nullptr;
+  moldtex_surface surface = nullptr;
+  if (check(moldtex_surface_create(&d, &surface)) != MOLDTEX_OK) {
+    if (surface) bug("a failed create handed out a surface");
+    return;
+  }
+  moldtex_surface_info info;
+  moldtex_surface_info_init(&info);
+  check(moldtex_surface_get_info(surface, &info));
+
+  moldtex_sim sim = nullptr;
+  uint32_t width = 0, height = 0;
+  // A walk may cross up to 4096 edges (MTX_MAX_CROSSINGS_PER_WALK), as on a long sliver
+  // under texels larger than the mesh; few agents and steps keep such inputs within the
+  // time limit under the sanitizers' instrumentation.
+  uint32_t step_budget = 6;
+  static const bool trace = std::getenv("MOLDTEX_FUZZ_TRACE") != nullptr;
+  if (trace) std::fprintf(stderr, "surface: area %g, UV area %g\n", info.area, info.uv_area);
+  // MOLDTEX_FUZZ_TRACE=1 prints each operation (to see what a slow or crashing input does).
+  if (trace) std::fprintf(stderr, "mesh: %u vertices, %u triangles, flags %u\n", nv, nt, flags);
+  for (int n = 0; n < 24 && !in.empty(); ++n) {
+    const uint8_t op = in.u8() % kOpCount;
+    if (trace) std::fprintf(stderr, "op %u at byte %zu\n", op, in.at);
+    switch (op) {
+      case kRayCast: {
+        float o[3], dir[3];
+        for (float& v : o) v = in.f32();
+        for (float& v : dir) v = in.f32();
+        moldtex_ray_hit hit;
+        moldtex_ray_hit_init(&hit);
+        const float max_distance = in.f32();
+        if (check(moldtex_surface_ray_cast(surface, o, dir, max_distance, &hit)) == MOLDTEX_OK && hit.hit &&
+            (!(hit.distance >= 0.f && hit.distance <= max_distance) || hit.point.triangle >= info.triangle_count)) {
+          std::fprintf(stderr, "ray (%g %g %g) + s (%g %g %g), s <= %g: hit at s = %g on triangle %u\n", o[0],
+                       o[1], o[2], dir[0], dir[1], dir[2], max_distance, hit.distance, hit.point.triangle);
+          bug("a ray hit outside [0, max_distance] or on a bad triangle");
+        }
+        break;
+      }
+      case kClosestPoint: {
+        float p[3];
+        for (float& v : p) v = in.f32();
+        moldtex_surface_point q;
+        float distance = -1;
+        if (check(moldtex_surface_closest_point(surface, p, &q, &distance)) == MOLDTEX_OK &&
+            (q.triangle >= info.triangle_count || !(distance >= 0.f)))
+          bug("a closest point with a bad triangle or distance");
+        break;
+      }
+      case kTrace: {
+        const moldtex_surface_point start = point(in);
+        float dir[3];
+        for (float& v : dir) v = in.f32();
+        const float length = in.f32();
+        moldtex_surface_point end;
+        float path[3 * 8];
+        uint32_t count = 0;
+        float xyz[3], uv[2];
+        check(moldtex_surface_evaluate(surface, &start, xyz, uv));
+        if (check(moldtex_surface_trace(surface, &start, dir, length, &end, path, 8, &count)) == MOLDTEX_OK &&
+            end.triangle >= info.triangle_count)
+          bug("a trace ended on a bad triangle");
+        break;
+      }
+      case kPaint: {
+        const uint32_t w = 1 + in.u8() % 64, h = 1 + in.u8() % 64;
+        const moldtex_brush b = brush(in);
+        std::vector<float> img(size_t(w) * h * 4, 0.f);
+        uint32_t changed = 0;
+        check(moldtex_surface_paint(surface, w, h, img.data(), img.size(), &b, &changed));
+        break;
+      }
+      case kCreateSim: {
+        if (sim) break;
+        moldtex_sim_config c;
+        moldtex_sim_config_init(&c);
+        c.width = 8 + in.u8() % 25;
+        c.height = 8 + in.u8() % 25;
+        c.agent_count = 1 + in.u16() % 64;
+        c.seed = in.u8();
+        c.backend = MOLDTEX_BACKEND_CPU;  // OpenCL (PoCL's JIT) is not fuzzed under ASan
+        c.species_count = 1 + in.u8() % 4;
+        c.seed_shape = in.u8() % 6;
+        c.seed_center = point(in);
+        c.seed_radius = in.f32();
+        c.seed_rays = in.u16() % 1100;
+        moldtex_sim_params p;
+        moldtex_sim_params_init(&p);
+        p.thread_count = 1;
+        if (trace)
+          std::fprintf(stderr, "sim: %u x %u, %u agents, %u species, shape %u, radius %g\n", c.width, c.height,
+                       c.agent_count, c.species_count, c.seed_shape, c.seed_radius);
+        if (check(moldtex_sim_create(surface, &c, &p, &sim)) == MOLDTEX_OK) {
+          width = c.width;
+          height = c.height;
+          check_pheromone(sim, width, height);
+        } else if (sim) {
+          bug("a failed create handed out a simulation");
+        }
+        break;
+      }
+      case kStep: {
+        const uint32_t steps = std::min<uint32_t>(in.u8() % 4, step_budget);
+        step_budget -= steps;
+        if (trace && sim) {
+          moldtex_sim_params p;
+          moldtex_sim_params_init(&p);
+          moldtex_sim_get_params(sim, &p);
+          std::fprintf(stderr, "step %u: speed %g, vision %g, substeps %u\n", steps, p.movement_speed,
+                       p.vision_distance, p.substeps);
+        }
+        if (sim && check(moldtex_sim_step(sim, steps)) == MOLDTEX_OK) check_pheromone(sim, width, height);
+        break;
+      }
+      case kAddAgents: {
+        const moldtex_brush b = brush(in);
+        const uint32_t count = in.u16() % 64, batch = in.u16() % 4;
+        if (sim) check(moldtex_sim_add_agents(sim, &b, count, batch));
+        break;
+      }
+      case kEraseAgents: {
+        const moldtex_brush b = brush(in);
+        const uint32_t batch = in.u16() % 4;
+        uint32_t removed = 0;
+        if (sim) check(moldtex_sim_erase_agents(sim, &b, batch, &removed));
+        break;
+      }
+      case kUndo: {
+        const uint32_t batch = in.u16() % 4;
+        if (sim) check(moldtex_sim_undo_agents(sim, batch));
+        break;
+      }
+      case kSetFood: {
+        moldtex_food_source food[5];
+        const uint32_t count = in.u8() % 6;
+        for (uint32_t j = 0; j < count; ++j) {
+          for (float& v : food[j].position) v = in.f32();
+          food[j].strength = in.f32();
+          food[j].amount = in.f32();
+        }
+        if (sim) check(moldtex_sim_set_food(sim, food, count));
+        break;
+      }
+      case kSetFields: {
+        float pattern[8];
+        for (float& v : pattern) v = in.f32();
+        if (!sim) break;
+        std::vector<float> fields(size_t(width) * height * 4);
+        for (size_t i = 0; i < fields.size(); ++i) fields[i] = pattern[i % 8];
+        check(moldtex_sim_set_fields(sim, fields.data(), fields.size()));
+        break;
+      }
+      case kCheckpoint: {
+        if (!sim) break;
+        const std::string path = temp_path("roundtrip.bin");
+        if (check(moldtex_sim_save_checkpoint(sim, path.c_str())) == MOLDTEX_OK &&
+            check(moldtex_sim_load_checkpoint(sim, path.c_str())) != MOLDTEX_OK)
+          bug("a checkpoint just saved did not load");
+        std::remove(path.c_str());
+        break;
+      }
+      case kRasterize: {
+        const uint32_t w = 8 + in.u8() % 24, h = 8 + in.u8() % 24;
+        std::vector<float> corners(size_t(info.triangle_count) * 12);
+        for (size_t i = 0; i < corners.size(); ++i) corners[i] = i < 8 ? in.f32() : 0.5f;
+        std::vector<float> out(size_t(w) * h * 4);
+        check(moldtex_surface_rasterize_corners(surface, w, h, corners.data(), corners.size(), out.data(),
+                                                out.size()));
+        break;
+      }
+      case kSetParams: {
+        moldtex_sim_params p;
+        moldtex_sim_params_init(&p);
+        const uint8_t which = in.u8();
+        float* fields[] = {&p.movement_speed, &p.turn_speed, &p.vision_distance, &p.vision_angle,
+                           &p.evaporation_rate, &p.diffusion_rate, &p.deposit, &p.time_step,
+                           &p.hunger_rate, &p.food_radius};
+        *fields[which % 10] = in.f32();
+        p.substeps = in.u8() % 70;
+        p.sensor_size = in.u8() % 6;
+        p.thread_count = 1;
+        if (sim) check(moldtex_sim_set_params(sim, &p));
+        moldtex_species_params sp;
+        moldtex_species_params_init(&sp, which % 4);
+        sp.attraction[which % 4] = in.f32();
+        if (sim) check(moldtex_sim_set_species_params(sim, which % 5, &sp));
+        break;
+      }
+      case kReset:
+        if (sim && check(moldtex_sim_reset(sim)) == MOLDTEX_OK) check_pheromone(sim, width, height);
+        break;
+      default:
+        break;
+    }
+  }
+  if (sim) {
+    moldtex_sim_stats st;
+    moldtex_sim_stats_init(&st);
+    check(moldtex_sim_get_stats(sim, &st));
+    if (!std::isfinite(st.coverage) || !std::isfinite(st.presence)) bug("non-finite statistics");
+  }
+  moldtex_sim_release(sim);
+  moldtex_surface_release(surface);
+}
+
+// A small valid simulation's checkpoint, patched: (offset, length, bytes) runs, then an
+// optional truncation. A checkpoint that loads must leave the simulation usable.
+void fuzz_checkpoint(Bytes& in) {
+  static const float kPositions[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+  static const uint32_t kTriangles[] = {0, 1, 2, 0, 2, 3};
+  static const float kUvs[] = {0, 0, 1, 0, 1, 1, 0, 1};
+  moldtex_mesh_desc d;
+  moldtex_mesh_desc_init(&d);
+  d.positions = kPositions;
+  d.vertex_count = 4;
+  d.triangles = kTriangles;
+  d.triangle_count = 2;
+  d.uvs = kUvs;
+  d.uv_count = 4;
+  d.triangle_uvs = kTriangles;
+  moldtex_surface surface = nullptr;
+  if (moldtex_surface_create(&d, &surface) != MOLDTEX_OK) bug("the fixed quad was refused");
+  moldtex_sim_config c;
+  moldtex_sim_config_init(&c);
+  c.width = c.height = 16;
+  c.agent_count = 40;
+  c.backend = MOLDTEX_BACKEND_CPU;
+  c.species_count = 2;
+  moldtex_sim_params p;
+  moldtex_sim_params_init(&p);
+  p.thread_count = 1;
+  p.hunger_rate = 0.5f;
+  moldtex_sim sim = nullptr;
+  if (moldtex_sim_create(surface, &c, &p, &sim) != MOLDTEX_OK) bug("the fixed simulation was refused");
+  const moldtex_food_source food = {{0.5f, 0.5f, 0.f}, 1.f, 10.f};
+  moldtex_sim_set_food(sim, &food, 1);
+  moldtex_sim_step(sim, 3);
+  const std::string path = temp_path("patched.bin");
+  if (moldtex_sim_save_checkpoint(sim, path.c_str()) != MOLDTEX_OK) bug("could not save the checkpoint");
+  std::vector<char> bytes;
+  {
+    std::ifstream file(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+  }
+  const uint8_t runs = in.u8() % 8;
+  for (uint8_t r = 0; r < runs && !bytes.empty(); ++r) {
+    size_t at = in.u16() % bytes.size();
+    const uint8_t length = 1 + in.u8() % 16;
+    for (uint8_t k = 0; k < length && at < bytes.size(); ++k) bytes[at++] = static_cast<char>(in.u8());
+  }
+  if (in.u8() & 1) bytes.resize(in.u16() % (bytes.size() + 1));
+  {
+    std::ofstream file(path, std::ios::binary | std::ios::trunc);
+    file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  }
+  moldtex_sim other = nullptr;
+  if (moldtex_sim_create(surface, &c, &p, &other) != MOLDTEX_OK) bug("the fixed simulation was refused");
+  if (check(moldtex_sim_load_checkpoint(other, path.c_str())) == MOLDTEX_OK) {
+    check_pheromone(other, 16, 16);
+    check(moldtex_sim_step(other, 2));
+    check_pheromone(other, 16, 16);
+  }
+  std::remove(path.c_str());
+  moldtex_sim_release(other);
+  moldtex_sim_release(sim);
+  moldtex_surface_release(surface);
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  Bytes in{data, size};
+  if (in.u8() & 1)
+    fuzz_checkpoint(in);
+  else
+    fuzz_mesh(in);
+  return 0;
+}

@@ -1,0 +1,66 @@
+#!/usr/bin/env python3
+"""Writes the seed corpus of the C API fuzz target (native/fuzz/corpus/): a few valid
+inputs in the byte format fuzz_c_api.cpp reads, so the fuzzer starts from meshes that
+create, simulations that step and checkpoints that load. Run from anywhere; rerun after
+changing the format."""
+import os
+import struct
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+OUT = os.path.join(HERE, "corpus")
+
+u8 = lambda v: struct.pack("<B", v)
+u16 = lambda v: struct.pack("<H", v)
+f32 = lambda *v: struct.pack("<%df" % len(v), *v)
+
+# Operation codes (enum Op in fuzz_c_api.cpp).
+RAY, CLOSEST, TRACE, PAINT, CREATE, STEP, ADD, ERASE, UNDO, FOOD, FIELDS, CKPT, RASTER, PARAMS, RESET = range(15)
+
+
+def point(tri=0, bary=(1 / 3, 1 / 3, 1 / 3)):
+    return u8(tri) + f32(*bary)
+
+
+def brush(radius=0.3, strength=1.0, falloff=0.5, mode=0, channel=0, value=1.0, tri=0):
+    return point(tri) + f32(radius, strength, falloff) + u8(mode) + u8(channel) + f32(value)
+
+
+def quad_mesh(indexed=True, float_positions=True, float_uvs=True, uv_shift=0.0):
+    """Unit quad, two triangles, UV = xy (+ shift)."""
+    flags = (1 if indexed else 0) | (2 if float_positions else 0) | (4 if float_uvs else 0)
+    data = u8(0) + u8(4) + u8(2) + u8(flags)
+    data += f32(0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0)
+    data += bytes([0, 1, 2, 0, 2, 3])
+    data += f32(*(c + uv_shift for c in (0, 0, 1, 0, 1, 1, 0, 1)))
+    return data
+
+
+def create(width=16, height=16, agents=60, species=1, shape=0, radius=0.3):
+    return (u8(CREATE) + u8(width - 8) + u8(height - 8) + u16(agents - 1) + u8(3) + u8(species - 1) +
+            u8(shape) + point() + f32(radius) + u16(8))
+
+
+seeds = {
+    "quad_queries": quad_mesh() + u8(RAY) + f32(0.3, 0.4, 1, 0, 0, -1) + f32(float("inf")) +
+                    u8(CLOSEST) + f32(0.2, 0.9, 0.5) + u8(TRACE) + point() + f32(1, 0.5, 0, 2.5) +
+                    u8(PAINT) + u8(31) + u8(31) + brush() + u8(RASTER) + u8(8) + u8(8) + f32(*[0.5] * 8),
+    "quad_sim": quad_mesh() + create() + u8(STEP) + u8(3) + u8(ADD) + brush() + u16(50) + u16(1) +
+                u8(STEP) + u8(2) + u8(ERASE) + brush(radius=0.5) + u16(2) + u8(UNDO) + u16(2) +
+                u8(CKPT) + u8(STEP) + u8(1),
+    "quad_food_fields": quad_mesh() + create(species=2, shape=2) + u8(PARAMS) + u8(8) + f32(0.5) +
+                        u8(2) + u8(1) + f32(1.0) + u8(FOOD) + u8(1) + f32(0.5, 0.5, 0, 1, 5) +
+                        u8(FIELDS) + f32(1, 0, 0.5, 0, 0, 0, 0, 0) + u8(RESET) + u8(STEP) + u8(3),
+    "quad_udim": quad_mesh(uv_shift=5.0) + create() + u8(STEP) + u8(2) + u8(PAINT) + u8(63) + u8(0) + brush(),
+    "byte_mesh": u8(0) + u8(5) + u8(3) + u8(0) + bytes([0, 0, 0, 4, 0, 0, 4, 4, 0, 0, 4, 0, 2, 2, 4]) +
+                 bytes([0, 1, 2, 0, 2, 3, 1, 4, 2]) + bytes(range(18)) + create(agents=50) + u8(STEP) + u8(3),
+    "checkpoint_intact": u8(1) + u8(0) + u8(0),
+    "checkpoint_patched": u8(1) + u8(2) + u16(300) + u8(2) + bytes([0xff, 0xff, 0x7f]) +
+                          u16(900) + u8(1) + bytes([0x80]) + u8(0),
+    "checkpoint_truncated": u8(1) + u8(0) + u8(1) + u16(700),
+}
+
+os.makedirs(OUT, exist_ok=True)
+for name, data in seeds.items():
+    with open(os.path.join(OUT, name), "wb") as f:
+        f.write(data)
+print(f"wrote {len(seeds)} seeds to {OUT}")
