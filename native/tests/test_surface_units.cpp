@@ -528,20 +528,24 @@ class SurfaceUnitsBackends : public ::testing::TestWithParam<Backend> {};
 TEST_P(SurfaceUnitsBackends, TorusPatternAgreesAcrossBackends) {
   moldtex_sim_config pinned = make_config(8, 8, 1, 1);
   MTX_PIN_BACKEND(pinned);
-  // The OpenCL path runs the same surface-unit rules (footprints, seam table, passes):
-  // coverage within 15% of the CPU's (the seed-to-seed spread is ~5%), seam band inside
-  // the placebo range as on the CPU.
+  // The OpenCL path runs the same surface-unit rules (footprints, seam table, 2 passes of
+  // diffusion per step): its mean pheromone over 6 seeds is within 15% of the CPU's. On
+  // this small torus one seed's value after 300 steps spreads from 0.30 to 0.45 on either
+  // backend (measured, seeds 5-10: CPU mean 0.320, OpenCL 0.348), so a 6-seed mean has
+  // ~6% standard error.
   const uint32_t W = 96;
-  const double unit = TexelLength(Torus(), W) * 1.5;  // 2 passes of diffusion per step
+  const double unit = TexelLength(Torus(), W) * 1.5;
   const TexelGeometry g = Texels(Torus(), W, W);
   moldtex_sim_params p = SurfaceParams(unit);
   p.diffusion_rate = 40;
-  const std::vector<double> cpu = Grow(Torus(), W, W, W * W, 5, p, 300);
-  const std::vector<double> other = Grow(Torus(), W, W, W * W, 5, p, 300, 0, &pinned);
   auto all = [](uint32_t, uint32_t) { return true; };
-  const double a = Mean(g, cpu, all), b = Mean(g, other, all);
-  std::printf("  coverage CPU %.3f, this backend %.3f\n", a, b);
-  EXPECT_NEAR(b / a, 1.0, 0.15);
+  double cpu = 0, other = 0;
+  for (uint64_t seed = 5; seed <= 10; ++seed) {
+    cpu += Mean(g, Grow(Torus(), W, W, W * W, seed, p, 300), all) / 6;
+    other += Mean(g, Grow(Torus(), W, W, W * W, seed, p, 300, 0, &pinned), all) / 6;
+  }
+  std::printf("  mean pheromone CPU %.3f, this backend %.3f\n", cpu, other);
+  EXPECT_NEAR(other / cpu, 1.0, 0.15);
 }
 
 MTX_BACKENDS(SurfaceUnitsBackends);
