@@ -9,15 +9,10 @@ MOLDTEX_BUILD="${MOLDTEX_BUILD:-$MOLDTEX_ROOT/build}"
 MOLDTEX_BPY_VERSION="${MOLDTEX_BPY_VERSION:-4.2.23}"
 MOLDTEX_BPY5_VERSION="${MOLDTEX_BPY5_VERSION:-5.0.1}"
 
-moldtex_install_packages() {
-  # OpenCL: Khronos headers to build the backend, the ICD loader, and PoCL (OpenCL on
-  # the CPU) so the OpenCL path really runs here.
-  local pkgs=(build-essential cmake pkg-config libgtest-dev libbenchmark-dev libopenimageio-dev
-              libembree-dev opencl-headers ocl-icd-opencl-dev pocl-opencl-icd
-              blender python3 python3-venv python3-pip
-              xvfb xauth)  # a virtual X server for the interactive brush-tool check
+# Installs the Debian packages named (as root; says what to run otherwise).
+moldtex_apt_install() {
   local missing=()
-  for p in "${pkgs[@]}"; do
+  for p in "$@"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
   done
   if ((${#missing[@]})); then
@@ -30,6 +25,15 @@ moldtex_install_packages() {
     apt-get update -qq
     apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
   fi
+}
+
+moldtex_install_packages() {
+  # OpenCL: Khronos headers to build the backend, the ICD loader, and PoCL (OpenCL on
+  # the CPU) so the OpenCL path really runs here.
+  moldtex_apt_install build-essential cmake pkg-config libgtest-dev libbenchmark-dev \
+    libopenimageio-dev libembree-dev opencl-headers ocl-icd-opencl-dev pocl-opencl-icd \
+    blender python3 python3-venv python3-pip \
+    xvfb xauth  # a virtual X server for the interactive checks
 }
 
 moldtex_build() {

@@ -29,22 +29,10 @@ JOBS="${MOLDTEX_SANITIZER_JOBS:-$(nproc)}"
 start=$SECONDS
 
 # ---- packages: clang with its sanitizer and libFuzzer runtimes, plus the core's own.
-pkgs=(clang libclang-rt-dev cmake pkg-config libgtest-dev libopenimageio-dev libembree-dev
-      opencl-headers ocl-icd-opencl-dev)
-missing=()
-for p in "${pkgs[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if ((${#missing[@]})); then
-  if [ "$(id -u)" != 0 ]; then
-    echo "Missing Debian packages: ${missing[*]}; run this command as root (or with sudo)." >&2
-    exit 1
-  fi
-  echo "== Installing Debian packages: ${missing[*]}"
-  export DEBIAN_FRONTEND=noninteractive
-  apt-get update -qq
-  apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+# shellcheck source=common.sh
+source "$ROOT/tools/common.sh"
+moldtex_apt_install clang libclang-rt-dev cmake pkg-config libgtest-dev libopenimageio-dev \
+  libembree-dev opencl-headers ocl-icd-opencl-dev
 
 # ---- build: the library, the tests and the fuzz target, nothing else.
 SAN="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer"

@@ -88,6 +88,43 @@ MTX_FN int mtx_is_obstacle(MTX_GLOBAL const float* field, mtx_u32 texel,
   return MTX_FIELDS && k->has_fields && field[texel] < MTX_OBSTACLE_THRESHOLD;
 }
 
+/* Surface units: the texels within half a length unit of walker w along each texel axis
+ * (centres ix + 0.5 in [x - ex, x + ex], at most MTX_MAX_FOOTPRINT_TEXELS each side),
+ * clipped to the texture, and its UV island. Returns 0 when that footprint lies within
+ * the one texel under the walker (a texel of a unit or more). */
+typedef struct mtx_footprint {
+  int x0, x1, y0, y1;
+  mtx_u32 island;
+} mtx_footprint;
+
+MTX_FN int mtx_footprint_box(mtx_surface_tables s, const mtx_walker* w,
+                             const mtx_momas_constants* k, mtx_footprint* box) {
+  MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * w->triangle;
+  const float ex = fmin(0.5f * k->length_unit * tpu[0], MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
+  const float ey = fmin(0.5f * k->length_unit * tpu[1], MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
+  if (ex < 0.5f && ey < 0.5f) return 0;
+  MTX_GLOBAL const float* uv = s.corner_uvs + 6 * w->triangle;
+  const float x = (w->bary[0] * uv[0] + w->bary[1] * uv[2] + w->bary[2] * uv[4]) * MTX_CAST(float, k->width);
+  const float y = (w->bary[0] * uv[1] + w->bary[1] * uv[3] + w->bary[2] * uv[5]) * MTX_CAST(float, k->height);
+  const int w_ = MTX_CAST(int, k->width), h_ = MTX_CAST(int, k->height);
+  box->x0 = MTX_CAST(int, ceil(x - ex - 0.5f));
+  box->x1 = MTX_CAST(int, floor(x + ex - 0.5f));
+  box->y0 = MTX_CAST(int, ceil(y - ey - 0.5f));
+  box->y1 = MTX_CAST(int, floor(y + ey - 0.5f));
+  box->x0 = box->x0 < 0 ? 0 : box->x0;
+  box->y0 = box->y0 < 0 ? 0 : box->y0;
+  box->x1 = box->x1 >= w_ ? w_ - 1 : box->x1;
+  box->y1 = box->y1 >= h_ ? h_ - 1 : box->y1;
+  box->island = s.island[w->triangle];
+  return 1;
+}
+
+/* Is texel i an island texel of the footprint's island? */
+MTX_FN int mtx_in_footprint(mtx_surface_tables s, mtx_u32 i, const mtx_footprint* box) {
+  const int t = s.texel_triangle[i];
+  return t >= 0 && s.classes[i] == MTX_TEXEL_INSIDE && s.island[t] == box->island;
+}
+
 /* Surface units, single-point sensor: the mean over the texels of the walker's island
  * whose centres lie within half a length unit of the sensor point along each texel axis
  * (the deposit footprint's size), or an obstacle if one lies there: a sensor reads the
@@ -96,28 +133,14 @@ MTX_FN int mtx_is_obstacle(MTX_GLOBAL const float* field, mtx_u32 texel,
 MTX_FN float mtx_sense_footprint(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
                                  MTX_GLOBAL const float* field, const mtx_walker* w,
                                  mtx_u32 texel, mtx_u32 species, const mtx_momas_constants* k) {
-  MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * w->triangle;
-  const float ex = fmin(0.5f * k->length_unit * tpu[0], MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
-  const float ey = fmin(0.5f * k->length_unit * tpu[1], MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
   const float here = mtx_sensed_value(pheromone, field, texel, species, k);
-  if ((ex < 0.5f && ey < 0.5f) || mtx_is_obstacle(field, texel, k)) return here;
-  MTX_GLOBAL const float* uv = s.corner_uvs + 6 * w->triangle;
-  const float x = (w->bary[0] * uv[0] + w->bary[1] * uv[2] + w->bary[2] * uv[4]) * MTX_CAST(float, k->width);
-  const float y = (w->bary[0] * uv[1] + w->bary[1] * uv[3] + w->bary[2] * uv[5]) * MTX_CAST(float, k->height);
-  const int w_ = MTX_CAST(int, k->width), h_ = MTX_CAST(int, k->height);
-  int x0 = MTX_CAST(int, ceil(x - ex - 0.5f)), x1 = MTX_CAST(int, floor(x + ex - 0.5f));
-  int y0 = MTX_CAST(int, ceil(y - ey - 0.5f)), y1 = MTX_CAST(int, floor(y + ey - 0.5f));
-  x0 = x0 < 0 ? 0 : x0;
-  y0 = y0 < 0 ? 0 : y0;
-  x1 = x1 >= w_ ? w_ - 1 : x1;
-  y1 = y1 >= h_ ? h_ - 1 : y1;
-  const mtx_u32 island = s.island[w->triangle];
+  mtx_footprint box;
+  if (!mtx_footprint_box(s, w, k, &box) || mtx_is_obstacle(field, texel, k)) return here;
   float sum = here, count = 1.0f;
-  for (int iy = y0; iy <= y1; ++iy)
-    for (int ix = x0; ix <= x1; ++ix) {
+  for (int iy = box.y0; iy <= box.y1; ++iy)
+    for (int ix = box.x0; ix <= box.x1; ++ix) {
       const mtx_u32 i = MTX_CAST(mtx_u32, iy) * k->width + MTX_CAST(mtx_u32, ix);
-      const int t = s.texel_triangle[i];
-      if (i == texel || t < 0 || s.classes[i] != MTX_TEXEL_INSIDE || s.island[t] != island) continue;
+      if (i == texel || !mtx_in_footprint(s, i, &box)) continue;
       const float v = mtx_sensed_value(pheromone, field, i, species, k);
       if (mtx_is_obstacle(field, i, k)) return v;
       sum += v;
@@ -165,29 +188,12 @@ MTX_FN void mtx_mark_footprint(mtx_surface_tables s, MTX_GLOBAL const float* fie
                                MTX_GLOBAL mtx_u8* own_marks, const mtx_walker* w,
                                mtx_u32 texel, const mtx_momas_constants* k) {
   MTX_MARK(own_marks, texel);
-  MTX_GLOBAL const float* uv = s.corner_uvs + 6 * w->triangle;
-  const float x = (w->bary[0] * uv[0] + w->bary[1] * uv[2] + w->bary[2] * uv[4]) * MTX_CAST(float, k->width);
-  const float y = (w->bary[0] * uv[1] + w->bary[1] * uv[3] + w->bary[2] * uv[5]) * MTX_CAST(float, k->height);
-  MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * w->triangle;
-  const float ex = fmin(0.5f * k->length_unit * tpu[0], MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
-  const float ey = fmin(0.5f * k->length_unit * tpu[1], MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
-  if (ex < 0.5f && ey < 0.5f) return; /* the footprint lies within the one texel */
-  const int w_ = MTX_CAST(int, k->width), h_ = MTX_CAST(int, k->height);
-  /* Texel centres ix + 0.5 within [x - ex, x + ex]. */
-  int x0 = MTX_CAST(int, ceil(x - ex - 0.5f)), x1 = MTX_CAST(int, floor(x + ex - 0.5f));
-  int y0 = MTX_CAST(int, ceil(y - ey - 0.5f)), y1 = MTX_CAST(int, floor(y + ey - 0.5f));
-  x0 = x0 < 0 ? 0 : x0;
-  y0 = y0 < 0 ? 0 : y0;
-  x1 = x1 >= w_ ? w_ - 1 : x1;
-  y1 = y1 >= h_ ? h_ - 1 : y1;
-  const mtx_u32 island = s.island[w->triangle];
-  for (int iy = y0; iy <= y1; ++iy)
-    for (int ix = x0; ix <= x1; ++ix) {
+  mtx_footprint box;
+  if (!mtx_footprint_box(s, w, k, &box)) return;
+  for (int iy = box.y0; iy <= box.y1; ++iy)
+    for (int ix = box.x0; ix <= box.x1; ++ix) {
       const mtx_u32 i = MTX_CAST(mtx_u32, iy) * k->width + MTX_CAST(mtx_u32, ix);
-      const int t = s.texel_triangle[i];
-      if (t < 0 || s.classes[i] != MTX_TEXEL_INSIDE || s.island[t] != island) continue;
-      if (mtx_is_obstacle(field, i, k)) continue;
-      MTX_MARK(own_marks, i);
+      if (mtx_in_footprint(s, i, &box) && !mtx_is_obstacle(field, i, k)) MTX_MARK(own_marks, i);
     }
 }
 
