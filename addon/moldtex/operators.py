@@ -74,6 +74,26 @@ _STEP_MODAL_SECONDS = 0.3
 _STEP_TICK_SECONDS = 0.1  # stepping per tick of a modal Step
 
 
+def _status(context, text, header=False):
+    """Shows text in the status bar (and the area's header), or clears it with None."""
+    try:
+        if context.workspace is not None:
+            context.workspace.status_text_set(text)
+        if header and context.area is not None:
+            context.area.header_text_set(text)
+    except (AttributeError, RuntimeError):
+        pass
+
+
+def _end_modal_progress(operator, context, header=False):
+    """Removes a modal operator's timer and progress bar and clears its texts."""
+    if operator._timer is not None:
+        context.window_manager.event_timer_remove(operator._timer)
+        operator._timer = None
+        context.window_manager.progress_end()
+    _status(context, None, header)
+
+
 class MOLDTEX_OT_step(bpy.types.Operator):
     """Advance the simulation by some steps and update the image (change the count in \
 Adjust Last Operation; long runs show their progress, Esc stops them; works in \
@@ -181,12 +201,7 @@ background)"""
             self.report({'ERROR'}, str(error))
             return self._end(context, {'CANCELLED'})
         context.window_manager.progress_update(self._done)
-        text = f"Moldtex: step {self._done:,}/{self.steps:,} — Esc to stop"
-        try:
-            if context.workspace is not None:
-                context.workspace.status_text_set(text)
-        except (AttributeError, RuntimeError):
-            pass
+        _status(context, f"Moldtex: step {self._done:,}/{self.steps:,} — Esc to stop")
         _tag_redraw(context)
         if self._done >= self.steps:
             return self._end(context, {'FINISHED'})
@@ -196,16 +211,7 @@ background)"""
         self._end(context, {'CANCELLED'})
 
     def _end(self, context, result):
-        window_manager = context.window_manager
-        if self._timer is not None:
-            window_manager.event_timer_remove(self._timer)
-            self._timer = None
-            window_manager.progress_end()
-        try:
-            if context.workspace is not None:
-                context.workspace.status_text_set(None)
-        except (AttributeError, RuntimeError):
-            pass
+        _end_modal_progress(self, context)
         entry = live.get(self._name)
         if entry is not None:
             entry.stepping = False
@@ -552,28 +558,11 @@ settings (restarts the simulation as Reset does). Press again or Esc to cancel""
         timing = bake.timing_text(entry) if entry is not None else ""
         if timing:
             text = f"Moldtex bake: {bake.progress_line(progress)}, {timing} — Esc to cancel"
-        try:
-            if context.workspace is not None:
-                context.workspace.status_text_set(text)
-            if context.area is not None:
-                context.area.header_text_set(text)
-        except (AttributeError, RuntimeError):
-            pass
+        _status(context, text, header=True)
         _tag_redraw(context)
 
     def _cleanup(self, context):
-        window_manager = context.window_manager
-        if self._timer is not None:
-            window_manager.event_timer_remove(self._timer)
-            self._timer = None
-            window_manager.progress_end()
-        try:
-            if context.workspace is not None:
-                context.workspace.status_text_set(None)
-            if context.area is not None:
-                context.area.header_text_set(None)
-        except (AttributeError, RuntimeError):
-            pass
+        _end_modal_progress(self, context, header=True)
         self._job = None
         _tag_redraw(context)
 

@@ -122,6 +122,13 @@ struct OpenClBackend::State {
     check(r.clSetKernelArg(k, index, sizeof(T), &value), "setting a kernel argument");
   }
 
+  // Sets all of kernel k's arguments, in order.
+  template <class... T>
+  void args(cl_kernel k, const T&... values) {
+    cl_uint index = 0;
+    (arg(k, index++, values), ...);
+  }
+
   void run(cl_kernel k, size_t global0, size_t global1 = 0) {
     if (global0 == 0) return;
     size_t global[2] = {global0, global1};
@@ -329,35 +336,22 @@ void OpenClBackend::step(const StepSettings& settings, uint64_t seed, uint64_t s
   }
   // The same conditions as the run-time tests in shared/momas.h.
   cl_kernel k = agent_kernel(c.hunger_step > 0.0f, c.has_fields != 0);
-  cl_mem agent_args[] = {s.frames, s.adjacency, s.corner_uvs, s.classes, s.pheromone, s.field,
-                         s.marks, s.triangle, s.b1, s.b2, s.hx, s.hy, s.species, s.hunger,
-                         s.frame3d, s.food, s.eaters, s.texels_per_unit, s.texel_triangle,
-                         s.island};
-  for (cl_uint i = 0; i < 20; ++i) s.arg(k, i, agent_args[i]);
-  s.arg(k, 20, c);
-  s.arg(k, 21, static_cast<cl_uint>(agent_count_));
+  s.args(k, s.frames, s.adjacency, s.corner_uvs, s.classes, s.pheromone, s.field, s.marks,
+         s.triangle, s.b1, s.b2, s.hx, s.hy, s.species, s.hunger, s.frame3d, s.food, s.eaters,
+         s.texels_per_unit, s.texel_triangle, s.island, c, static_cast<cl_uint>(agent_count_));
   s.run(k, agent_count_);
   if (c.food_count > 0)  // the host needs the counts before the next step's food
     check(s.r.clEnqueueReadBuffer(s.queue, s.eaters, CL_TRUE, 0, c.food_count * 4ull, eaters, 0,
                                   nullptr, nullptr),
           "reading the food counters");
 
-  s.arg(s.deposit_kernel, 0, s.pheromone);
-  s.arg(s.deposit_kernel, 1, s.marks);
   cl_float4 deposit{};
   for (cl_uint i = 0; i < planes; ++i) deposit.s[i] = settings.species[i].deposit;
-  s.arg(s.deposit_kernel, 2, deposit);
-  s.arg(s.deposit_kernel, 3, texels);
-  s.arg(s.deposit_kernel, 4, planes);
+  s.args(s.deposit_kernel, s.pheromone, s.marks, deposit, texels, planes);
   s.run(s.deposit_kernel, static_cast<size_t>(texels) * planes);
 
   auto gutter_pass = [&] {
-    s.arg(s.gutter_kernel, 0, s.pheromone);
-    s.arg(s.gutter_kernel, 1, s.gutter_texel);
-    s.arg(s.gutter_kernel, 2, s.gutter_source);
-    s.arg(s.gutter_kernel, 3, gutter);
-    s.arg(s.gutter_kernel, 4, texels);
-    s.arg(s.gutter_kernel, 5, planes);
+    s.args(s.gutter_kernel, s.pheromone, s.gutter_texel, s.gutter_source, gutter, texels, planes);
     s.run(s.gutter_kernel, gutter);
   };
   if (p.length_unit > 0.f) {
@@ -368,14 +362,8 @@ void OpenClBackend::step(const StepSettings& settings, uint64_t seed, uint64_t s
   gutter_pass();
 
   const float mix = std::min(1.f, p.diffusion_rate * p.time_step);
-  s.arg(s.diffuse_kernel, 0, s.pheromone);
-  s.arg(s.diffuse_kernel, 1, s.scratch);
-  s.arg(s.diffuse_kernel, 2, s.classes);
-  s.arg(s.diffuse_kernel, 3, static_cast<cl_int>(d.width));
-  s.arg(s.diffuse_kernel, 4, static_cast<cl_int>(d.height));
-  s.arg(s.diffuse_kernel, 5, mix);
-  s.arg(s.diffuse_kernel, 6, p.evaporation_rate * p.time_step);
-  s.arg(s.diffuse_kernel, 7, planes);
+  s.args(s.diffuse_kernel, s.pheromone, s.scratch, s.classes, static_cast<cl_int>(d.width),
+         static_cast<cl_int>(d.height), mix, p.evaporation_rate * p.time_step, planes);
   s.run(s.diffuse_kernel, d.width, d.height);
   std::swap(s.pheromone, s.scratch);
   gutter_pass();
@@ -406,48 +394,20 @@ void OpenClBackend::surface_diffusion(const moldtex_sim_params& p) {
   const cl_uint seams = static_cast<cl_uint>(d.seam_texel.size());
   for (uint32_t pass = 0; pass < plan_.passes; ++pass) {
     const float evaporation = pass == 0 ? p.evaporation_rate * p.time_step : 0.f;
-    s.arg(s.surface_kernel, 0, s.pheromone);
-    s.arg(s.surface_kernel, 1, s.scratch);
-    s.arg(s.surface_kernel, 2, s.classes);
-    s.arg(s.surface_kernel, 3, s.texel_triangle);
-    s.arg(s.surface_kernel, 4, s.coef);
-    s.arg(s.surface_kernel, 5, static_cast<cl_int>(d.width));
-    s.arg(s.surface_kernel, 6, static_cast<cl_int>(d.height));
-    s.arg(s.surface_kernel, 7, evaporation);
-    s.arg(s.surface_kernel, 8, planes);
+    s.args(s.surface_kernel, s.pheromone, s.scratch, s.classes, s.texel_triangle, s.coef,
+           static_cast<cl_int>(d.width), static_cast<cl_int>(d.height), evaporation, planes);
     s.run(s.surface_kernel, d.width, d.height);
-    s.arg(s.seam_kernel, 0, s.pheromone);
-    s.arg(s.seam_kernel, 1, s.scratch);
-    s.arg(s.seam_kernel, 2, s.seam_texel);
-    s.arg(s.seam_kernel, 3, s.seam_neighbour);
-    s.arg(s.seam_kernel, 4, s.texel_triangle);
-    s.arg(s.seam_kernel, 5, s.coef);
-    s.arg(s.seam_kernel, 6, seams);
-    s.arg(s.seam_kernel, 7, texels);
-    s.arg(s.seam_kernel, 8, evaporation);
-    s.arg(s.seam_kernel, 9, planes);
+    s.args(s.seam_kernel, s.pheromone, s.scratch, s.seam_texel, s.seam_neighbour, s.texel_triangle,
+           s.coef, seams, texels, evaporation, planes);
     s.run(s.seam_kernel, seams);
     std::swap(s.pheromone, s.scratch);
   }
   const cl_uint fine = static_cast<cl_uint>(plan_.fine_texel.size());
   for (cl_uint pass = 1; pass <= plan_.max_extra; ++pass) {
-    s.arg(s.fine_kernel, 0, s.pheromone);
-    s.arg(s.fine_kernel, 1, s.fine_scratch);
-    s.arg(s.fine_kernel, 2, s.fine_texel);
-    s.arg(s.fine_kernel, 3, s.fine_neighbour);
-    s.arg(s.fine_kernel, 4, s.fine_coef);
-    s.arg(s.fine_kernel, 5, s.fine_extra);
-    s.arg(s.fine_kernel, 6, pass);
-    s.arg(s.fine_kernel, 7, fine);
-    s.arg(s.fine_kernel, 8, texels);
-    s.arg(s.fine_kernel, 9, planes);
+    s.args(s.fine_kernel, s.pheromone, s.fine_scratch, s.fine_texel, s.fine_neighbour, s.fine_coef,
+           s.fine_extra, pass, fine, texels, planes);
     s.run(s.fine_kernel, fine);
-    s.arg(s.scatter_kernel, 0, s.pheromone);
-    s.arg(s.scatter_kernel, 1, s.fine_scratch);
-    s.arg(s.scatter_kernel, 2, s.fine_texel);
-    s.arg(s.scatter_kernel, 3, fine);
-    s.arg(s.scatter_kernel, 4, texels);
-    s.arg(s.scatter_kernel, 5, planes);
+    s.args(s.scatter_kernel, s.pheromone, s.fine_scratch, s.fine_texel, fine, texels, planes);
     s.run(s.scatter_kernel, fine);
   }
 }
