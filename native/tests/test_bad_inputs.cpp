@@ -14,7 +14,7 @@
 
 #include <unistd.h>
 
-#include "test_util.h"
+#include "bake_util.h"
 
 namespace mtx {
 namespace {
@@ -23,11 +23,6 @@ namespace fs = std::filesystem;
 
 const float kNaN = std::numeric_limits<float>::quiet_NaN();
 const float kInf = std::numeric_limits<float>::infinity();
-
-std::vector<char> ReadBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 void WriteBytes(const std::string& path, const std::vector<char>& bytes) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -174,29 +169,6 @@ TEST(BadCheckpoint, EmptyArraysLoad) {
   EXPECT_EQ(get_stats(b.get()).agent_count, 0u);
   EXPECT_EQ(get_stats(b.get()).step_count, 3u);
   EXPECT_EQ(moldtex_sim_step(b.get(), 2), MOLDTEX_OK);
-}
-
-moldtex_bake_desc BakeDesc(const TempDir& dir, int first, int last, uint32_t spf) {
-  moldtex_bake_desc d;
-  moldtex_bake_desc_init(&d);
-  static std::string directory;
-  directory = dir.path.string();
-  d.directory = directory.c_str();
-  d.first_frame = first;
-  d.last_frame = last;
-  d.steps_per_frame = spf;
-  d.format = MOLDTEX_IMAGE_EXR_HALF;
-  return d;
-}
-
-moldtex_status RunBake(moldtex_sim sim, const moldtex_bake_desc& d, std::string* message = nullptr) {
-  moldtex_bake bake = nullptr;
-  moldtex_status st = moldtex_bake_start(sim, &d, &bake);
-  if (st != MOLDTEX_OK) return st;
-  st = moldtex_bake_wait(bake);
-  if (message) *message = LastError();
-  moldtex_bake_release(bake);
-  return st;
 }
 
 TEST(BadCheckpoint, MetricsRowsAreValidatedAndAFrameOfInt32MaxIsRefused) {

@@ -11,7 +11,7 @@
 
 #include <unistd.h>
 
-#include "test_util.h"
+#include "bake_util.h"
 
 namespace mtx {
 namespace {
@@ -51,37 +51,10 @@ SimPtr PlaneSim(moldtex_surface s, uint64_t seed = 5) {
   return create_sim(s, make_config(kSize, kSize, kAgents, seed), default_params());
 }
 
-moldtex_bake_desc Desc(const TempDir& dir, int first, int last, uint32_t spf, uint32_t format) {
-  moldtex_bake_desc d;
-  moldtex_bake_desc_init(&d);
-  static std::string directory;
-  directory = dir.path.string();
-  d.directory = directory.c_str();
-  d.first_frame = first;
-  d.last_frame = last;
-  d.steps_per_frame = spf;
-  d.format = format;
-  return d;
-}
-
-moldtex_status RunBake(moldtex_sim sim, const moldtex_bake_desc& d) {
-  moldtex_bake bake = nullptr;
-  moldtex_status st = moldtex_bake_start(sim, &d, &bake);
-  if (st != MOLDTEX_OK) return st;
-  st = moldtex_bake_wait(bake);
-  moldtex_bake_release(bake);
-  return st;
-}
-
 std::string FrameName(int frame, const char* ext) {
   char buf[64];
   std::snprintf(buf, sizeof(buf), "moldtex_%04d.%s", frame, ext);
   return buf;
-}
-
-std::vector<char> Bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 TEST(Images, ExrFloatHoldsTheLiveTextureExactly) {
@@ -154,7 +127,7 @@ TEST(Bake, TenFramesMatchTheLiveTextureAtThoseFrames) {
   TempDir dir;
   auto s = create_surface(make_quad());
   auto baked = PlaneSim(s.get());
-  ASSERT_EQ(RunBake(baked.get(), Desc(dir, 1, 10, 7, MOLDTEX_IMAGE_EXR_FLOAT)), MOLDTEX_OK) << LastError();
+  ASSERT_EQ(RunBake(baked.get(), BakeDesc(dir, 1, 10, 7, MOLDTEX_IMAGE_EXR_FLOAT)), MOLDTEX_OK) << LastError();
   auto live = PlaneSim(s.get());
   for (int f = 1; f <= 10; ++f) {
     SCOPED_TRACE("frame " + std::to_string(f));
@@ -175,7 +148,7 @@ TEST(Bake, MetricsCsvMatchesTheFrames) {
   TempDir dir;
   auto s = create_surface(make_quad());
   auto sim = PlaneSim(s.get());
-  ASSERT_EQ(RunBake(sim.get(), Desc(dir, 3, 8, 5, MOLDTEX_IMAGE_EXR_FLOAT)), MOLDTEX_OK);
+  ASSERT_EQ(RunBake(sim.get(), BakeDesc(dir, 3, 8, 5, MOLDTEX_IMAGE_EXR_FLOAT)), MOLDTEX_OK);
   std::ifstream csv(dir / "moldtex_metrics.csv");
   std::string line;
   std::getline(csv, line);
@@ -208,11 +181,11 @@ TEST(Bake, CancelledHalfwayLeavesOnlyWholeFramesAndResumeIsBitIdentical) {
   TempDir full_dir, cut_dir;
   auto s = create_surface(make_quad());
   auto full = PlaneSim(s.get());
-  ASSERT_EQ(RunBake(full.get(), Desc(full_dir, 1, 12, 20, MOLDTEX_IMAGE_EXR_HALF)), MOLDTEX_OK);
+  ASSERT_EQ(RunBake(full.get(), BakeDesc(full_dir, 1, 12, 20, MOLDTEX_IMAGE_EXR_HALF)), MOLDTEX_OK);
 
   auto cut = PlaneSim(s.get());
   moldtex_bake bake = nullptr;
-  const moldtex_bake_desc cut_desc = Desc(cut_dir, 1, 12, 20, MOLDTEX_IMAGE_EXR_HALF);
+  const moldtex_bake_desc cut_desc = BakeDesc(cut_dir, 1, 12, 20, MOLDTEX_IMAGE_EXR_HALF);
   ASSERT_EQ(moldtex_bake_start(cut.get(), &cut_desc, &bake), MOLDTEX_OK);
   moldtex_bake_progress p;
   moldtex_bake_progress_init(&p);
@@ -240,12 +213,12 @@ TEST(Bake, CancelledHalfwayLeavesOnlyWholeFramesAndResumeIsBitIdentical) {
 
   // Resume on a fresh simulation (as after Blender was restarted).
   auto resumed = PlaneSim(s.get());
-  moldtex_bake_desc d = Desc(cut_dir, 1, 12, 20, MOLDTEX_IMAGE_EXR_HALF);
+  moldtex_bake_desc d = BakeDesc(cut_dir, 1, 12, 20, MOLDTEX_IMAGE_EXR_HALF);
   d.resume = 1;
   ASSERT_EQ(RunBake(resumed.get(), d), MOLDTEX_OK) << LastError();
   for (int f = 1; f <= 12; ++f)
-    EXPECT_EQ(Bytes(cut_dir / FrameName(f, "exr")), Bytes(full_dir / FrameName(f, "exr"))) << "frame " << f;
-  EXPECT_EQ(Bytes(cut_dir / "moldtex_metrics.csv"), Bytes(full_dir / "moldtex_metrics.csv"));
+    EXPECT_EQ(ReadBytes(cut_dir / FrameName(f, "exr")), ReadBytes(full_dir / FrameName(f, "exr"))) << "frame " << f;
+  EXPECT_EQ(ReadBytes(cut_dir / "moldtex_metrics.csv"), ReadBytes(full_dir / "moldtex_metrics.csv"));
 }
 
 TEST(Bake, SimulationIsBusyWhileBakingAndFreeAfter) {
@@ -253,7 +226,7 @@ TEST(Bake, SimulationIsBusyWhileBakingAndFreeAfter) {
   auto s = create_surface(make_quad());
   auto sim = PlaneSim(s.get());
   moldtex_bake bake = nullptr;
-  moldtex_bake_desc d = Desc(dir, 1, 50, 50, MOLDTEX_IMAGE_EXR_HALF);
+  moldtex_bake_desc d = BakeDesc(dir, 1, 50, 50, MOLDTEX_IMAGE_EXR_HALF);
   ASSERT_EQ(moldtex_bake_start(sim.get(), &d, &bake), MOLDTEX_OK);
   EXPECT_EQ(moldtex_sim_step(sim.get(), 1), MOLDTEX_ERROR_BUSY);  // the bake owns it
   moldtex_bake_cancel(bake);
@@ -267,16 +240,16 @@ TEST(Bake, BadRequestsAreRefusedWithAMessage) {
   auto s = create_surface(make_quad());
   auto sim = PlaneSim(s.get());
   moldtex_bake bake = nullptr;
-  moldtex_bake_desc d = Desc(dir, 5, 2, 1, MOLDTEX_IMAGE_EXR_HALF);  // last < first
+  moldtex_bake_desc d = BakeDesc(dir, 5, 2, 1, MOLDTEX_IMAGE_EXR_HALF);  // last < first
   EXPECT_EQ(moldtex_bake_start(sim.get(), &d, &bake), MOLDTEX_ERROR_INVALID_ARGUMENT);
   EXPECT_EQ(bake, nullptr);
-  d = Desc(dir, 1, 2, 0, MOLDTEX_IMAGE_EXR_HALF);  // zero steps per frame
+  d = BakeDesc(dir, 1, 2, 0, MOLDTEX_IMAGE_EXR_HALF);  // zero steps per frame
   EXPECT_EQ(moldtex_bake_start(sim.get(), &d, &bake), MOLDTEX_ERROR_INVALID_ARGUMENT);
-  d = Desc(dir, 1, 2, 1, MOLDTEX_IMAGE_EXR_HALF);
+  d = BakeDesc(dir, 1, 2, 1, MOLDTEX_IMAGE_EXR_HALF);
   d.directory = "/nonexistent-folder";
   EXPECT_EQ(moldtex_bake_start(sim.get(), &d, &bake), MOLDTEX_ERROR_IO);
   EXPECT_NE(LastError(), "");
-  d = Desc(dir, 1, 2, 1, MOLDTEX_IMAGE_EXR_HALF);
+  d = BakeDesc(dir, 1, 2, 1, MOLDTEX_IMAGE_EXR_HALF);
   d.file_prefix = "../escape";
   EXPECT_EQ(moldtex_bake_start(sim.get(), &d, &bake), MOLDTEX_ERROR_INVALID_ARGUMENT);
 }
