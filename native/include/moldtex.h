@@ -184,7 +184,18 @@ typedef struct moldtex_sim_config {
    * MOLDTEX_SEED_SPAWN_MAP, whose first spawn happens in moldtex_sim_create.
    * moldtex_sim_get_config returns NULL here. */
   const float* fields_rgba;
+  /* Added for the continuous model; older callers get MOLDTEX_MODEL_MOMAS. */
+  uint32_t model;            /* a moldtex_model */
 } moldtex_sim_config;
+
+/* The behaviour model, chosen at create (a config field, so changing it needs a new
+ * simulation). */
+typedef enum moldtex_model {
+  MOLDTEX_MODEL_MOMAS = 0,      /* momas-paper.md Algorithm 1 (moldtex_sim_params) */
+  MOLDTEX_MODEL_CONTINUOUS = 1  /* layton-intrinsic-slime.md §3.2: rate-based agents, a
+                                   diffusion-decay PDE, line-integrated deposits, agent
+                                   turnover (moldtex_continuous_params) */
+} moldtex_model;
 
 /* How agents are placed at create and reset. All placements are a pure function of the
  * config's seed. Agents placed inside an obstacle (CIRCLE, BIG_BANG, STARBURST only) may
@@ -253,6 +264,52 @@ typedef struct moldtex_sim_params {
 
 MOLDTEX_API void moldtex_sim_config_init(moldtex_sim_config* config);
 MOLDTEX_API void moldtex_sim_params_init(moldtex_sim_params* params);
+
+/* Parameters of the continuous model (layton-intrinsic-slime.md Table 1), all rates
+ * per simulated second and all lengths in mesh units (the caller applies the object's
+ * scale and any pattern scale). They may change between steps; they apply to every
+ * species (species keep their attractions: an agent of species s senses
+ * sum_k attraction[k] * u_k + fields). moldtex_sim_params' thread_count, hunger and food
+ * still apply; its MoMaS fields are ignored by this model.
+ *
+ * Pheromone is a concentration u (amount per unit of 3D area) obeying
+ *   du/dt = r_dif * Laplacian(u) - r_dec * u + deposits           (Eq. 1)
+ * on the surface, through every UV seam, with closed open boundaries. Each step an
+ * agent deposits r_dep * time_step spread evenly along the path it walked (Eq. 4).
+ * moldtex_sim_read_rgba and moldtex_sim_write_image give u / U (1 = the uniform
+ * steady state of Eq. 5) when U is finite and positive, else u itself. */
+typedef struct moldtex_continuous_params {
+  uint32_t struct_size;
+  float move_rate;        /* v: mesh units per second; 0 .. 1e6 */
+  float turn_rate;        /* omega: radians per second; 0 .. 1e6 */
+  float turn_frequency;   /* f_i: turn decisions per second; turning accumulates and is
+                             applied as one impulse of omega / f_i each 1 / f_i seconds,
+                             timed per agent; (0, 1e6] */
+  float sensor_distance;  /* d: mesh units along the surface; 0 .. 1e6 */
+  float sensor_angle;     /* theta: degrees, -180 .. 180 (negative: chemo-repulsion) */
+  float deposit_rate;     /* r_dep: amount per agent per second; 0 .. 1e12 */
+  float diffusion_rate;   /* r_dif: mesh units^2 per second; 0 .. 1e6 */
+  float decay_rate;       /* r_dec: per second; 0 .. 1e6 */
+  float mean_lifetime;    /* tau: seconds; 0 = no turnover (agents live for ever) */
+  float activation_time;  /* t_a: an agent deposits only from this age on; seconds, >= 0 */
+  float time_step;        /* dt: seconds per step; (0, 1] */
+  uint32_t integrator;    /* a moldtex_integrator */
+} moldtex_continuous_params;
+
+typedef enum moldtex_integrator {
+  MOLDTEX_INTEGRATOR_AUTO = 0,     /* forward Euler while it needs at most 16 sub-steps per
+                                      step for stability, else backward Euler */
+  MOLDTEX_INTEGRATOR_FORWARD = 1,  /* forward Euler (Eq. 2), sub-stepped for stability
+                                      (at most 256 sub-steps; beyond that refused) */
+  MOLDTEX_INTEGRATOR_BACKWARD = 2  /* backward Euler (Eq. 3), conjugate gradients */
+} moldtex_integrator;
+
+/* Defaults: a Jones-like look at a sensor distance of 0.09 mesh units. */
+MOLDTEX_API void moldtex_continuous_params_init(moldtex_continuous_params* params);
+MOLDTEX_API moldtex_status moldtex_sim_set_continuous_params(moldtex_sim sim,
+    const moldtex_continuous_params* params);
+MOLDTEX_API moldtex_status moldtex_sim_get_continuous_params(moldtex_sim sim,
+    moldtex_continuous_params* params);
 
 /* Behaviour of one species (momas-paper.md §2.5). Same meaning, units and hard ranges as
  * the fields of moldtex_sim_params with the same names. An agent of species s senses
@@ -382,6 +439,12 @@ typedef struct moldtex_sim_stats {
                               species of each one's Eq. 1 */
   double presence;         /* Eq. 1 with the ceiling: 3D-area fraction where pheromone > 0
                               (of any species) */
+  /* Continuous model (0 for MoMaS); appended. */
+  double u_metric;         /* U of layton-intrinsic-slime.md Eq. 5 per species:
+                              N_s r_dep / (r_dec A) exp(-t_a / tau), N_s the live agents of
+                              a species (species 0), A the surface area; +inf if r_dec = 0 */
+  double mean_concentration; /* 3D-area-weighted mean of species 0's concentration u */
+  double time;             /* simulated seconds since create or reset */
 } moldtex_sim_stats;
 
 MOLDTEX_API void moldtex_sim_stats_init(moldtex_sim_stats* stats);

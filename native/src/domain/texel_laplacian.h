@@ -1,0 +1,54 @@
+// The diffusion-decay PDE of the continuous model (layton-intrinsic-slime.md Eq. 1-3) on
+// the texture domain: a finite-volume Laplacian over the island texels that measures the
+// surface, not the UV sheet. Each island texel is a cell with its lumped 3D area; each
+// pair of neighbouring cells (grid neighbours on the same island, and pairs across UV
+// seams from the seam correspondence, whether or not gutter texels fit between islands)
+// exchanges pheromone through a conductance c_ij = 3D length of the shared face / 3D
+// distance between the cell centres. The operator is symmetric, so with r_dec = 0 the
+// total amount sum_i A_i u_i is conserved; open boundaries have no faces (closed).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "backends/cpu/thread_pool.h"
+#include "domain/texture_domain.h"
+#include "surface/surface.h"
+
+namespace moldtex {
+
+struct TexelLaplacian {
+  // Island texels (the cells), in texel order.
+  std::vector<uint32_t> rows;
+  // CSR over rows: cell rows[r] exchanges with texels col[start[r] .. start[r + 1]) with
+  // conductances weight[...] (dimensionless). Symmetric: (i, j, c) iff (j, i, c).
+  std::vector<uint32_t> start, col;
+  std::vector<float> weight;
+  // Per texel (texel_count): the cell's lumped 3D area (0 for texels that are not cells).
+  std::vector<float> area;
+  double max_rate = 0;    // max over cells of sum_j c_ij / A_i (1 / mesh units^2)
+  double total_area = 0;  // sum of the cell areas
+};
+
+TexelLaplacian build_texel_laplacian(const Surface& surface, const TextureDomain& domain,
+                                     ThreadPool& pool);
+
+struct PdeStepInfo {
+  uint32_t substeps = 0;    // forward Euler sub-steps taken (0 if backward)
+  uint32_t iterations = 0;  // conjugate-gradient iterations (0 if forward)
+  bool backward = false;
+};
+
+// Forward-Euler sub-steps dt needs for stability (max_rate * r_dif * dt / n <= 0.9).
+uint32_t forward_substeps(const TexelLaplacian& lap, double r_dif, double dt);
+
+// Advances u (texel_count floats; only cells are read and written) by dt of
+// du/dt = r_dif L u - r_dec u. `integrator` is a moldtex_integrator. Decay is applied
+// exactly (u *= exp(-r_dec dt)) after the diffusion. Deterministic for any thread count.
+PdeStepInfo advance_diffusion_decay(const TexelLaplacian& lap, float* u,
+                                    std::vector<float>& scratch, double r_dif, double r_dec,
+                                    double dt, uint32_t integrator, ThreadPool& pool);
+
+// sum_i A_i u_i over the cells, in double.
+double total_amount(const TexelLaplacian& lap, const float* u);
+
+}  // namespace moldtex
