@@ -1,5 +1,5 @@
 /* kernels.cl — the OpenCL program. The host prepends shared/portable.h, constants.h,
- * rng.h, walk.h, momas.h and field.h (the same sources the CPU backend compiles as
+ * rng.h, walk.h, momas.h, field.h and pde.h (the same sources the CPU backend compiles as
  * C++), so these kernels only unpack buffers and call the shared functions. The host
  * builds it once per feature combination in use (-DMTX_FOOD, -DMTX_FIELDS, -DMTX_SPECIES;
  * see momas.h), so the agent kernel carries only the code it runs. */
@@ -155,6 +155,22 @@ __kernel void fine_scatter(__global float* field, __global const float* scratch,
   const uint j = get_global_id(0);
   if (j >= count) return;
   for (uint p = 0; p < planes; ++p) field[p * texels + fine_texel[j]] = scratch[p * count + j];
+}
+
+/* Continuous model: one forward-Euler sub-step of the diffusion-decay PDE on the texel
+ * Laplacian (domain/texel_laplacian.h), one CSR row (cell) per work-item, every species plane. Reads only
+ * `in`, so rows are independent; decay is exp(-r_dec dt) on a step's last sub-step, else
+ * 1. */
+__kernel void pde_diffuse(__global const uint* rows, __global const uint* start,
+                          __global const uint* col, __global const float* weight,
+                          __global const float* area, __global const float* in,
+                          __global float* out, const float h, const float decay,
+                          const uint count, const uint texels, const uint planes) {
+  const uint r = get_global_id(0);
+  if (r >= count) return;
+  for (uint p = 0; p < planes; ++p)
+    out[p * texels + rows[r]] =
+        mtx_diffuse_cell(rows, start, col, weight, area, in + p * texels, r, h, decay);
 }
 
 #ifdef cl_khr_int64_base_atomics

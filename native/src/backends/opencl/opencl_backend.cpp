@@ -512,8 +512,7 @@ void OpenClBackend::diffuse_continuous(const moldtex_continuous_params& p) {
   State& s = *state_;
   const TexelLaplacian& lap = *laplacian_;
   const uint32_t n = forward_substeps(lap, p.diffusion_rate, p.time_step);
-  const bool backward = p.integrator == MOLDTEX_INTEGRATOR_BACKWARD ||
-                        (p.integrator == MOLDTEX_INTEGRATOR_AUTO && n > kAutoForwardSubsteps);
+  const bool backward = use_backward_euler(lap, p.diffusion_rate, p.time_step, p.integrator);
   const size_t texels = domain_->texel_count();
   if (backward) {
     // Conjugate gradients run on the host (the same solver as the CPU backend).
@@ -527,7 +526,6 @@ void OpenClBackend::diffuse_continuous(const moldtex_continuous_params& p) {
           "uploading the pheromone");
     return;
   }
-  check_forward_substeps(n);
   const float h = static_cast<float>(double(p.diffusion_rate) * p.time_step / n);
   const float decay = static_cast<float>(std::exp(-double(p.decay_rate) * p.time_step));
   const cl_uint cells = static_cast<cl_uint>(lap.rows.size());
