@@ -143,6 +143,7 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
       life->clock = k->decision_period * mtx_rng_float(&rng);
     }
   }
+  const float born = life->age; /* age at the start of this step */
   life->age += k->dt;
 
   /* Turn decisions at f_i: each one senses and turns by the impulse omega / f_i (Jones'
@@ -183,6 +184,9 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
   int pieces = MTX_CAST(int, ceil(texels_moved / k->max_piece));
   pieces = pieces < 1 ? 1 : (pieces > MTX_MAX_DEPOSIT_PIECES ? MTX_MAX_DEPOSIT_PIECES : pieces);
   const float piece = k->move_length / MTX_CAST(float, pieces);
+  const float piece_time = k->dt / MTX_CAST(float, pieces);
+  /* Piece i covers ages born + [i, i + 1) dt / pieces: it deposits when its middle is
+   * past the activation time, so activation starts within the step, not a step late. */
   const int deposits = k->deposit_on && life->age >= k->activation_time;
   const float units = MTX_DEPOSIT_UNITS / MTX_CAST(float, pieces);
   MTX_GLOBAL mtx_i64* own = sums + species * (k->width * k->height);
@@ -201,7 +205,7 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
         continue;
       }
     }
-    if (!deposits) continue;
+    if (!deposits || born + (MTX_CAST(float, i) + 0.5f) * piece_time < k->activation_time) continue;
     mtx_texel_stencil st;
     mtx_texel_stencil_of(s, w, k->width, k->height, &st);
     if (st.count > 0) mtx_texel_deposit(own, &st, units);

@@ -499,7 +499,7 @@ void OpenClBackend::step_continuous(const StepSettings& settings, uint64_t seed,
          s.b1, s.b2, s.hx, s.hy, s.species, s.lives, s.texels_per_unit, s.texel_triangle, s.island,
          s.alias_prob, s.alias_index, c, static_cast<cl_uint>(agent_count_));
   s.run(k, agent_count_);
-  const float amount = p.deposit_rate * p.time_step / MTX_DEPOSIT_UNITS;
+  const float amount = deposit_unit_amount(p);
   s.args(s.convert_kernel, s.pheromone, s.sums, s.rows, s.area, amount, cells, texels, planes);
   s.run(s.convert_kernel, cells);
   diffuse_continuous(p);
