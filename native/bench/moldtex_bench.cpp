@@ -67,7 +67,7 @@ bool FirstOpenClDevice(moldtex_opencl_device_info* info, std::string* why) {
 // mesh setup, kernel compilation, spawning nor warm-up is timed.
 Case* GetCase(const std::string& name, const mtx::Mesh& mesh, uint32_t w, uint32_t h,
               uint32_t agents, moldtex_backend backend, double texels_per_unit = 0,
-              bool continuous = false) {
+              bool continuous = false, uint32_t integrator = MOLDTEX_INTEGRATOR_AUTO) {
   static std::map<std::string, std::unique_ptr<Case>> cases;
   auto& c = cases[name];
   if (c) return c.get();
@@ -111,6 +111,7 @@ Case* GetCase(const std::string& name, const mtx::Mesh& mesh, uint32_t w, uint32
     cp.diffusion_rate *= float(k * k);
     cp.mean_lifetime = 0.5f;
     cp.activation_time = 0.2f;
+    cp.integrator = integrator;
     if (moldtex_sim_set_continuous_params(c->sim.get(), &cp) != MOLDTEX_OK) {
       c->error = std::string("set_continuous_params failed: ") + moldtex_last_error();
       c->sim.reset();
@@ -192,6 +193,13 @@ void BM_PlaneContinuous(benchmark::State& state, moldtex_backend backend, const 
 
 void BM_SphereContinuous(benchmark::State& state, moldtex_backend backend, const char* key) {
   RunSteps(state, GetCase(key, mtx::make_uv_sphere(64, 32, 1.0), 2048, 2048, 1000000, backend, 0.0, true));
+}
+
+// The add-on's defaults (512^2, 60k agents) on the UV sphere, whose pole fans make the
+// PDE stiff: AUTO (backward Euler here) against forward Euler with its sub-steps.
+void BM_SphereContinuousSmall(benchmark::State& state, uint32_t integrator, const char* key) {
+  RunSteps(state, GetCase(key, mtx::make_uv_sphere(64, 32, 1.0), 512, 512, 60000, MOLDTEX_BACKEND_CPU, 0.0,
+                          true, integrator));
 }
 
 void BM_PaintDab(benchmark::State& state) {
@@ -288,5 +296,12 @@ BENCHMARK_CAPTURE(BM_SphereContinuous, cpu, MOLDTEX_BACKEND_CPU, "sphere-continu
     ->Name("SphereContinuousCpu/2048x2048/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_SphereContinuous, opencl, MOLDTEX_BACKEND_OPENCL, "sphere-continuous-opencl")
     ->Name("SphereContinuousOpenCL/2048x2048/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
+
+BENCHMARK_CAPTURE(BM_SphereContinuousSmall, auto, MOLDTEX_INTEGRATOR_AUTO, "sphere-small-auto")
+    ->Name("SphereContinuousCpu/512x512/60k/auto")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_SphereContinuousSmall, forward, MOLDTEX_INTEGRATOR_FORWARD, "sphere-small-forward")
+    ->Name("SphereContinuousCpu/512x512/60k/forward")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_SphereContinuousSmall, backward, MOLDTEX_INTEGRATOR_BACKWARD, "sphere-small-backward")
+    ->Name("SphereContinuousCpu/512x512/60k/backward")->UseRealTime()->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

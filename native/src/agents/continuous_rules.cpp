@@ -89,7 +89,9 @@ ContinuousStepConstants continuous_constants(const StepSettings& settings, const
   c.dt = p.time_step;
   c.exposure_step = p.mean_lifetime > 0.f ? p.time_step / p.mean_lifetime : 0.f;
   c.activation_time = p.activation_time;
-  c.max_piece = 0.5f;
+  // A deposit every texel along the path: bilinear hats one texel apart sum to an even
+  // line (exactly so along a texel axis), at half the atomics of half-texel pieces.
+  c.max_piece = 1.0f;
   c.width = d.width;
   c.height = d.height;
   c.species_count = settings.species_count;

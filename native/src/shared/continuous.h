@@ -27,7 +27,7 @@ MTX_BEGIN_NAMESPACE
 /* At most this many turn decisions in one step (a time step much longer than 1 / f_i
  * aliases anyway: the paper's limit). */
 #define MTX_MAX_DECISIONS_PER_STEP 16
-/* A move is split into pieces no longer than half a texel (a deposit every piece), but
+/* A move is split into pieces no longer than max_piece texels (a deposit every piece), but
  * into no more than this many. */
 #define MTX_MAX_DEPOSIT_PIECES 64
 
@@ -49,7 +49,7 @@ typedef struct mtx_continuous_constants {
   float dt;
   float exposure_step;   /* dt / tau; 0 = no turnover */
   float activation_time; /* t_a */
-  float max_piece;       /* longest deposit piece in texel units (0.5) */
+  float max_piece;       /* longest deposit piece in texel units (1) */
   mtx_u32 width, height;
   mtx_u32 species_count;
   mtx_u32 has_fields;
@@ -175,7 +175,7 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
     if (life->clock >= k->decision_period) life->clock = 0.0f; /* aliasing: drop the rest */
   }
 
-  /* Move v * dt in pieces of at most half a texel, depositing an equal share at the end
+  /* Move v * dt in pieces of at most max_piece texels, depositing an equal share at the end
    * of each piece: over successive steps the deposits sit evenly along the whole path,
    * r_dep / v per unit length, whatever dt or the piece count (Eq. 4). A piece that
    * would enter an obstacle from free ground is undone and the agent turns back. */
