@@ -190,6 +190,8 @@ TEST(ContinuousModel, MeanConcentrationSettlesAtU) {
   RunSpec r;
   r.size = 128;
   r.seconds = 2.0;  // 12 decay times: the start-up remnant is exp(-12.6) of U
+  r.p.mean_lifetime = 0.f;
+  r.p.activation_time = 0.f;
   Outcome o = Simulate(r);
   const double area = 4 * M_PI * M_PI * 0.4;
   const double u = r.agents * r.p.deposit_rate / (r.p.decay_rate * area);
