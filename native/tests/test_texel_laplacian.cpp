@@ -361,8 +361,9 @@ TEST(TexelLaplacian, ForwardAndBackwardAgreeForSmallSteps) {
 // 25x stiffer than the median. Forward Euler with fine sub-steps for those cells against
 // backward Euler at a tenth of the step. The difference is forward Euler's own error
 // where cells step close to their stability limit (h * rate up to 0.9: the 1% stiffest
-// cells, as the stiffest cell does under global sub-steps): measured 2.5e-3 relative L2
-// and 2.3% in the worst cell, where diffusion changed the field by 3%; bounds 2x that.
+// cells, as the stiffest cell does under global sub-steps): measured 1.1e-3 relative L2
+// and 0.7% in the worst cell (5 coarse x 9 fine sub-steps, 14% of the cells fine, against
+// 45 global ones), where diffusion changed the field by 14%; bounds about 3x that.
 // A smooth field of the 3D position, so the comparison measures the integrators.
 TEST(TexelLaplacian, LocalTimeSteppingAgreesWithBackwardEuler) {
   const Mesh m = make_uv_sphere(64, 32, 1.0);
@@ -373,7 +374,7 @@ TEST(TexelLaplacian, LocalTimeSteppingAgreesWithBackwardEuler) {
     const Vec3 x = {std::sin(kPi * t) * std::cos(2 * kPi * s), std::sin(kPi * t) * std::sin(2 * kPi * s), std::cos(kPi * t)};
     u0[i] = float(1 + 0.5 * std::cos(6 * x[0]) * std::sin(5 * x[1] + 4 * x[2]));
   }
-  const double dt = 0.002, r_dif = 4.0 / (p.lap.coarse_rate * dt);  // 5 coarse sub-steps
+  const double dt = 0.002, r_dif = 40.0 / (p.lap.max_rate * dt);  // 45 global sub-steps
   const moldtex::LocalSteppingPlan plan = moldtex::local_stepping_plan(p.lap, r_dif, dt);
   ASSERT_FALSE(plan.fine_rows.empty());
   const int steps = 200;
@@ -393,9 +394,10 @@ TEST(TexelLaplacian, LocalTimeSteppingAgreesWithBackwardEuler) {
   std::printf("[ sphere ] %u coarse x %u fine sub-steps (%zu fine cells of %zu): local vs backward "
               "relative L2 %.2e, worst cell %.2e (diffusion changed the field by %.2e)\n",
               plan.coarse, plan.fine, plan.fine_rows.size(), p.lap.rows.size(), relative, worst, moved);
-  EXPECT_GT(moved, 0.02);
-  EXPECT_LT(relative, 5e-3);
-  EXPECT_LT(worst, 5e-2);
+  EXPECT_GT(moved, 0.05);
+  EXPECT_LT(plan.coarse * 4, 45u) << "local time stepping must save most of the global sub-steps";
+  EXPECT_LT(relative, 3e-3);
+  EXPECT_LT(worst, 2e-2);
 }
 
 // 5b. A step that forward Euler would need more than 256 sub-steps for: FORWARD refuses

@@ -41,10 +41,11 @@ constexpr uint32_t kMaxForwardSubsteps = 256;  // beyond this, refuse forward Eu
 // wins up to about 90 sub-steps.
 constexpr uint32_t kAutoForwardSubsteps = 64;
 constexpr double kBackwardTolerance = 1e-6;    // CG: |b - A x| <= tol |b|
-// Local time stepping: the coarse sub-step suits this fraction of the cells; the fine
-// cells' sub-steps per coarse one are bounded (beyond: backward Euler, or refused).
-constexpr double kCoarseQuantile = 0.99;
+// Local time stepping: the fine cells' sub-steps per coarse one are bounded (beyond:
+// backward Euler, or refused); a fine cell's sub-step costs about this many coarse
+// cells' (it also sums its inflows), which the choice of the coarse sub-step weighs.
 constexpr uint32_t kMaxFineSubsteps = 1024;
+constexpr double kFineCellCost = 1.5;
 constexpr size_t kRowGrain = 4096;             // rows per parallel_for chunk
 
 using Vec3d = std::array<double, 3>;
@@ -284,11 +285,13 @@ void forward_steps(const TexelLaplacian& lap, const LocalSteppingPlan& plan, flo
   const float hf = static_cast<float>(h);
   const bool local = !plan.fine_rows.empty();
   // Fine cells' current and next values (texel-indexed) and the inflow per CSR entry.
-  std::vector<float> cur, next, flux;
+  std::vector<float>& cur = plan.cur;
+  std::vector<float>& next = plan.next;
+  std::vector<float>& flux = plan.flux;
   if (local) {
-    cur.assign(lap.area.size(), 0.f);
-    next.assign(lap.area.size(), 0.f);
-    flux.assign(lap.col.size(), 0.f);
+    cur.resize(lap.area.size());
+    next.resize(lap.area.size());
+    flux.resize(lap.col.size());
   }
   const float hfine = static_cast<float>(h / plan.fine);
   for (uint32_t step = 0; step < n; ++step) {
@@ -405,12 +408,8 @@ TexelLaplacian build_texel_laplacian(const Surface& s, const TextureDomain& d, T
       const auto first = lap.col.begin() + lap.start[j], last = lap.col.begin() + lap.start[j + 1];
       lap.reverse[k] = static_cast<uint32_t>(std::lower_bound(first, last, lap.rows[r]) - lap.col.begin());
     }
-  if (n > 0) {
-    std::vector<float> rates = lap.rate;
-    const size_t q = std::min(n - 1, static_cast<size_t>(kCoarseQuantile * static_cast<double>(n)));
-    std::nth_element(rates.begin(), rates.begin() + static_cast<std::ptrdiff_t>(q), rates.end());
-    lap.coarse_rate = rates[q];
-  }
+  lap.sorted_rate = lap.rate;
+  std::sort(lap.sorted_rate.begin(), lap.sorted_rate.end());
   return lap;
 }
 
@@ -424,7 +423,7 @@ uint32_t substeps_for(double rate, double rdt) {
 }  // namespace
 
 uint32_t forward_substeps(const TexelLaplacian& lap, double r_dif, double dt) {
-  return substeps_for(lap.coarse_rate, r_dif * dt);
+  return local_stepping_plan(lap, r_dif, dt).coarse;
 }
 
 const LocalSteppingPlan& local_stepping_plan(const TexelLaplacian& lap, double r_dif, double dt) {
@@ -432,7 +431,27 @@ const LocalSteppingPlan& local_stepping_plan(const TexelLaplacian& lap, double r
   if (lap.local && lap.local->rdt == rdt) return *lap.local;
   auto plan = std::make_shared<LocalSteppingPlan>();
   plan->rdt = rdt;
-  plan->coarse = substeps_for(lap.coarse_rate, rdt);
+  // The coarse sub-step count with the least work: n passes over every cell plus, in
+  // each, `fine` passes over the cells too stiff for the coarse sub-step.
+  const uint32_t global = substeps_for(lap.max_rate, rdt);
+  plan->coarse = global;
+  if (global != UINT32_MAX && global > 1 && !lap.sorted_rate.empty()) {
+    const double cells = static_cast<double>(lap.sorted_rate.size());
+    double best = static_cast<double>(global) * cells;
+    for (uint32_t n = 1; n < global; ++n) {
+      const double h = rdt / n;
+      const uint32_t fine = substeps_for(lap.max_rate, h);
+      if (fine > kMaxFineSubsteps) continue;
+      const float limit = static_cast<float>(kForwardLimit / h);
+      const double stiff = static_cast<double>(lap.sorted_rate.end() -
+                                               std::upper_bound(lap.sorted_rate.begin(), lap.sorted_rate.end(), limit));
+      const double cost = n * (cells + kFineCellCost * stiff * fine);
+      if (cost < best) {
+        best = cost;
+        plan->coarse = n;
+      }
+    }
+  }
   const double h = plan->coarse == UINT32_MAX ? 0.0 : rdt / plan->coarse;
   plan->fine = h > 0 ? substeps_for(lap.max_rate, h) : 1;
   if (plan->fine > 1 && plan->coarse != UINT32_MAX) {

@@ -32,6 +32,8 @@ struct LocalSteppingPlan {
   uint32_t coarse = 1, fine = 1;   // coarse sub-steps per step; fine ones per coarse one
   std::vector<uint32_t> fine_rows; // the fine cells (row indices); empty: global steps
   std::vector<uint8_t> is_fine;    // per texel: 1 for a fine cell
+  // Scratch of the CPU stepping: fine cells' values (per texel) and inflows (per entry).
+  mutable std::vector<float> cur, next, flux;
 };
 
 struct TexelLaplacian {
@@ -48,8 +50,9 @@ struct TexelLaplacian {
   // Per row: its rate sum_j c_ij / A_i. Per CSR entry (i -> j): the index of (j -> i).
   std::vector<float> rate;
   std::vector<uint32_t> reverse;
-  // The rate that 99% of the cells stay below: local time stepping's coarse sub-step.
-  double coarse_rate = 0;
+  // The rates, ascending: local time stepping weighs how many cells each sub-step leaves
+  // too stiff.
+  std::vector<float> sorted_rate;
   mutable std::shared_ptr<LocalSteppingPlan> local;  // for the last r_dif dt (cache)
   // Backward Euler's matrix M + r_dif dt K for the last r_dif dt used, built on first use
   // (advance_diffusion_decay). Treat the fields above as immutable once built: copies
@@ -66,12 +69,12 @@ struct PdeStepInfo {
   bool backward = false;
 };
 
-// Forward-Euler sub-steps dt needs for stability (rate * r_dif * dt / n <= 0.9): of the
-// coarse cells with local time stepping (99% of them), or of every cell.
+// Forward-Euler (coarse) sub-steps per step: local_stepping_plan(...).coarse.
 uint32_t forward_substeps(const TexelLaplacian& lap, double r_dif, double dt);
 
-// The local time stepping plan for r_dif dt (cached in lap.local): coarse sub-steps for
-// coarse_rate; cells stiffer than that are fine, with enough fine sub-steps for max_rate.
+// The local time stepping plan for r_dif dt (cached in lap.local): the coarse sub-step
+// count with the least work (every cell once per coarse sub-step, the cells too stiff for
+// it `fine` times, enough for max_rate); with one cell stiffness it is global sub-steps.
 const LocalSteppingPlan& local_stepping_plan(const TexelLaplacian& lap, double r_dif, double dt);
 
 // Whether a step runs backward Euler: BACKWARD, or AUTO beyond 64 forward sub-steps.
