@@ -31,7 +31,7 @@ moldtex_install_packages() {
   # OpenCL: Khronos headers to build the backend, the ICD loader, and PoCL (OpenCL on
   # the CPU) so the OpenCL path really runs here.
   moldtex_apt_install build-essential cmake pkg-config libgtest-dev libbenchmark-dev \
-    libopenimageio-dev libembree-dev opencl-headers ocl-icd-opencl-dev pocl-opencl-icd \
+    libopenimageio-dev libembree-dev libeigen3-dev opencl-headers ocl-icd-opencl-dev pocl-opencl-icd \
     blender python3 python3-venv python3-pip \
     xvfb xauth  # a virtual X server for the interactive checks
 }

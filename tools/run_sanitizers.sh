@@ -32,7 +32,7 @@ start=$SECONDS
 # shellcheck source=common.sh
 source "$ROOT/tools/common.sh"
 moldtex_apt_install clang libclang-rt-dev cmake pkg-config libgtest-dev libopenimageio-dev \
-  libembree-dev opencl-headers ocl-icd-opencl-dev
+  libembree-dev libeigen3-dev opencl-headers ocl-icd-opencl-dev
 
 # ---- build: the library, the tests and the fuzz target, nothing else.
 SAN="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer"

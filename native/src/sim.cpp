@@ -6,6 +6,7 @@
 #include <unistd.h>
 #include <vector>
 
+#include "agents/continuous_rules.h"
 #include "backends/cpu/cpu_backend.h"
 #include "brush/brush.h"
 #ifdef MOLDTEX_HAVE_OPENCL
@@ -62,6 +63,8 @@ void validate_config(const moldtex_sim_config& c, const Surface& surface) {
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Unknown backend: use 0 (auto), 1 (CPU) or 2 (OpenCL)");
   if (c.agent_count == 0)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The number of agents must be at least 1");
+  if (c.model > MOLDTEX_MODEL_CONTINUOUS)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Unknown model: use 0 (MoMaS) or 1 (continuous)");
   if (c.species_count < 1 || c.species_count > MOLDTEX_MAX_SPECIES)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The number of species must be between 1 and 4");
   if (c.seed_shape > MOLDTEX_SEED_STARBURST)
@@ -163,6 +166,26 @@ void validate_species_params(const moldtex_species_params& p) {
     check_range("Attraction", a, -1.f, 1.f, "+1 follows a trail, -1 avoids it");
 }
 
+void validate_continuous_params(const moldtex_continuous_params& p) {
+  if (p.struct_size < sizeof(moldtex_continuous_params))
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "moldtex_continuous_params.struct_size is too small: call moldtex_continuous_params_init first");
+  check_range("Move rate", p.move_rate, 0.f, 1e6f, "mesh units per second");
+  check_range("Turn rate", p.turn_rate, 0.f, 1e6f, "radians per second");
+  check_range("Turn decision frequency", p.turn_frequency, 1e-6f, 1e6f, "decisions per second, > 0");
+  check_range("Sensor distance", p.sensor_distance, 0.f, 1e6f, "mesh units");
+  check_range("Sensor angle", p.sensor_angle, -180.f, 180.f, "degrees; negative = chemo-repulsion");
+  check_range("Deposit rate", p.deposit_rate, 0.f, 1e12f, "amount per agent per second");
+  check_range("Diffusion rate", p.diffusion_rate, 0.f, 1e6f, "mesh units squared per second");
+  check_range("Decay rate", p.decay_rate, 0.f, 1e6f, "per second");
+  check_range("Mean lifetime", p.mean_lifetime, 0.f, 1e9f, "seconds; 0 turns turnover off");
+  check_range("Activation time", p.activation_time, 0.f, 1e9f, "seconds");
+  check_range("Time step", p.time_step, 1e-6f, 1.f, "seconds per step");
+  if (p.integrator > MOLDTEX_INTEGRATOR_BACKWARD)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "Unknown integrator: use 0 (auto), 1 (forward Euler) or 2 (backward Euler)");
+}
+
 namespace {
 
 #ifdef MOLDTEX_HAVE_OPENCL
@@ -171,8 +194,13 @@ std::unique_ptr<Backend> make_opencl(std::shared_ptr<const Surface> surface,
                                      const moldtex_sim_config& c) {
   const std::vector<cl::Device> devices = cl::list_devices();
   for (const cl::Device& d : devices)
-    if (d.platform_index == c.opencl_platform && d.device_index == c.opencl_device)
+    if (d.platform_index == c.opencl_platform && d.device_index == c.opencl_device) {
+      if (c.model == MOLDTEX_MODEL_CONTINUOUS && !d.int64_atomics)
+        fail(MOLDTEX_ERROR_UNAVAILABLE, "The continuous model needs 64-bit integer atomics "
+                                        "(cl_khr_int64_base_atomics), which " + d.name +
+                                            " lacks: use the CPU backend");
       return std::make_unique<OpenClBackend>(surface, domain, c.agent_count, c.species_count, d);
+    }
   std::ostringstream m;
   m << "There is no OpenCL device " << c.opencl_device << " on platform " << c.opencl_platform
     << "; this machine has:";
@@ -189,7 +217,7 @@ std::unique_ptr<Backend> make_auto_opencl(std::shared_ptr<const Surface> surface
                                           const moldtex_sim_config& c, std::string& why_not) {
   try {
     for (const cl::Device& d : cl::list_devices())
-      if (d.is_gpu)
+      if (d.is_gpu && (c.model != MOLDTEX_MODEL_CONTINUOUS || d.int64_atomics))
         return std::make_unique<OpenClBackend>(surface, domain, c.agent_count, c.species_count, d);
     why_not = "no OpenCL GPU device";
   } catch (const Error& e) {
@@ -210,11 +238,18 @@ Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim
   settings_.species_count = config.species_count;
   for (uint32_t k = 0; k < MTX_MAX_SPECIES; ++k) moldtex_species_params_init(&settings_.species[k], k);
   set_params(params);
+  settings_.model = config.model;
+  moldtex_continuous_params_init(&settings_.continuous);
   {
     ThreadPool pool(params.thread_count);
     domain_ = std::make_shared<const TextureDomain>(
         build_texture_domain(*surface_, config.width, config.height, pool));
   }
+  const TextureDomain& d = *domain_;
+  for (size_t i = 0; i < d.texel_count(); ++i)
+    if (d.classes[i] == MOLDTEX_TEXEL_INSIDE && d.texel_triangle[i] >= 0)
+      cell_area_ += d.triangle_area_scale[d.texel_triangle[i]];
+  cell_area_ /= static_cast<double>(d.width) * d.height;
   std::string why_not;
   switch (config.backend) {
     case MOLDTEX_BACKEND_OPENCL:
@@ -354,9 +389,44 @@ void Simulation::reset() {
   else if (obstacles)
     spec.texel_weights = &free_weights_;
   ThreadPool pool(settings_.params.thread_count);
-  backend_->reset(spawn_agents(*surface_, spec, pool));
+  Agents agents = spawn_agents(*surface_, spec, pool);
+  start_lives(agents, 0, 0);
+  backend_->reset(agents);
   batches_.clear();  // brush agents and stashes go with the old agents
   step_count_ = 0;
+  time_ = 0;
+  update_u_metric();
+}
+
+void Simulation::start_lives(Agents& agents, size_t begin, uint64_t stream) {
+  start_agent_lives(settings_.continuous, config_.seed, stream, agents, begin, agents.size());
+}
+
+void Simulation::update_u_metric() {
+  settings_.u_metric.assign(settings_.species_count, 0.0);
+  if (!continuous()) return;
+  Agents agents;
+  backend_->export_agents(agents);
+  const std::vector<double> n = agents_per_species(agents, settings_.species_count);
+  for (uint32_t k = 0; k < settings_.species_count; ++k)
+    settings_.u_metric[k] = uniform_steady_state(settings_.continuous, n[k], cell_area_);
+}
+
+void Simulation::set_continuous_params(const moldtex_continuous_params& p) {
+  validate_continuous_params(p);
+  const moldtex_continuous_params old = settings_.continuous;
+  settings_.continuous = p;
+  if (!continuous() || !backend_) return;
+  // Turnover switched on or off, or the clocks' scales changed: restart the clocks in
+  // the new steady state (ages and exposures of the old one would not match it).
+  if ((old.mean_lifetime > 0.f) != (p.mean_lifetime > 0.f) || old.mean_lifetime != p.mean_lifetime ||
+      old.turn_frequency != p.turn_frequency) {
+    Agents agents;
+    backend_->export_agents(agents);
+    start_lives(agents, 0, 0x10000 + step_count_);
+    backend_->import_agents(agents);
+  }
+  update_u_metric();
 }
 
 namespace {
@@ -393,10 +463,24 @@ void Simulation::add_agents(const moldtex_brush& brush, uint32_t count, uint32_t
   Agents agents;
   backend_->export_agents(agents);
   ThreadPool pool(settings_.params.thread_count);
+  const size_t first = agents.size();
   append_agents(agents, place_disk_agents(*surface_, brush, count, config_.seed,
                                           static_cast<uint16_t>(batch), record.added, pool));
+  // Brush agents start as agents in the steady state too; agent k of a batch depends
+  // only on (seed, batch, k).
+  for (size_t i = first; i < agents.size(); ++i) {
+    Agents one;
+    one.resize(1);
+    start_agent_lives(settings_.continuous, config_.seed, (uint64_t(batch) << 32) | (record.added + i - first),
+                      one, 0, 1);
+    agents.clock[i] = one.clock[0];
+    agents.age[i] = one.age[0];
+    agents.exposure[i] = one.exposure[0];
+    agents.threshold[i] = one.threshold[0];
+  }
   backend_->import_agents(agents);
   record.added += count;
+  update_u_metric();
 }
 
 uint32_t Simulation::erase_agents(const moldtex_brush& brush, uint32_t batch) {
@@ -428,6 +512,7 @@ uint32_t Simulation::erase_agents(const moldtex_brush& brush, uint32_t batch) {
     record.erased.resize(stashed);  // the agents are still live
     throw;
   }
+  update_u_metric();
   return static_cast<uint32_t>(removed);
 }
 
@@ -452,6 +537,7 @@ void Simulation::undo_agents(uint32_t batch) {
     backend_->import_agents(next);
   }
   if (it != batches_.end()) batches_.erase(it);
+  update_u_metric();
 }
 
 void Simulation::set_food(const moldtex_food_source* sources, uint32_t count) {
@@ -486,6 +572,7 @@ void Simulation::step(uint32_t steps) {
           settings_.food.insert(settings_.food.end(), {f.position[0], f.position[1], f.position[2], f.strength});
         }
     backend_->step(settings_, config_.seed, step_count_++, eaters.data());
+    time_ += continuous() ? settings_.continuous.time_step : settings_.params.time_step;
     // Depletion from exact counts, after the agent pass: the same on every backend.
     for (size_t a = 0; a < active.size(); ++a) {
       moldtex_food_source& f = food_[active[a]];
@@ -501,10 +588,25 @@ std::vector<float> Simulation::read_field() const {
   return field;
 }
 
+std::vector<float> Simulation::read_display_field() const {
+  std::vector<float> field = read_field();
+  if (!continuous()) return field;
+  // The continuous model shows u / U: 1 is the uniform steady state, at any deposit
+  // rate, agent count or surface area.
+  const size_t texels = domain_->texel_count();
+  for (uint32_t k = 0; k < settings_.species_count; ++k) {
+    const double u = k < settings_.u_metric.size() ? settings_.u_metric[k] : 0.0;
+    if (!(std::isfinite(u) && u > 0)) continue;
+    const float scale = static_cast<float>(1.0 / u);
+    for (size_t i = 0; i < texels; ++i) field[k * texels + i] *= scale;
+  }
+  return field;
+}
+
 void Simulation::read_rgba(float* rgba) const {
   const size_t texels = domain_->texel_count();
   const uint32_t planes = settings_.species_count;
-  const std::vector<float> field = read_field();
+  const std::vector<float> field = read_display_field();
   const auto& classes = domain_->classes;
   for (size_t i = 0; i < texels; ++i) {
     const float mask = classes[i] == MOLDTEX_TEXEL_OUTSIDE ? 0.f : 1.f;  // alpha = island mask
@@ -524,7 +626,7 @@ void Simulation::read_rgba(float* rgba) const {
 void Simulation::write_image(const std::string& path, moldtex_image_format format) const {
   const size_t texels = domain_->texel_count();
   const uint32_t planes = settings_.species_count;
-  const std::vector<float> field = read_field();
+  const std::vector<float> field = read_display_field();
   static const char* const kOne[] = {"Y"};
   static const char* const kMany[] = {"R", "G", "B", "A"};
   std::vector<float> interleaved(texels * planes);
@@ -541,6 +643,8 @@ void Simulation::save_checkpoint(const std::string& path, const std::vector<Metr
   c.config = config_;
   c.config.fields_rgba = nullptr;
   c.params = settings_.params;
+  c.continuous = settings_.continuous;
+  c.time = time_;
   c.species.assign(settings_.species, settings_.species + MTX_MAX_SPECIES);
   c.fields_rgba = fields_rgba_;
   c.food = food_;
@@ -558,17 +662,19 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
          "The checkpoint " + path + " was made on a different mesh or UV map: bake from the start");
   if (c.config.width != config_.width || c.config.height != config_.height ||
       c.config.agent_count != config_.agent_count || c.config.seed != config_.seed ||
-      c.config.species_count != config_.species_count)
+      c.config.species_count != config_.species_count || c.config.model != config_.model)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
-         "The checkpoint " + path + " was made with another resolution, agent count, seed or "
-         "number of species: bake from the start");
+         "The checkpoint " + path + " was made with another resolution, agent count, seed, "
+         "number of species or model: bake from the start");
   const Agents& a = c.state.agents;
   const uint32_t planes = config_.species_count;
   // The agent count may differ from the config's: slime brushes add and erase agents.
   if (a.triangle.size() > kMaxAgents || a.b1.size() != a.triangle.size() ||
       a.b2.size() != a.triangle.size() || a.hx.size() != a.triangle.size() ||
       a.hy.size() != a.triangle.size() || a.species.size() != a.triangle.size() ||
-      a.hunger.size() != a.triangle.size() || c.food.size() > MTX_MAX_FOOD ||
+      a.hunger.size() != a.triangle.size() || a.clock.size() != a.triangle.size() ||
+      a.age.size() != a.triangle.size() || a.exposure.size() != a.triangle.size() ||
+      a.threshold.size() != a.triangle.size() || c.food.size() > MTX_MAX_FOOD ||
       c.state.pheromone.size() != domain_->texel_count() * planes ||
       c.species.size() != MTX_MAX_SPECIES ||
       (!c.fields_rgba.empty() && c.fields_rgba.size() != domain_->texel_count() * 4))
@@ -577,6 +683,7 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
   c.params.thread_count = settings_.params.thread_count;  // a machine setting, not part of the state
   validate_params(c.params);
   check_length_unit(c.params, *surface_);
+  validate_continuous_params(c.continuous);
   for (uint32_t k = 0; k < MTX_MAX_SPECIES; ++k) validate_species_params(c.species[k]);
   {
     const std::vector<moldtex_food_source> keep = food_;
@@ -597,9 +704,12 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
   backend_->import_state(c.state);
   batches_.clear();
   settings_.params = c.params;
+  settings_.continuous = c.continuous;
   for (uint32_t k = 0; k < MTX_MAX_SPECIES; ++k) settings_.species[k] = c.species[k];
   food_ = c.food;
   step_count_ = c.step_count;
+  time_ = c.time;
+  update_u_metric();
   return c.metrics;
 }
 
@@ -611,7 +721,19 @@ moldtex_sim_stats Simulation::stats() const {
   s.bytes_in_use = backend_->bytes() + domain_->bytes() + surface_->bytes();
   const size_t texels = domain_->texel_count();
   const uint32_t planes = settings_.species_count;
-  const std::vector<float> field = read_field();
+  const std::vector<float> field = read_display_field();
+  if (continuous()) {
+    s.u_metric = settings_.u_metric.empty() ? 0.0 : settings_.u_metric[0];
+    const std::vector<float> raw = read_field();
+    double amount = 0;
+    const TextureDomain& d = *domain_;
+    for (size_t i = 0; i < texels; ++i)
+      if (d.classes[i] == MOLDTEX_TEXEL_INSIDE && d.texel_triangle[i] >= 0)
+        amount += static_cast<double>(raw[i]) * d.triangle_area_scale[d.texel_triangle[i]];
+    amount /= static_cast<double>(d.width) * d.height;
+    s.mean_concentration = cell_area_ > 0 ? amount / cell_area_ : 0.0;
+  }
+  s.time = time_;
   if (planes == 1) {
     FieldMetrics m = measure(*domain_, field.data());
     s.coverage = m.coverage;

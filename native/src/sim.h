@@ -18,6 +18,7 @@ void validate_config(const moldtex_sim_config& config, const Surface& surface);
 void validate_params(const moldtex_sim_params& params);
 void check_length_unit(const moldtex_sim_params& params, const Surface& surface);
 void validate_species_params(const moldtex_species_params& params);
+void validate_continuous_params(const moldtex_continuous_params& params);
 
 class Simulation {
  public:
@@ -34,6 +35,10 @@ class Simulation {
   void set_food(const moldtex_food_source* sources, uint32_t count);
   const std::vector<moldtex_food_source>& food() const { return food_; }
   const moldtex_sim_params& params() const { return settings_.params; }
+  // The continuous model's parameters (kept, but unused, under MoMaS).
+  void set_continuous_params(const moldtex_continuous_params& params);
+  const moldtex_continuous_params& continuous_params() const { return settings_.continuous; }
+  bool continuous() const { return config_.model == MOLDTEX_MODEL_CONTINUOUS; }
   const moldtex_sim_config& config() const { return config_; }
   const TextureDomain& domain() const { return *domain_; }
   const Surface& surface() const { return *surface_; }
@@ -42,6 +47,8 @@ class Simulation {
   void read_rgba(float* rgba) const;
   // The pheromone planes, one per species, as the backend holds them.
   std::vector<float> read_field() const;
+  // What images show: read_field, divided by U per species for the continuous model.
+  std::vector<float> read_display_field() const;
   void read_agents(moldtex_surface_point* out, size_t count) const { backend_->read_agents(out, count); }
   moldtex_sim_stats stats() const;
   std::string backend_name() const {
@@ -63,6 +70,11 @@ class Simulation {
   std::atomic<bool> busy{false};
 
  private:
+  // U of every species from the live agents (continuous model), into settings_.
+  void update_u_metric();
+  // Continuous model: steady-state clocks for agents [begin, end) (see start_agent_lives).
+  void start_lives(Agents& agents, size_t begin, uint64_t stream);
+
   std::shared_ptr<const Surface> surface_;
   std::shared_ptr<const TextureDomain> domain_;
   moldtex_sim_config config_;  // fields_rgba is always NULL here
@@ -83,6 +95,8 @@ class Simulation {
   std::map<uint32_t, BrushBatch> batches_;
   std::string why_not_opencl_;  // why Auto chose the CPU
   uint64_t step_count_ = 0;
+  double time_ = 0;       // simulated seconds since create or reset
+  double cell_area_ = 0;  // 3D area of the island texels (the PDE's cells): U's A
 };
 
 }  // namespace moldtex

@@ -1,8 +1,9 @@
 // Agent state as a structure of arrays: triangle, two barycentric weights (the third is
 // 1 - b1 - b2), a unit heading in the triangle's local frame, the species and the
 // hunger in [0, 1] (food with hunger), and the brush batch that added it (0 = spawned
-// at reset; host-side bookkeeping of the slime brushes, never read by the step).
-// 27 bytes per agent.
+// at reset; host-side bookkeeping of the slime brushes, never read by the step), and
+// the clocks of the continuous model (turn-decision clock, age, exposure and its
+// threshold; see shared/continuous.h). 43 bytes per agent.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -18,6 +19,7 @@ struct Agents {
   std::vector<uint8_t> species;
   std::vector<float> hunger;
   std::vector<uint16_t> batch;
+  std::vector<float> clock, age, exposure, threshold;
 
   size_t size() const { return triangle.size(); }
   void resize(size_t n) {
@@ -29,9 +31,14 @@ struct Agents {
     b2.resize(n);
     hx.resize(n);
     hy.resize(n);
+    clock.resize(n);
+    age.resize(n);
+    exposure.resize(n);
+    threshold.resize(n);
   }
   size_t bytes() const { return triangle.capacity() * 4 + (b1.capacity() + b2.capacity() + hx.capacity() + hy.capacity()) * 4 +
-                        species.capacity() + hunger.capacity() * 4 + batch.capacity() * 2; }
+                        species.capacity() + hunger.capacity() * 4 + batch.capacity() * 2 +
+                        (clock.capacity() + age.capacity() + exposure.capacity() + threshold.capacity()) * 4; }
 
   Walker load(size_t i) const {
     return Walker{triangle[i], {1.f - b1[i] - b2[i], b1[i], b2[i]}, {hx[i], hy[i]}};
@@ -49,6 +56,10 @@ struct Agents {
     species[i] = from.species[j];
     hunger[i] = from.hunger[j];
     batch[i] = from.batch[j];
+    clock[i] = from.clock[j];
+    age[i] = from.age[j];
+    exposure[i] = from.exposure[j];
+    threshold[i] = from.threshold[j];
   }
 };
 

@@ -21,6 +21,11 @@ struct StepSettings {
   // Food sources with food left, 4 floats each (x, y, z, strength); read while
   // params.hunger_rate > 0. Filled by the simulation before every step.
   std::vector<float> food;
+  // The behaviour model (moldtex_model) and, for MOLDTEX_MODEL_CONTINUOUS, its parameters
+  // and U (Eq. 5) of each species, which sensing divides by.
+  uint32_t model = MOLDTEX_MODEL_MOMAS;
+  moldtex_continuous_params continuous{};
+  std::vector<double> u_metric;
 };
 
 MomasStepConstants momas_constants(const StepSettings& settings, const TextureDomain& d,

@@ -285,6 +285,28 @@ void moldtex_sim_config_init(moldtex_sim_config* c) {
   c->seed_radius = 0.0f;
   c->seed_rays = 8;
   c->fields_rgba = nullptr;
+  c->model = MOLDTEX_MODEL_MOMAS;
+}
+
+void moldtex_continuous_params_init(moldtex_continuous_params* p) {
+  if (!p) return;
+  std::memset(p, 0, sizeof(*p));
+  p->struct_size = sizeof(*p);
+  // Jones' classic agent (1 texel per step at 60 Hz, sensor 9 texels ahead at 45 degrees,
+  // 45 degree turns, a 3x3 mean blur and 10% decay per step) on a lattice of 0.01 mesh
+  // units, as rates.
+  p->move_rate = 0.6f;          // 0.01 * 60
+  p->turn_rate = 47.12389f;     // pi / 4 * 60
+  p->turn_frequency = 60.f;
+  p->sensor_distance = 0.09f;
+  p->sensor_angle = 45.f;
+  p->deposit_rate = 1.f;
+  p->diffusion_rate = 0.002f;   // (2/3 h^2 per step) / (2 dt)
+  p->decay_rate = 6.3f;         // -ln(0.9) * 60
+  p->mean_lifetime = 0.f;
+  p->activation_time = 0.f;
+  p->time_step = 1.f / 60.f;
+  p->integrator = MOLDTEX_INTEGRATOR_AUTO;
 }
 
 void moldtex_species_params_init(moldtex_species_params* p, uint32_t species) {
@@ -348,6 +370,24 @@ moldtex_status moldtex_sim_get_params(moldtex_sim sim, moldtex_sim_params* param
     // Write back only as much as the caller's struct holds.
     const uint32_t caller_size = params->struct_size;
     const moldtex_sim_params out = sim->sim->params();
+    std::memcpy(params, &out, std::min<size_t>(caller_size, sizeof(out)));
+    params->struct_size = caller_size;
+  });
+}
+
+moldtex_status moldtex_sim_set_continuous_params(moldtex_sim sim, const moldtex_continuous_params* params) {
+  return guarded([&] {
+    use(sim).set_continuous_params(
+        read_struct(params, "moldtex_continuous_params", moldtex_continuous_params_init));
+  });
+}
+
+moldtex_status moldtex_sim_get_continuous_params(moldtex_sim sim, moldtex_continuous_params* params) {
+  return guarded([&] {
+    use(sim);
+    read_struct(params, "moldtex_continuous_params", moldtex_continuous_params_init);
+    const uint32_t caller_size = params->struct_size;
+    const moldtex_continuous_params out = sim->sim->continuous_params();
     std::memcpy(params, &out, std::min<size_t>(caller_size, sizeof(out)));
     params->struct_size = caller_size;
   });
@@ -477,8 +517,12 @@ void moldtex_sim_stats_init(moldtex_sim_stats* stats) {
 moldtex_status moldtex_sim_get_stats(moldtex_sim sim, moldtex_sim_stats* stats) {
   return guarded([&] {
     use(sim);
-    read_struct(stats, "moldtex_sim_stats");
-    *stats = sim->sim->stats();
+    // Callers from before the continuous model end at presence.
+    read_struct(stats, "moldtex_sim_stats", moldtex_sim_stats_init, offsetof(moldtex_sim_stats, u_metric));
+    const uint32_t caller_size = stats->struct_size;
+    const moldtex_sim_stats out = sim->sim->stats();
+    std::memcpy(stats, &out, std::min<size_t>(caller_size, sizeof(out)));
+    stats->struct_size = caller_size;
   });
 }
 

@@ -4,10 +4,12 @@
 // pair of neighbouring cells (grid neighbours on the same island, and pairs across UV
 // seams from the seam correspondence, whether or not gutter texels fit between islands)
 // exchanges pheromone through a conductance c_ij = 3D length of the shared face / 3D
-// distance between the cell centres. The operator is symmetric, so with r_dec = 0 the
+// distance between the cell centres (no less than their half-widths: texels on both
+// sides of a UV seam sliver sample the same surface). The operator is symmetric, so with r_dec = 0 the
 // total amount sum_i A_i u_i is conserved; open boundaries have no faces (closed).
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "backends/cpu/thread_pool.h"
@@ -15,6 +17,8 @@
 #include "surface/surface.h"
 
 namespace moldtex {
+
+struct BackwardEulerSystem;  // texel_laplacian.cpp
 
 struct TexelLaplacian {
   // Island texels (the cells), in texel order.
@@ -27,6 +31,10 @@ struct TexelLaplacian {
   std::vector<float> area;
   double max_rate = 0;    // max over cells of sum_j c_ij / A_i (1 / mesh units^2)
   double total_area = 0;  // sum of the cell areas
+  // Backward Euler's matrix M + r_dif dt K for the last r_dif dt used, built on first use
+  // (advance_diffusion_decay). Treat the fields above as immutable once built: copies
+  // share this cache.
+  mutable std::shared_ptr<BackwardEulerSystem> backward;
 };
 
 TexelLaplacian build_texel_laplacian(const Surface& surface, const TextureDomain& domain,
@@ -40,6 +48,11 @@ struct PdeStepInfo {
 
 // Forward-Euler sub-steps dt needs for stability (max_rate * r_dif * dt / n <= 0.9).
 uint32_t forward_substeps(const TexelLaplacian& lap, double r_dif, double dt);
+
+// Whether a step runs backward Euler: BACKWARD, or AUTO beyond 16 forward sub-steps.
+// Throws INVALID_ARGUMENT for FORWARD beyond 256 sub-steps (with what to do instead) and
+// for an unknown integrator.
+bool use_backward_euler(const TexelLaplacian& lap, double r_dif, double dt, uint32_t integrator);
 
 // Advances u (texel_count floats; only cells are read and written) by dt of
 // du/dt = r_dif L u - r_dec u. `integrator` is a moldtex_integrator. Decay is applied

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <sstream>
 
 #include "common/error.h"
@@ -17,7 +18,9 @@ namespace {
 // parameters) and static fields. Version 3: food with hunger (per-agent hunger, food
 // sources with their amounts left, the hunger parameters). Version 4: sensor_size
 // appended to the parameters. Version 5: length_unit appended to the parameters.
-constexpr char kMagic[8] = {'M', 'T', 'X', 'C', 'K', 'P', 'T', '5'};
+// Version 6: the continuous model (config.model, its parameters, simulated time, the
+// agents' clocks).
+constexpr char kMagic[8] = {'M', 'T', 'X', 'C', 'K', 'P', 'T', '6'};
 
 struct Writer {
   std::vector<char> bytes;
@@ -71,6 +74,10 @@ void for_each_array(State& s, F&& f) {
   f(s.agents.hy);
   f(s.agents.species);
   f(s.agents.hunger);
+  f(s.agents.clock);
+  f(s.agents.age);
+  f(s.agents.exposure);
+  f(s.agents.threshold);
   f(s.pheromone);
 }
 
@@ -114,12 +121,20 @@ void validate_checkpoint_values(const Checkpoint& c, const std::string& path, ui
                         std::to_string(species_count));
     if (!(a.hunger[i] >= 0.f && a.hunger[i] <= 1.f))
       damaged(path, agent + " has the hunger " + number(a.hunger[i]) + " (must be in 0 .. 1)");
+    // The continuous model's clocks (a threshold may be FLT_MAX: no turnover).
+    if (!(a.clock[i] >= 0.f && a.age[i] >= 0.f && a.exposure[i] >= 0.f && a.threshold[i] >= 0.f) ||
+        !std::isfinite(a.clock[i]) || !std::isfinite(a.age[i]) || !std::isfinite(a.exposure[i]) ||
+        !std::isfinite(a.threshold[i]))
+      damaged(path, agent + " has a clock, age, exposure or threshold that is negative or not a number");
   }
+  const bool continuous = c.config.model == MOLDTEX_MODEL_CONTINUOUS;
+  const double max_pheromone = continuous ? std::numeric_limits<float>::max() : kMaxPheromone;
+  const double max_coverage = continuous ? 1e30 : 1.0;
   for (size_t i = 0; i < c.state.pheromone.size(); ++i) {
     const float v = c.state.pheromone[i];
-    if (!(v >= 0.f && v <= kMaxPheromone))
+    if (!(v >= 0.f && v <= max_pheromone))
       damaged(path, "texel " + std::to_string(i) + " holds the pheromone " + number(v) +
-                        " (must be a number in 0 .. 1)");
+                        (continuous ? " (must be a finite number >= 0)" : " (must be a number in 0 .. 1)"));
   }
   for (size_t r = 0; r < c.metrics.size(); ++r) {
     const MetricRow& m = c.metrics[r];
@@ -130,7 +145,7 @@ void validate_checkpoint_values(const Checkpoint& c, const std::string& path, ui
     if (m.step > c.step_count)
       damaged(path, row + " is at step " + std::to_string(m.step) + ", after the checkpoint's step " +
                         std::to_string(c.step_count));
-    if (!(m.coverage >= 0.0 && m.coverage <= 1.0) || !(m.presence >= 0.0 && m.presence <= 1.0))
+    if (!(m.coverage >= 0.0 && m.coverage <= max_coverage) || !(m.presence >= 0.0 && m.presence <= 1.0))
       damaged(path, row + " has the coverage " + number(m.coverage) + " and presence " + number(m.presence) +
                         " (each must be in 0 .. 1)");
   }
@@ -141,6 +156,8 @@ void save_checkpoint(const std::string& path, const Checkpoint& c) {
   w.raw(kMagic, sizeof(kMagic));
   w.value(c.config);
   w.value(c.params);
+  w.value(c.continuous);
+  w.value(c.time);
   w.value(c.surface_fingerprint);
   w.value(c.step_count);
   w.array(c.metrics);
@@ -164,6 +181,8 @@ Checkpoint load_checkpoint(const std::string& path) {
   c.config = r.value<moldtex_sim_config>();
   c.config.fields_rgba = nullptr;  // a pointer is meaningless in a file
   c.params = r.value<moldtex_sim_params>();
+  c.continuous = r.value<moldtex_continuous_params>();
+  c.time = r.value<double>();
   c.surface_fingerprint = r.value<uint64_t>();
   c.step_count = r.value<uint64_t>();
   r.array(c.metrics);

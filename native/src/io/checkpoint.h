@@ -23,6 +23,8 @@ struct MetricRow {
 struct Checkpoint {
   moldtex_sim_config config{};   // width, height, agent count, seed must match to load
   moldtex_sim_params params{};
+  moldtex_continuous_params continuous{};  // version 6
+  double time = 0;                         // simulated seconds (version 6)
   uint64_t surface_fingerprint = 0;
   uint64_t step_count = 0;
   std::vector<MetricRow> metrics;
@@ -37,7 +39,7 @@ void save_checkpoint(const std::string& path, const Checkpoint& checkpoint);
 // validate_checkpoint_values, which the caller runs with what only it knows.
 Checkpoint load_checkpoint(const std::string& path);
 
-// Ranges of a checkpoint's values. The pheromone of a simulation stays in [0, 1] (deposits
+// Ranges of a checkpoint's values. The pheromone of a MoMaS simulation stays in [0, 1] (deposits
 // are max(texel, deposit) with deposit <= 1; blur and evaporation never raise a texel
 // above its neighbours); a bake's frames are 0 .. 999999 (moldtex_bake_desc).
 constexpr float kMaxPheromone = 1.f;
@@ -48,7 +50,8 @@ constexpr double kHeadingTolerance = 1e-3;  // |heading| = 1 up to rounding
 // Throws MOLDTEX_ERROR_IO naming the first bad value (the agent, texel or metrics row)
 // unless every value is one the simulation can hold: agents on triangles < triangle_count
 // with finite barycentrics in [0, 1] summing to 1, finite unit headings, species <
-// species_count, hunger in [0, 1]; pheromone in [0, kMaxPheromone]; metrics rows with
+// species_count, hunger in [0, 1]; pheromone in [0, kMaxPheromone] (the continuous model's
+// concentrations: finite, >= 0; its agent clocks finite, >= 0); metrics rows with
 // increasing frames in 0 .. kMaxFrame, steps <= the checkpoint's step and coverage and
 // presence in [0, 1]. Array sizes must have been checked before.
 void validate_checkpoint_values(const Checkpoint& checkpoint, const std::string& path,

@@ -12,6 +12,7 @@ typedef uchar mtx_u8;
 typedef uint mtx_u32;
 typedef int mtx_i32;
 typedef ulong mtx_u64;
+typedef long mtx_i64;
 #define MTX_GLOBAL __global
 #define MTX_FN static inline
 #define MTX_CAST(type, value) ((type)(value))
@@ -19,6 +20,8 @@ typedef ulong mtx_u64;
 #define MTX_MARK(marks, index) ((marks)[index] = (mtx_u8)1)
 /* Integer counters: exact whatever the order of the increments. */
 #define MTX_COUNT(counters, index) atomic_inc((counters) + (index))
+/* 64-bit integer sums (fixed-point deposits): exact whatever the order of the adds. */
+#define MTX_ADD_I64(sums, index, value) atom_add((sums) + (index), (value))
 #define MTX_BEGIN_NAMESPACE
 #define MTX_END_NAMESPACE
 #else
@@ -29,6 +32,7 @@ typedef uint8_t mtx_u8;
 typedef uint32_t mtx_u32;
 typedef int32_t mtx_i32;
 typedef uint64_t mtx_u64;
+typedef int64_t mtx_i64;
 #define MTX_GLOBAL
 #define MTX_FN inline
 #define MTX_CAST(type, value) static_cast<type>(value)
@@ -36,6 +40,8 @@ typedef uint64_t mtx_u64;
   std::atomic_ref<mtx_u8>((marks)[index]).store(1, std::memory_order_relaxed)
 #define MTX_COUNT(counters, index) \
   std::atomic_ref<mtx_u32>((counters)[index]).fetch_add(1u, std::memory_order_relaxed)
+#define MTX_ADD_I64(sums, index, value) \
+  std::atomic_ref<mtx_i64>((sums)[index]).fetch_add((value), std::memory_order_relaxed)
 #define MTX_BEGIN_NAMESPACE namespace moldtex {
 #define MTX_END_NAMESPACE }
 using std::ceil;
@@ -44,6 +50,7 @@ using std::fabs;
 using std::floor;
 using std::fmax;
 using std::fmin;
+using std::log;
 using std::sin;
 using std::sqrt;
 #endif

@@ -41,6 +41,7 @@ void CpuBackend::set_thread_count(unsigned threads) {
 
 void CpuBackend::step(const StepSettings& settings, uint64_t seed, uint64_t step_index,
                       uint32_t* eaters) {
+  if (settings.model == MOLDTEX_MODEL_CONTINUOUS) return step_continuous(settings, seed, step_index);
   const TextureDomain& d = *domain_;
   const moldtex_sim_params& p = settings.params;
   const MomasStepConstants c = momas_constants(settings, d, seed, step_index);
@@ -79,6 +80,44 @@ void CpuBackend::step(const StepSettings& settings, uint64_t seed, uint64_t step
   }
   pheromone_.swap(scratch_);
   for (uint32_t k = 0; k < species_count_; ++k) fill_gutter(d, pheromone_.data() + k * texels, *pool_);
+}
+
+void CpuBackend::step_continuous(const StepSettings& settings, uint64_t seed, uint64_t step_index) {
+  const TextureDomain& d = *domain_;
+  const moldtex_continuous_params& p = settings.continuous;
+  const size_t texels = d.texel_count();
+  if (!laplacian_) laplacian_ = std::make_unique<TexelLaplacian>(build_texel_laplacian(*surface_, d, *pool_));
+  if (alias_.prob.empty()) alias_ = build_area_alias_table(*surface_);
+  if (sums_.size() != pheromone_.size()) sums_.assign(pheromone_.size(), 0);
+  if (step_index % kSortInterval == 0) sort_by_tile(*surface_, d.width, d.height, agents_);
+  const ContinuousStepConstants c =
+      continuous_constants(settings, d, settings.u_metric, surface_->triangle_count(), seed, step_index);
+  // 1. Agents read the concentration as it was at the start of the step and add their
+  //    deposits into integer sums (exact in any order).
+  const mtx_surface_tables tables = surface_tables(*surface_, d);
+  const float* field = c.has_fields ? field_.data() : nullptr;
+  pool_->parallel_for(agents_.size(), 1024, [&](size_t begin, size_t end) {
+    continuous_update_agents(tables, c, pheromone_.data(), field, sums_.data(), alias_, agents_, begin, end);
+  });
+  // 2. Per species: the deposits become concentration (amount / cell area), then the PDE
+  //    advances by dt; the gutter shows what lies across each seam (for Blender only).
+  const float amount = p.deposit_rate * p.time_step / MTX_DEPOSIT_UNITS;
+  const TexelLaplacian& lap = *laplacian_;
+  for (uint32_t k = 0; k < species_count_; ++k) {
+    float* plane = pheromone_.data() + k * texels;
+    int64_t* sums = sums_.data() + k * texels;
+    pool_->parallel_for(lap.rows.size(), 4096, [&](size_t begin, size_t end) {
+      for (size_t r = begin; r < end; ++r) {
+        const uint32_t i = lap.rows[r];
+        if (sums[i] == 0 || !(lap.area[i] > 0.f)) continue;
+        plane[i] += mtx_deposit_concentration(sums[i], amount, lap.area[i]);
+        sums[i] = 0;
+      }
+    });
+    advance_diffusion_decay(lap, plane, pde_scratch_, p.diffusion_rate, p.decay_rate, p.time_step,
+                            p.integrator, *pool_);
+    fill_gutter(d, plane, *pool_);
+  }
 }
 
 void CpuBackend::read_pheromone(float* out) const {

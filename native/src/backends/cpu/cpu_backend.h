@@ -6,7 +6,9 @@
 
 #include "agents/agents.h"
 #include "backends/backend.h"
+#include "agents/continuous_rules.h"
 #include "domain/surface_diffusion.h"
+#include "domain/texel_laplacian.h"
 #include "domain/texture_domain.h"
 
 namespace moldtex {
@@ -31,6 +33,8 @@ class CpuBackend final : public Backend {
   void import_agents(const Agents& agents) override;
 
  private:
+  void step_continuous(const StepSettings& settings, uint64_t seed, uint64_t step_index);
+
   std::shared_ptr<const Surface> surface_;
   std::shared_ptr<const TextureDomain> domain_;
   uint32_t species_count_;
@@ -42,6 +46,12 @@ class CpuBackend final : public Backend {
   // Surface units: the diffusion plan for the current mix and length unit.
   DiffusionPlan plan_;
   std::vector<float> fine_scratch_;
+  // Continuous model (built at its first step): the PDE's operator, the fixed-point
+  // deposit sums (one plane per species) and the respawn table.
+  std::unique_ptr<TexelLaplacian> laplacian_;
+  std::vector<int64_t> sums_;
+  AliasTable alias_;
+  std::vector<float> pde_scratch_;
 };
 
 }  // namespace moldtex

@@ -1,5 +1,5 @@
 /* kernels.cl — the OpenCL program. The host prepends shared/portable.h, constants.h,
- * rng.h, walk.h, momas.h and field.h (the same sources the CPU backend compiles as
+ * rng.h, walk.h, momas.h, field.h and pde.h (the same sources the CPU backend compiles as
  * C++), so these kernels only unpack buffers and call the shared functions. The host
  * builds it once per feature combination in use (-DMTX_FOOD, -DMTX_FIELDS, -DMTX_SPECIES;
  * see momas.h), so the agent kernel carries only the code it runs. */
@@ -156,3 +156,91 @@ __kernel void fine_scatter(__global float* field, __global const float* scratch,
   if (j >= count) return;
   for (uint p = 0; p < planes; ++p) field[p * texels + fine_texel[j]] = scratch[p * count + j];
 }
+
+/* Continuous model: one forward-Euler sub-step of the diffusion-decay PDE on the texel
+ * Laplacian (domain/texel_laplacian.h), one CSR row (cell) per work-item, every species plane. Reads only
+ * `in`, so rows are independent; decay is exp(-r_dec dt) on a step's last sub-step, else
+ * 1. */
+__kernel void pde_diffuse(__global const uint* rows, __global const uint* start,
+                          __global const uint* col, __global const float* weight,
+                          __global const float* area, __global const float* in,
+                          __global float* out, const float h, const float decay,
+                          const uint count, const uint texels, const uint planes) {
+  const uint r = get_global_id(0);
+  if (r >= count) return;
+  for (uint p = 0; p < planes; ++p)
+    out[p * texels + rows[r]] =
+        mtx_diffuse_cell(rows, start, col, weight, area, in + p * texels, r, h, decay);
+}
+
+#ifdef cl_khr_int64_base_atomics
+/* The continuous model's agents (shared/continuous.h); lives holds 4 floats per agent
+ * (clock, age, exposure, threshold), sums one fixed-point plane per species. */
+__kernel void continuous_agents(__global const mtx_frame* frames, __global const uint* adjacency,
+                                __global const float* corner_uvs, __global const uchar* classes,
+                                __global const float* u, __global const float* field,
+                                __global long* sums, __global uint* triangle, __global float* b1,
+                                __global float* b2, __global float* hx, __global float* hy,
+                                __global const uchar* species, __global float4* lives,
+                                __global const float* texels_per_unit,
+                                __global const int* texel_triangle, __global const uint* island,
+                                __global const float* alias_prob, __global const uint* alias_index,
+                                const mtx_continuous_constants k, const uint count) {
+  const uint i = get_global_id(0);
+  if (i >= count) return;
+  mtx_surface_tables s;
+  s.frames = frames;
+  s.adjacency = adjacency;
+  s.corner_uvs = corner_uvs;
+  s.classes = classes;
+  s.frame3d = 0;
+  s.food = 0;
+  s.eaters = 0;
+  s.texels_per_unit = texels_per_unit;
+  s.texel_triangle = texel_triangle;
+  s.island = island;
+  mtx_walker w;
+  w.triangle = triangle[i];
+  w.bary[1] = b1[i];
+  w.bary[2] = b2[i];
+  w.bary[0] = 1.0f - w.bary[1] - w.bary[2];
+  w.heading.x = hx[i];
+  w.heading.y = hy[i];
+  const float4 l = lives[i];
+  mtx_agent_life life;
+  life.clock = l.x;
+  life.age = l.y;
+  life.exposure = l.z;
+  life.threshold = l.w;
+#if defined(MTX_SPECIES) && MTX_SPECIES == 1
+  const uint sp = 0;
+#else
+  const uint sp = species[i];
+#endif
+  mtx_continuous_agent_step(s, u, field, sums, alias_prob, alias_index, &w, &life, sp, (ulong)i, &k);
+  triangle[i] = w.triangle;
+  b1[i] = w.bary[1];
+  b2[i] = w.bary[2];
+  hx[i] = w.heading.x;
+  hy[i] = w.heading.y;
+  lives[i] = (float4)(life.clock, life.age, life.exposure, life.threshold);
+}
+
+/* Deposit sums of the cells become concentration, every plane: u += sums * amount /
+ * area; sums = 0. */
+__kernel void deposits_to_concentration(__global float* u, __global long* sums,
+                                        __global const uint* rows, __global const float* area,
+                                        const float amount, const uint count, const uint texels,
+                                        const uint planes) {
+  const uint r = get_global_id(0);
+  if (r >= count) return;
+  const uint i = rows[r];
+  if (!(area[i] > 0.0f)) return;
+  for (uint p = 0; p < planes; ++p) {
+    const long q = sums[p * texels + i];
+    if (q == 0) continue;
+    u[p * texels + i] += mtx_deposit_concentration(q, amount, area[i]);
+    sums[p * texels + i] = 0;
+  }
+}
+#endif /* cl_khr_int64_base_atomics */

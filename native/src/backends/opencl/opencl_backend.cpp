@@ -1,10 +1,12 @@
 #include "backends/opencl/opencl_backend.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <vector>
 
 #include "agents/agents.h"
+#include "agents/continuous_rules.h"
 #include "agents/momas_rules.h"
 #include "common/error.h"
 
@@ -61,6 +63,10 @@ struct OpenClBackend::State {
   // each built on first use. The other kernels come from the first program built.
   cl_program programs[4] = {};
   cl_kernel agent_kernels[4] = {};
+  // The continuous model's agent kernel, fields off / on (programs 0 / 2), its deposit
+  // conversion and the PDE's forward-Euler sub-step.
+  cl_kernel continuous_kernels[2] = {};
+  cl_kernel convert_kernel = nullptr, pde_kernel = nullptr;
   cl_kernel deposit_kernel = nullptr, gutter_kernel = nullptr, diffuse_kernel = nullptr;
   // Surface units (see domain/surface_diffusion.h).
   cl_kernel surface_kernel = nullptr, seam_kernel = nullptr, fine_kernel = nullptr,
@@ -78,17 +84,25 @@ struct OpenClBackend::State {
   cl_mem food = nullptr, eaters = nullptr;
   // State.
   cl_mem triangle = nullptr, b1 = nullptr, b2 = nullptr, hx = nullptr, hy = nullptr,
-         species = nullptr, hunger = nullptr;
+         species = nullptr, hunger = nullptr, lives = nullptr;
+  // Continuous model tables (made at its first step).
+  cl_mem sums = nullptr, alias_prob = nullptr, alias_index = nullptr, rows = nullptr,
+         row_start = nullptr, col = nullptr, weight = nullptr, area = nullptr;
   cl_mem pheromone = nullptr, scratch = nullptr, marks = nullptr, field = nullptr;
 
   ~State() {
     for (cl_mem m : {frames, adjacency, corner_uvs, classes, gutter_texel, gutter_source, frame3d,
-                     food, eaters, triangle, b1, b2, hx, hy, species, hunger, pheromone, scratch,
-                     marks, field, texels_per_unit, texel_triangle, island, seam_texel,
-                     seam_neighbour})
+                     food, eaters, triangle, b1, b2, hx, hy, species, hunger, lives, pheromone,
+                     scratch, marks, field, texels_per_unit, texel_triangle, island, seam_texel,
+                     seam_neighbour, sums, alias_prob, alias_index, rows, row_start, col, weight,
+                     area})
       if (m) r.clReleaseMemObject(m);
     release_plan();
     for (cl_kernel k : agent_kernels)
+      if (k) r.clReleaseKernel(k);
+    for (cl_kernel k : continuous_kernels)
+      if (k) r.clReleaseKernel(k);
+    for (cl_kernel k : {convert_kernel, pde_kernel})
       if (k) r.clReleaseKernel(k);
     for (cl_kernel k : {deposit_kernel, gutter_kernel, diffuse_kernel, surface_kernel, seam_kernel,
                         fine_kernel, scatter_kernel})
@@ -180,7 +194,7 @@ OpenClBackend::OpenClBackend(std::shared_ptr<const Surface> surface,
   const Surface& sf = *surface_;
   const TextureDomain& d = *domain_;
   const size_t texels = d.texel_count();
-  const double need = agent_count_ * 25.0 + sf.frame3d.size() * 4.0 + texels * (9.0 * species_count_ + 5.0) + sf.frames.size() * sizeof(mtx_frame) +
+  const double need = agent_count_ * 41.0 + sf.frame3d.size() * 4.0 + texels * (9.0 * species_count_ + 5.0) + sf.frames.size() * sizeof(mtx_frame) +
                       sf.adjacency.size() * 4.0 + sf.corner_uvs.size() * 4.0 + d.gutter_texel.size() * 8.0 +
                       texels * 4.0 + d.texels_per_unit.size() * 4.0 + sf.island.size() * 4.0 +
                       d.seam_texel.size() * 20.0;
@@ -239,7 +253,7 @@ void OpenClBackend::reserve_agents(size_t count) {
   if (count <= agent_capacity_ && state_->triangle) return;
   State& s = *state_;
   const double need = static_cast<double>(device_bytes_) +
-                      (static_cast<double>(count) - static_cast<double>(agent_capacity_)) * 25.0;
+                      (static_cast<double>(count) - static_cast<double>(agent_capacity_)) * 41.0;
   if (device_.global_memory && need > 0.9 * static_cast<double>(device_.global_memory))
     fail(MOLDTEX_ERROR_OUT_OF_MEMORY,
          "The agents would need about " + std::to_string(static_cast<long long>(need / (1 << 20))) +
@@ -249,18 +263,19 @@ void OpenClBackend::reserve_agents(size_t count) {
   // Room for a brush stroke's worth of growth without reallocating at every dab.
   const size_t capacity = agent_capacity_ == 0 ? count : std::max(count, agent_capacity_ + agent_capacity_ / 4);
   // New buffers first: if one cannot be had, the old ones (and the agents) stay.
-  const size_t sizes[7] = {4, 4, 4, 4, 4, 1, 4};
-  cl_mem fresh[7] = {};
+  constexpr int kBuffers = 8;
+  const size_t sizes[kBuffers] = {4, 4, 4, 4, 4, 1, 4, 16};
+  cl_mem fresh[kBuffers] = {};
   size_t fresh_bytes = 0;
   try {
-    for (int i = 0; i < 7; ++i) fresh[i] = s.buffer(capacity * sizes[i], nullptr, fresh_bytes);
+    for (int i = 0; i < kBuffers; ++i) fresh[i] = s.buffer(capacity * sizes[i], nullptr, fresh_bytes);
   } catch (...) {
     for (cl_mem m : fresh)
       if (m) s.r.clReleaseMemObject(m);
     throw;
   }
-  cl_mem* slots[7] = {&s.triangle, &s.b1, &s.b2, &s.hx, &s.hy, &s.species, &s.hunger};
-  for (int i = 0; i < 7; ++i) {
+  cl_mem* slots[kBuffers] = {&s.triangle, &s.b1, &s.b2, &s.hx, &s.hy, &s.species, &s.hunger, &s.lives};
+  for (int i = 0; i < kBuffers; ++i) {
     if (*slots[i]) {
       s.r.clReleaseMemObject(*slots[i]);
       device_bytes_ -= std::max<size_t>(agent_capacity_ * sizes[i], 4);
@@ -289,6 +304,14 @@ void OpenClBackend::import_agents(const Agents& a) {
   write(s.hy, a.hy.data());
   write(s.species, a.species.data(), 1);
   write(s.hunger, a.hunger.data());
+  std::vector<cl_float4> lives(agent_count_);
+  for (size_t i = 0; i < lives.size(); ++i) {
+    lives[i].s[0] = i < a.clock.size() ? a.clock[i] : 0.f;
+    lives[i].s[1] = i < a.age.size() ? a.age[i] : 0.f;
+    lives[i].s[2] = i < a.exposure.size() ? a.exposure[i] : 0.f;
+    lives[i].s[3] = i < a.threshold.size() ? a.threshold[i] : 0.f;
+  }
+  write(s.lives, lives.data(), sizeof(cl_float4));
 }
 
 void OpenClBackend::set_field(const std::vector<float>& field) {
@@ -317,6 +340,7 @@ void OpenClBackend::reset(const Agents& agents) {
 
 void OpenClBackend::step(const StepSettings& settings, uint64_t seed, uint64_t step_index,
                          uint32_t* eaters) {
+  if (settings.model == MOLDTEX_MODEL_CONTINUOUS) return step_continuous(settings, seed, step_index);
   State& s = *state_;
   const TextureDomain& d = *domain_;
   const moldtex_sim_params& p = settings.params;
@@ -412,6 +436,107 @@ void OpenClBackend::surface_diffusion(const moldtex_sim_params& p) {
   }
 }
 
+cl_kernel OpenClBackend::continuous_kernel(bool fields) {
+  State& s = *state_;
+  if (!s.continuous_kernels[fields]) {
+    agent_kernel(false, fields);  // builds the program
+    cl_int err = CL_SUCCESS;
+    s.continuous_kernels[fields] = s.r.clCreateKernel(s.programs[fields ? 2 : 0], "continuous_agents", &err);
+    check(err, "creating the continuous model's agent kernel");
+  }
+  return s.continuous_kernels[fields];
+}
+
+void OpenClBackend::prepare_continuous() {
+  if (laplacian_) return;
+  State& s = *state_;
+  if (!device_.int64_atomics)
+    fail(MOLDTEX_ERROR_UNAVAILABLE, "The continuous model needs 64-bit integer atomics "
+                                    "(cl_khr_int64_base_atomics), which " + device_.name +
+                                        " lacks: use the CPU backend");
+  const Surface& sf = *surface_;
+  const TextureDomain& d = *domain_;
+  auto lap = std::make_unique<TexelLaplacian>();
+  {
+    ThreadPool pool(0);
+    *lap = build_texel_laplacian(sf, d, pool);
+  }
+  const AliasTable alias = build_area_alias_table(sf);
+  auto data = [](const auto& v) { return v.empty() ? nullptr : static_cast<const void*>(v.data()); };
+  const size_t texels = d.texel_count();
+  s.sums = s.buffer(texels * 8 * species_count_, nullptr, device_bytes_);
+  const cl_long zero = 0;
+  check(s.r.clEnqueueFillBuffer(s.queue, s.sums, &zero, 8, 0, texels * 8 * species_count_, 0, nullptr, nullptr),
+        "clearing the deposit sums");
+  s.alias_prob = s.buffer(alias.prob.size() * 4, data(alias.prob), device_bytes_);
+  s.alias_index = s.buffer(alias.alias.size() * 4, data(alias.alias), device_bytes_);
+  s.rows = s.buffer(lap->rows.size() * 4, data(lap->rows), device_bytes_);
+  s.row_start = s.buffer(lap->start.size() * 4, data(lap->start), device_bytes_);
+  s.col = s.buffer(lap->col.size() * 4, data(lap->col), device_bytes_);
+  s.weight = s.buffer(lap->weight.size() * 4, data(lap->weight), device_bytes_);
+  s.area = s.buffer(lap->area.size() * 4, data(lap->area), device_bytes_);
+  cl_int err = CL_SUCCESS;
+  s.convert_kernel = s.r.clCreateKernel(s.programs[0], "deposits_to_concentration", &err);
+  check(err, "creating the deposit kernel");
+  s.pde_kernel = s.r.clCreateKernel(s.programs[0], "pde_diffuse", &err);
+  check(err, "creating the diffusion kernel");
+  laplacian_ = std::move(lap);
+}
+
+void OpenClBackend::step_continuous(const StepSettings& settings, uint64_t seed, uint64_t step_index) {
+  prepare_continuous();
+  State& s = *state_;
+  const TextureDomain& d = *domain_;
+  const TexelLaplacian& lap = *laplacian_;
+  const moldtex_continuous_params& p = settings.continuous;
+  const mtx_continuous_constants c =
+      continuous_constants(settings, d, settings.u_metric, surface_->triangle_count(), seed, step_index);
+  const cl_uint planes = species_count_;
+  const cl_uint texels = static_cast<cl_uint>(d.texel_count());
+  const cl_uint cells = static_cast<cl_uint>(lap.rows.size());
+  cl_kernel k = continuous_kernel(c.has_fields != 0);
+  s.args(k, s.frames, s.adjacency, s.corner_uvs, s.classes, s.pheromone, s.field, s.sums, s.triangle,
+         s.b1, s.b2, s.hx, s.hy, s.species, s.lives, s.texels_per_unit, s.texel_triangle, s.island,
+         s.alias_prob, s.alias_index, c, static_cast<cl_uint>(agent_count_));
+  s.run(k, agent_count_);
+  const float amount = p.deposit_rate * p.time_step / MTX_DEPOSIT_UNITS;
+  s.args(s.convert_kernel, s.pheromone, s.sums, s.rows, s.area, amount, cells, texels, planes);
+  s.run(s.convert_kernel, cells);
+  diffuse_continuous(p);
+  const cl_uint gutter = static_cast<cl_uint>(d.gutter_texel.size());
+  s.args(s.gutter_kernel, s.pheromone, s.gutter_texel, s.gutter_source, gutter, texels, planes);
+  s.run(s.gutter_kernel, gutter);
+}
+
+void OpenClBackend::diffuse_continuous(const moldtex_continuous_params& p) {
+  State& s = *state_;
+  const TexelLaplacian& lap = *laplacian_;
+  const uint32_t n = forward_substeps(lap, p.diffusion_rate, p.time_step);
+  const bool backward = use_backward_euler(lap, p.diffusion_rate, p.time_step, p.integrator);
+  const size_t texels = domain_->texel_count();
+  if (backward) {
+    // Conjugate gradients run on the host (the same solver as the CPU backend).
+    std::vector<float> u(texels * species_count_);
+    read_pheromone(u.data());
+    ThreadPool pool(0);
+    for (uint32_t k = 0; k < species_count_; ++k)
+      advance_diffusion_decay(lap, u.data() + k * texels, pde_scratch_, p.diffusion_rate, p.decay_rate,
+                              p.time_step, MOLDTEX_INTEGRATOR_BACKWARD, pool);
+    check(s.r.clEnqueueWriteBuffer(s.queue, s.pheromone, CL_TRUE, 0, u.size() * 4, u.data(), 0, nullptr, nullptr),
+          "uploading the pheromone");
+    return;
+  }
+  const float h = static_cast<float>(double(p.diffusion_rate) * p.time_step / n);
+  const float decay = static_cast<float>(std::exp(-double(p.decay_rate) * p.time_step));
+  const cl_uint cells = static_cast<cl_uint>(lap.rows.size());
+  for (uint32_t j = 0; j < n; ++j) {
+    s.args(s.pde_kernel, s.rows, s.row_start, s.col, s.weight, s.area, s.pheromone, s.scratch, h,
+           j + 1 == n ? decay : 1.f, cells, static_cast<cl_uint>(texels), static_cast<cl_uint>(species_count_));
+    s.run(s.pde_kernel, cells);
+    std::swap(s.pheromone, s.scratch);
+  }
+}
+
 void OpenClBackend::finish() { check(state_->r.clFinish(state_->queue), "finishing the step"); }
 
 void OpenClBackend::read_pheromone(float* out) const {
@@ -441,6 +566,18 @@ void OpenClBackend::export_agents(Agents& out) const {
   read_buffer(s.r, s.queue, s.hy, out.hy, agent_count_);
   read_buffer(s.r, s.queue, s.species, out.species, agent_count_);
   read_buffer(s.r, s.queue, s.hunger, out.hunger, agent_count_);
+  std::vector<cl_float4> lives;
+  read_buffer(s.r, s.queue, s.lives, lives, agent_count_);
+  out.clock.resize(agent_count_);
+  out.age.resize(agent_count_);
+  out.exposure.resize(agent_count_);
+  out.threshold.resize(agent_count_);
+  for (size_t i = 0; i < lives.size(); ++i) {
+    out.clock[i] = lives[i].s[0];
+    out.age[i] = lives[i].s[1];
+    out.exposure[i] = lives[i].s[2];
+    out.threshold[i] = lives[i].s[3];
+  }
   out.batch = batch_;
 }
 

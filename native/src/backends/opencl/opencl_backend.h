@@ -10,6 +10,7 @@
 #include "backends/backend.h"
 #include "backends/opencl/devices.h"
 #include "domain/surface_diffusion.h"
+#include "domain/texel_laplacian.h"
 #include "domain/texture_domain.h"
 
 namespace moldtex {
@@ -46,6 +47,13 @@ class OpenClBackend final : public Backend {
   // Surface units: diffusion and evaporation of the deposited pheromone (result in the
   // pheromone buffer).
   void surface_diffusion(const moldtex_sim_params& params);
+  // The continuous model: its step, its agent kernel (fields on/off) and, at its first
+  // step, its tables on the device (the PDE's cells, the respawn table, deposit sums).
+  void step_continuous(const StepSettings& settings, uint64_t seed, uint64_t step_index);
+  cl_kernel continuous_kernel(bool fields);
+  void prepare_continuous();
+  // The PDE's step: forward-Euler sub-steps on the device, or backward Euler on the host.
+  void diffuse_continuous(const moldtex_continuous_params& params);
 
   struct State;
   std::shared_ptr<const Surface> surface_;
@@ -59,6 +67,9 @@ class OpenClBackend final : public Backend {
   size_t device_bytes_ = 0;
   std::unique_ptr<State> state_;
   DiffusionPlan plan_;  // the one on the device
+  // Continuous model: the PDE's operator (host copy: backward Euler solves on the host).
+  std::unique_ptr<TexelLaplacian> laplacian_;
+  std::vector<float> pde_scratch_;
 };
 
 }  // namespace moldtex

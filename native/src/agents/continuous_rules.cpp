@@ -1,0 +1,131 @@
+#include "agents/continuous_rules.h"
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "common/rng.h"
+
+namespace moldtex {
+
+AliasTable build_area_alias_table(const Surface& s) {
+  const uint32_t n = s.triangle_count();
+  AliasTable t;
+  t.prob.assign(n, 0.f);
+  t.alias.resize(n);
+  double total = 0;
+  for (uint32_t i = 0; i < n; ++i) total += s.degenerate[i] ? 0.0 : s.areas[i];
+  std::vector<double> scaled(n);
+  std::vector<uint32_t> small, large;
+  for (uint32_t i = 0; i < n; ++i) {
+    scaled[i] = total > 0 ? (s.degenerate[i] ? 0.0 : s.areas[i]) * n / total : 1.0;
+    t.alias[i] = i;
+    (scaled[i] < 1.0 ? small : large).push_back(i);
+  }
+  while (!small.empty() && !large.empty()) {
+    const uint32_t l = small.back(), g = large.back();
+    small.pop_back();
+    t.prob[l] = static_cast<float>(scaled[l]);
+    t.alias[l] = g;
+    scaled[g] = scaled[g] + scaled[l] - 1.0;
+    if (scaled[g] < 1.0) {
+      large.pop_back();
+      small.push_back(g);
+    }
+  }
+  // Leftovers are 1 up to rounding; a degenerate triangle left here keeps probability 0
+  // only if it has a non-degenerate alias, so give it the last large one.
+  for (uint32_t g : large) t.prob[g] = 1.f;
+  for (uint32_t l : small) {
+    if (scaled[l] > 0.5 || large.empty()) {
+      t.prob[l] = 1.f;
+    } else {
+      t.prob[l] = 0.f;
+      t.alias[l] = large.back();
+    }
+  }
+  return t;
+}
+
+double uniform_steady_state(const moldtex_continuous_params& p, double agents, double area) {
+  if (!(p.decay_rate > 0.f)) return std::numeric_limits<double>::infinity();
+  const double alive = p.mean_lifetime > 0.f ? std::exp(-double(p.activation_time) / p.mean_lifetime) : 1.0;
+  return agents * p.deposit_rate / (p.decay_rate * area) * alive;
+}
+
+std::vector<double> agents_per_species(const Agents& a, uint32_t species_count) {
+  std::vector<double> n(species_count, 0.0);
+  for (uint8_t s : a.species)
+    if (s < species_count) n[s] += 1.0;
+  return n;
+}
+
+ContinuousStepConstants continuous_constants(const StepSettings& settings, const TextureDomain& d,
+                                             const std::vector<double>& u_per_species,
+                                             uint32_t triangle_count, uint64_t seed, uint64_t step) {
+  const moldtex_continuous_params& p = settings.continuous;
+  ContinuousStepConstants c{};
+  c.seed = seed;
+  c.step = step;
+  for (uint32_t s = 0; s < settings.species_count; ++s) {
+    for (uint32_t k = 0; k < settings.species_count; ++k)
+      c.attraction[MTX_MAX_SPECIES * s + k] = settings.species[s].attraction[k];
+    const double u = s < u_per_species.size() ? u_per_species[s] : 0.0;
+    c.sense_scale[s] = std::isfinite(u) && u > 0 ? static_cast<float>(1.0 / u) : 1.f;
+  }
+  const float angle = p.sensor_angle * std::numbers::pi_v<float> / 180.f;
+  c.move_length = p.move_rate * p.time_step;
+  c.sensor_length = p.sensor_distance;
+  c.sensor_cos = std::cos(angle);
+  c.sensor_sin = std::sin(angle);
+  c.turn_impulse = p.turn_rate / p.turn_frequency;
+  c.decision_period = 1.f / p.turn_frequency;
+  c.dt = p.time_step;
+  c.exposure_step = p.mean_lifetime > 0.f ? p.time_step / p.mean_lifetime : 0.f;
+  c.activation_time = p.activation_time;
+  c.max_piece = 0.5f;
+  c.width = d.width;
+  c.height = d.height;
+  c.species_count = settings.species_count;
+  c.has_fields = settings.has_fields ? 1u : 0u;
+  c.triangle_count = triangle_count;
+  c.deposit_on = p.deposit_rate > 0.f ? 1u : 0u;
+  return c;
+}
+
+void start_agent_lives(const moldtex_continuous_params& p, uint64_t seed, uint64_t stream,
+                       Agents& a, size_t begin, size_t end) {
+  const float period = 1.f / p.turn_frequency;
+  for (size_t i = begin; i < end; ++i) {
+    mtx_u64 rng = mtx_rng_init(seed, MTX_RNG_TURNOVER, stream, i);
+    a.clock[i] = period * mtx_rng_float(&rng);
+    if (p.mean_lifetime > 0.f) {
+      const float elapsed = mtx_exponential(&rng);  // age / tau ~ Exp(1)
+      a.age[i] = elapsed * p.mean_lifetime;
+      a.exposure[i] = elapsed;
+      a.threshold[i] = elapsed + mtx_exponential(&rng);
+    } else {
+      a.age[i] = p.activation_time;
+      a.exposure[i] = 0.f;
+      a.threshold[i] = std::numeric_limits<float>::max();
+    }
+  }
+}
+
+void continuous_update_agents(const mtx_surface_tables& tables, const ContinuousStepConstants& c,
+                              const float* u, const float* field, int64_t* sums,
+                              const AliasTable& alias, Agents& agents, size_t begin, size_t end) {
+  for (size_t i = begin; i < end; ++i) {
+    Walker w = agents.load(i);
+    mtx_agent_life life{agents.clock[i], agents.age[i], agents.exposure[i], agents.threshold[i]};
+    mtx_continuous_agent_step(tables, u, field, sums, alias.prob.data(), alias.alias.data(), &w, &life,
+                              agents.species[i], i, &c);
+    agents.store(i, w);
+    agents.clock[i] = life.clock;
+    agents.age[i] = life.age;
+    agents.exposure[i] = life.exposure;
+    agents.threshold[i] = life.threshold;
+  }
+}
+
+}  // namespace moldtex

@@ -1,0 +1,50 @@
+// The continuous model's agents on the CPU (the per-agent rule lives in
+// shared/continuous.h, compiled here as C++ and by the OpenCL backend as OpenCL C), the
+// per-step constants, the alias table for respawns and the steady-state start of the
+// agents' clocks.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "agents/agents.h"
+#include "agents/momas_rules.h"
+#include "domain/texture_domain.h"
+#include "moldtex.h"
+#include "shared/continuous.h"
+
+namespace moldtex {
+
+using ContinuousStepConstants = mtx_continuous_constants;
+
+// Vose's alias table over the triangles, weighted by 3D area (degenerate ones 0): a
+// respawn picks a triangle in constant time.
+struct AliasTable {
+  std::vector<float> prob;
+  std::vector<uint32_t> alias;
+};
+AliasTable build_area_alias_table(const Surface& surface);
+
+// U of layton-intrinsic-slime.md Eq. 5 for `agents` agents on `area`: N r_dep / (r_dec A)
+// * exp(-t_a / tau) (tau = 0: no turnover, the factor is 1); +inf when r_dec = 0.
+double uniform_steady_state(const moldtex_continuous_params& p, double agents, double area);
+
+// Live agents per species (agent species tags), for U.
+std::vector<double> agents_per_species(const Agents& agents, uint32_t species_count);
+
+ContinuousStepConstants continuous_constants(const StepSettings& settings, const TextureDomain& d,
+                                             const std::vector<double>& u_per_species,
+                                             uint32_t triangle_count, uint64_t seed, uint64_t step);
+
+// Starts the clocks of agents [begin, end) in their steady state (§3.3): with turnover,
+// age ~ Exp(tau) and exposure age / tau, threshold = exposure + Exp(1) (memoryless, so no
+// inspection-paradox bias); without, age = t_a (depositing at once) and no threshold.
+// The decision clock starts at a uniform phase. Agent i's draws depend only on (seed,
+// stream, i).
+void start_agent_lives(const moldtex_continuous_params& p, uint64_t seed, uint64_t stream,
+                       Agents& agents, size_t begin, size_t end);
+
+void continuous_update_agents(const mtx_surface_tables& tables, const ContinuousStepConstants& c,
+                              const float* u, const float* field, int64_t* sums,
+                              const AliasTable& alias, Agents& agents, size_t begin, size_t end);
+
+}  // namespace moldtex

@@ -1,0 +1,215 @@
+/* continuous.h — the continuous slime model (layton-intrinsic-slime.md §3.2) for one
+ * agent and one step: turnover (exposure against an exponential threshold, respawn at an
+ * area-uniform point), turn decisions at a fixed frequency (omega / f_i applied as one
+ * impulse every 1 / f_i seconds, timed per agent), a move of v * dt, and r_dep * dt
+ * deposited evenly along the path walked (Eq. 4). Reads the concentration; deposits are
+ * fixed-point integer sums, so the order of writers cannot change the result. */
+#ifndef MOLDTEX_SHARED_CONTINUOUS_H
+#define MOLDTEX_SHARED_CONTINUOUS_H
+
+#ifndef __OPENCL_C_VERSION__
+#include "shared/constants.h"
+#include "shared/momas.h"
+#include "shared/portable.h"
+#include "shared/rng.h"
+#include "shared/texel_sampling.h"
+#include "shared/walk.h"
+#endif
+
+/* On an OpenCL device without 64-bit atomics this model is left out of the program (the
+ * host refuses it there with a message), so MoMaS still builds. */
+#if !defined(__OPENCL_C_VERSION__) || defined(cl_khr_int64_base_atomics)
+
+MTX_BEGIN_NAMESPACE
+
+#define MTX_RNG_TURNOVER 5
+#define MTX_RNG_DECIDE 6
+/* At most this many turn decisions in one step (a time step much longer than 1 / f_i
+ * aliases anyway: the paper's limit). */
+#define MTX_MAX_DECISIONS_PER_STEP 16
+/* A move is split into pieces no longer than half a texel (a deposit every piece), but
+ * into no more than this many. */
+#define MTX_MAX_DEPOSIT_PIECES 64
+
+/* Per-step constants of the continuous model, derived on the host. 64-bit fields first
+ * so C++ and OpenCL C agree on the layout. */
+typedef struct mtx_continuous_constants {
+  mtx_u64 seed;
+  mtx_u64 step;
+  /* attraction[4 * s + k]: weight of species k's concentration in species s's sensing. */
+  float attraction[MTX_MAX_SPECIES * MTX_MAX_SPECIES];
+  /* Per species plane: 1 / U, so sensing compares concentrations relative to the uniform
+   * steady state and static fields (attractors) keep their meaning at any deposit rate. */
+  float sense_scale[MTX_MAX_SPECIES];
+  float move_length;     /* v * dt */
+  float sensor_length;   /* d */
+  float sensor_cos, sensor_sin;
+  float turn_impulse;    /* omega / f_i, radians */
+  float decision_period; /* 1 / f_i */
+  float dt;
+  float exposure_step;   /* dt / tau; 0 = no turnover */
+  float activation_time; /* t_a */
+  float max_piece;       /* longest deposit piece in texel units (0.5) */
+  mtx_u32 width, height;
+  mtx_u32 species_count;
+  mtx_u32 has_fields;
+  mtx_u32 triangle_count; /* entries of the alias table */
+  mtx_u32 deposit_on;     /* 0 when r_dep = 0 (nothing to add) */
+} mtx_continuous_constants;
+
+/* The per-agent clocks of the continuous model. */
+typedef struct mtx_agent_life {
+  float clock;     /* seconds since the last turn decision */
+  float age;       /* seconds since the last (re)spawn */
+  float exposure;  /* lambda: accumulated dt / tau */
+  float threshold; /* lambda_t = -ln X, drawn once per lifetime */
+} mtx_agent_life;
+
+/* Area-uniform point with a uniform heading: a triangle from the alias table (Vose: one
+ * uniform picks a column, a second keeps it or takes its alias), then uniform
+ * barycentrics. */
+MTX_FN void mtx_respawn(MTX_GLOBAL const float* alias_prob, MTX_GLOBAL const mtx_u32* alias_index,
+                        mtx_u32 triangle_count, mtx_walker* w, mtx_u64* rng) {
+  const float r0 = mtx_rng_float(rng) * MTX_CAST(float, triangle_count);
+  mtx_u32 column = MTX_CAST(mtx_u32, r0);
+  column = column >= triangle_count ? triangle_count - 1 : column;
+  const mtx_u32 t = mtx_rng_float(rng) < alias_prob[column] ? column : alias_index[column];
+  const float a = sqrt(mtx_rng_float(rng)), b = mtx_rng_float(rng);
+  w->triangle = t;
+  w->bary[0] = 1.0f - a;
+  w->bary[1] = a * (1.0f - b);
+  w->bary[2] = a * b;
+  const float angle = 6.28318530718f * mtx_rng_float(rng);
+  w->heading.x = cos(angle);
+  w->heading.y = sin(angle);
+}
+
+/* -ln X for X uniform in (0, 1]. */
+MTX_FN float mtx_exponential(mtx_u64* rng) { return -log(1.0f - mtx_rng_float(rng)); }
+
+/* What species `species` senses at the point of walker p: its attraction-weighted sum of
+ * every species' concentration relative to U, plus the static field, bilinear over the
+ * island's cells. An obstacle anywhere in the stencil reads as the obstacle. */
+MTX_FN float mtx_continuous_sense(mtx_surface_tables s, MTX_GLOBAL const float* u,
+                                  MTX_GLOBAL const float* field, const mtx_walker* p,
+                                  mtx_u32 species, const mtx_continuous_constants* k) {
+  mtx_texel_stencil st;
+  mtx_texel_stencil_of(s, p, k->width, k->height, &st);
+  if (st.count == 0) return 0.0f;
+  const mtx_u32 texels = k->width * k->height;
+  float v = 0.0f;
+  for (int c = 0; c < 4; ++c) {
+    if (!(st.weight[c] > 0.0f)) continue;
+    float here = 0.0f;
+    for (mtx_u32 q = 0; q < MTX_SPECIES_COUNT(k); ++q)
+      here += k->attraction[MTX_MAX_SPECIES * species + q] * k->sense_scale[q] * u[q * texels + st.cell[c]];
+    if (MTX_FIELDS && k->has_fields) {
+      const float f = field[st.cell[c]];
+      if (f < MTX_OBSTACLE_THRESHOLD) return f;
+      here += f;
+    }
+    v += st.weight[c] * here;
+  }
+  return v;
+}
+
+MTX_FN float mtx_continuous_probe(mtx_surface_tables s, MTX_GLOBAL const float* u,
+                                  MTX_GLOBAL const float* field, const mtx_walker* from, float c,
+                                  float sn, mtx_u32 species, const mtx_continuous_constants* k) {
+  mtx_walker probe = *from;
+  probe.heading = mtx_rotate(probe.heading, c, sn);
+  mtx_walk(s.frames, s.adjacency, &probe, k->sensor_length, 0, 0);
+  return mtx_continuous_sense(s, u, field, &probe, species, k);
+}
+
+/* One step of agent `agent` (walker w, clocks life, species `species`). `sums` holds one
+ * fixed-point plane per species (MTX_DEPOSIT_UNITS per whole deposit of r_dep * dt). */
+MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const float* u,
+                                      MTX_GLOBAL const float* field, MTX_GLOBAL mtx_i64* sums,
+                                      MTX_GLOBAL const float* alias_prob,
+                                      MTX_GLOBAL const mtx_u32* alias_index, mtx_walker* w,
+                                      mtx_agent_life* life, mtx_u32 species, mtx_u64 agent,
+                                      const mtx_continuous_constants* k) {
+  /* Turnover (§3.2): exposure grows by dt / tau; past the threshold the agent decays and
+   * a new one starts at a uniform point of the surface, age 0, a fresh threshold. */
+  if (k->exposure_step > 0.0f) {
+    life->exposure += k->exposure_step;
+    if (life->exposure >= life->threshold) {
+      mtx_u64 rng = mtx_rng_init(k->seed, MTX_RNG_TURNOVER, agent, k->step);
+      mtx_respawn(alias_prob, alias_index, k->triangle_count, w, &rng);
+      life->exposure = 0.0f;
+      life->threshold = mtx_exponential(&rng);
+      life->age = 0.0f;
+      life->clock = k->decision_period * mtx_rng_float(&rng);
+    }
+  }
+  life->age += k->dt;
+
+  /* Turn decisions at f_i: each one senses and turns by the impulse omega / f_i (Jones'
+   * rule: straight while the front is strongest, a random side when both sides beat
+   * the front, else toward the stronger side; all equal: straight). */
+  life->clock += k->dt;
+  if (life->clock >= k->decision_period) {
+    mtx_u64 rng = mtx_rng_init(k->seed, MTX_RNG_DECIDE, agent, k->step);
+    for (int d = 0; d < MTX_MAX_DECISIONS_PER_STEP && life->clock >= k->decision_period; ++d) {
+      life->clock -= k->decision_period;
+      const float left = mtx_continuous_probe(s, u, field, w, k->sensor_cos, k->sensor_sin, species, k);
+      const float front = mtx_continuous_probe(s, u, field, w, 1.0f, 0.0f, species, k);
+      const float right = mtx_continuous_probe(s, u, field, w, k->sensor_cos, -k->sensor_sin, species, k);
+      const float coin = mtx_rng_float(&rng);
+      float side = 0.0f;
+      if (front > left && front > right)
+        side = 0.0f;
+      else if (front < left && front < right)
+        side = coin < 0.5f ? 1.0f : -1.0f;
+      else if (left > right)
+        side = 1.0f;
+      else if (right > left)
+        side = -1.0f;
+      if (side != 0.0f) {
+        const float turn = side * k->turn_impulse;
+        w->heading = mtx_unit(mtx_rotate(w->heading, cos(turn), sin(turn)));
+      }
+    }
+    if (life->clock >= k->decision_period) life->clock = 0.0f; /* aliasing: drop the rest */
+  }
+
+  /* Move v * dt in pieces of at most half a texel, depositing an equal share at the end
+   * of each piece: over successive steps the deposits sit evenly along the whole path,
+   * r_dep / v per unit length, whatever dt or the piece count (Eq. 4). A piece that
+   * would enter an obstacle from free ground is undone and the agent turns back. */
+  MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * w->triangle;
+  const float texels_moved = k->move_length * fmax(tpu[0], tpu[1]);
+  int pieces = MTX_CAST(int, ceil(texels_moved / k->max_piece));
+  pieces = pieces < 1 ? 1 : (pieces > MTX_MAX_DEPOSIT_PIECES ? MTX_MAX_DEPOSIT_PIECES : pieces);
+  const float piece = k->move_length / MTX_CAST(float, pieces);
+  const int deposits = k->deposit_on && life->age >= k->activation_time;
+  const float units = MTX_DEPOSIT_UNITS / MTX_CAST(float, pieces);
+  MTX_GLOBAL mtx_i64* own = sums + species * (k->width * k->height);
+  for (int i = 0; i < pieces; ++i) {
+    const mtx_walker before = *w;
+    mtx_walk(s.frames, s.adjacency, w, piece, 0, 0);
+    if (MTX_FIELDS && k->has_fields) {
+      const mtx_u32 texel = mtx_walker_texel(s.corner_uvs, w, k->width, k->height);
+      if (field[texel] < MTX_OBSTACLE_THRESHOLD) {
+        const mtx_u32 was = mtx_walker_texel(s.corner_uvs, &before, k->width, k->height);
+        if (!(field[was] < MTX_OBSTACLE_THRESHOLD)) {
+          *w = before;
+          w->heading.x = -w->heading.x;
+          w->heading.y = -w->heading.y;
+        }
+        continue;
+      }
+    }
+    if (!deposits) continue;
+    mtx_texel_stencil st;
+    mtx_texel_stencil_of(s, w, k->width, k->height, &st);
+    if (st.count > 0) mtx_texel_deposit(own, &st, units);
+  }
+}
+
+MTX_END_NAMESPACE
+
+#endif /* 64-bit atomics */
+
+#endif

@@ -1,0 +1,105 @@
+/* texel_sampling.h — the texture domain's point operations for the continuous model:
+ * the concentration at a surface point (bilinear over the texel cells) and a deposit
+ * at a surface point (spread over the same cells with the same weights). These are the
+ * two calls an agent makes on its domain; another domain (an intrinsic triangulation)
+ * provides the same two with its own basis functions.
+ *
+ * The bilinear stencil of a point takes the four texels around it. A texel counts only
+ * when it is a cell of the point's own UV island (an island texel); the weights of the
+ * others go to the cells that do count, so a deposit near an island border lands whole
+ * on the island and a reading there is the mean of the island's own cells. Across a UV
+ * seam the PDE's seam couplings carry the pheromone on, and sensors reach across seams
+ * because their probes walk the surface. */
+#ifndef MOLDTEX_SHARED_TEXEL_SAMPLING_H
+#define MOLDTEX_SHARED_TEXEL_SAMPLING_H
+
+#ifndef __OPENCL_C_VERSION__
+#include "shared/constants.h"
+#include "shared/momas.h"
+#include "shared/portable.h"
+#include "shared/walk.h"
+#endif
+#if !defined(__OPENCL_C_VERSION__) || defined(cl_khr_int64_base_atomics)
+#ifdef __OPENCL_C_VERSION__
+/* Deposit sums are 64-bit integer atomics (devices without them skip this model). */
+#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
+#endif
+
+MTX_BEGIN_NAMESPACE
+
+/* Fixed-point scale of deposits: a whole deposit is this many units, so sums of
+ * integer parts are exact (and the same for any order of threads); 2^24 units keep the
+ * weights to 6e-8 and leave 2^39 whole deposits per texel and step before overflow. */
+#define MTX_DEPOSIT_UNITS 16777216.0f
+
+typedef struct mtx_texel_stencil {
+  mtx_u32 cell[4];
+  float weight[4]; /* sum to 1 over the counted cells; 0 for the others */
+  int count;       /* 0: no cell of the island near the point (nothing to read or write) */
+} mtx_texel_stencil;
+
+MTX_FN void mtx_texel_stencil_of(mtx_surface_tables s, const mtx_walker* w, mtx_u32 width,
+                                 mtx_u32 height, mtx_texel_stencil* st) {
+  MTX_GLOBAL const float* uv = s.corner_uvs + 6 * w->triangle;
+  const float x = (w->bary[0] * uv[0] + w->bary[1] * uv[2] + w->bary[2] * uv[4]) * MTX_CAST(float, width) - 0.5f;
+  const float y = (w->bary[0] * uv[1] + w->bary[1] * uv[3] + w->bary[2] * uv[5]) * MTX_CAST(float, height) - 0.5f;
+  const float fx0 = floor(x), fy0 = floor(y);
+  const float fx = x - fx0, fy = y - fy0;
+  const int x0 = MTX_CAST(int, fx0), y0 = MTX_CAST(int, fy0);
+  const mtx_u32 island = s.island[w->triangle];
+  float total = 0.0f;
+  int counted[4] = {0, 0, 0, 0};
+  st->count = 0;
+  for (int k = 0; k < 4; ++k) {
+    const int ix = x0 + (k & 1), iy = y0 + (k >> 1);
+    const float wk = ((k & 1) ? fx : 1.0f - fx) * ((k >> 1) ? fy : 1.0f - fy);
+    st->cell[k] = 0;
+    st->weight[k] = 0.0f;
+    if (ix < 0 || iy < 0 || ix >= MTX_CAST(int, width) || iy >= MTX_CAST(int, height)) continue;
+    const mtx_u32 i = MTX_CAST(mtx_u32, iy) * width + MTX_CAST(mtx_u32, ix);
+    const int t = s.texel_triangle[i];
+    if (t < 0 || s.classes[i] != MTX_TEXEL_INSIDE || s.island[t] != island) continue;
+    st->cell[k] = i;
+    st->weight[k] = wk;
+    counted[k] = 1;
+    total += wk;
+    st->count += 1;
+  }
+  if (st->count == 0) return;
+  if (!(total > 0.0f)) {
+    /* Only cells of weight 0 counted (the point lies on a texel centre line next to
+     * foreign texels): they share equally. */
+    for (int k = 0; k < 4; ++k) st->weight[k] = counted[k] ? 1.0f : 0.0f;
+    total = MTX_CAST(float, st->count);
+  }
+  for (int k = 0; k < 4; ++k) st->weight[k] /= total;
+}
+
+/* Adds `units` (a fixed-point share of one deposit, MTX_DEPOSIT_UNITS = all of it) to the
+ * stencil's cells in proportion to their weights. The integer parts add up exactly to
+ * `units`: the last counted cell takes the rounding remainder. */
+MTX_FN void mtx_texel_deposit(MTX_GLOBAL mtx_i64* sums, const mtx_texel_stencil* st, float units) {
+  mtx_i64 left = MTX_CAST(mtx_i64, units + 0.5f);
+  int last = -1;
+  for (int k = 0; k < 4; ++k)
+    if (st->weight[k] > 0.0f) last = k;
+  for (int k = 0; k < 4; ++k) {
+    if (!(st->weight[k] > 0.0f)) continue;
+    mtx_i64 q = k == last ? left : MTX_CAST(mtx_i64, st->weight[k] * units + 0.5f);
+    q = q > left ? left : q;
+    left -= q;
+    if (q != 0) MTX_ADD_I64(sums, st->cell[k], q);
+  }
+}
+
+/* The concentration that `units` of fixed-point deposit add to a cell of 3D area
+ * `area`, `amount` being r_dep * dt / MTX_DEPOSIT_UNITS. */
+MTX_FN float mtx_deposit_concentration(mtx_i64 units, float amount, float area) {
+  return MTX_CAST(float, units) * amount / area;
+}
+
+MTX_END_NAMESPACE
+
+#endif /* 64-bit atomics */
+
+#endif
