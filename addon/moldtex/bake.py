@@ -133,6 +133,17 @@ def plan_for(obj, scene):
                     settings.bake_resume)
 
 
+def clipping_note(obj, plan):
+    """Why this bake's files cannot hold what the simulation makes, or "": the
+    continuous model's u / U runs above 1 (1 = the uniform steady state), which PNG
+    (0..1) cuts off."""
+    if (live.model_of(obj.moldtex) != engine.MODEL_CONTINUOUS
+            or plan.image_format not in (engine.IMAGE_PNG8, engine.IMAGE_PNG16)):
+        return ""
+    return ("PNG holds 0 to 1, but the continuous model's u / U runs above 1 on the "
+            "trails: those values are cut off. Choose OpenEXR to keep them.")
+
+
 def progress_line(progress):
     """ "frame 12/250 (coverage 0.31)" of an engine progress dict."""
     total = progress["last_frame"] - progress["first_frame"] + 1
@@ -420,6 +431,7 @@ def use_sequence(obj, plan):
         material.setup_material(obj, image, uv_map)
         node = material.moldtex_node(obj, material.TEXTURE_NODE)
     node.image = image
+    material.sync_display_range(obj)  # the frames hold what the live image holds
     user = node.image_user
     # Blender shows file number (f - frame_start + 1) + frame_offset at scene frame f
     # (BKE_image_user_frame_get), so this makes it f for f in first..first+count-1;

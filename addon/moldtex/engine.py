@@ -855,8 +855,9 @@ class Simulation:
         fields: static fields (array('f') or numpy float32 of width*height*4, see
         set_fields) taken at create, or None;
         continuous: dict with any of CONTINUOUS_FIELDS for a continuous simulation,
-        given to the core right after it is created (before any step), or None for
-        the core's defaults. config["model"] chooses the model (MODEL_*)."""
+        given to the core right after it is created, which then resets (the state a
+        reset with these parameters gives), or None for the core's defaults.
+        config["model"] chooses the model (MODEL_*)."""
         lib = _require()
         self._handle = None
         c = SimConfig()
@@ -888,6 +889,11 @@ class Simulation:
         if continuous:
             try:
                 self.set_continuous_params(continuous)
+                # The agents' clocks (ages, lifetimes, turn timers) started from the
+                # defaults at create, and changing the lifetime or decision frequency
+                # restarts them on another random stream: respawn, so that this state
+                # is exactly what a reset (and so a bake) starts from.
+                self.reset()
             except (EngineError, KeyError, TypeError):
                 self.release()
                 raise

@@ -35,6 +35,7 @@ def _show(entry, obj):
     image = image_io.ensure_image(obj, sim.width, sim.height)
     image_io.upload(image, live.read_pixels(entry))
     material.show_image(obj, image)  # back from a baked sequence to the live image
+    material.sync_display_range(obj)  # the ramp spans what this model's image holds
     return image
 
 
@@ -449,6 +450,9 @@ settings (restarts the simulation as Reset does). Press again or Esc to cancel""
             self.report({'ERROR'}, str(error))
             return {'CANCELLED'}
         print(f"Moldtex bake: '{obj.name}', {self._describe(plan)}")
+        note = bake.clipping_note(obj, plan)
+        if note:
+            self.report({'WARNING'}, note)
         try:
             progress = bake.run_synchronously(job)
         except USER_ERRORS as error:
@@ -475,6 +479,9 @@ settings (restarts the simulation as Reset does). Press again or Esc to cancel""
         except USER_ERRORS as error:
             self.report({'ERROR'}, str(error))
             return {'CANCELLED'}
+        note = bake.clipping_note(obj, plan)
+        if note:
+            self.report({'WARNING'}, note)
         window_manager = context.window_manager
         window_manager.progress_begin(0, max(1, plan.frame_count))
         self._window = context.window
