@@ -497,8 +497,16 @@ def species_params_from_settings(settings):
 
 
 def _push_species(entry, settings):
+    # Only the species the simulation has: a new Species count waits for Reset (a
+    # parameter change meanwhile is no error).
+    config = getattr(entry, "config", None)
+    count = config.get("species_count", 1) if config else MAX_SPECIES_PUSHED
     for index, params in species_params_from_settings(settings):
-        entry.sim.set_species_params(index, params)
+        if index < count:
+            entry.sim.set_species_params(index, params)
+
+
+MAX_SPECIES_PUSHED = engine.MAX_SPECIES
 
 
 # Settings naming the vertex group or attribute of each field channel (R, G, B).
