@@ -69,7 +69,8 @@ def build_parser(prog):
     parser.add_argument("--prefix", help="file name prefix (default: '<object name>_')")
     parser.add_argument("--preset", metavar="NAME",
                         help="apply a look first: a shipped preset (marble, wood_grain, "
-                             "golden_web, lava_rivers, moss, metal_scratches), one of "
+                             "golden_web, lava_rivers, moss, metal_scratches; continuous: "
+                             "branching_veins, coral_maze, zebra_stripes, starbursts), one of "
                              "yours, or a preset .py file")
     parser.add_argument("--model", choices=sorted(MODELS),
                         help="behaviour model: momas, or continuous (the rate-based "
