@@ -293,7 +293,7 @@ class _ContinuousPanel(_SubPanel):
 def _draw_pattern_scale(layout, settings, active=True):
     column = layout.column(align=True)
     column.active = active
-    _prop(column, settings, "pattern_scale_mode", expand=True)
+    _prop(column.row(align=True), settings, "pattern_scale_mode", expand=True)
     if settings.pattern_scale_mode == 'LENGTH':
         _prop(column, settings, "pattern_length")
     else:
