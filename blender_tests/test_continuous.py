@@ -135,6 +135,20 @@ class ModelTests(unittest.TestCase):
             bpy.ops.moldtex.step(steps=1)
         self.assertIn("Move rate", str(caught.exception))
 
+    def test_unknown_values_from_another_version_are_said_and_repaired(self):
+        obj = continuous_torus()
+        obj.moldtex.continuous["integrator"] = 99  # e.g. a later version's integrator
+        self.assertIn("Integrator held a value", labels(draw_all(self, obj)))
+        entry = h.run(obj, 1)
+        self.assertEqual(obj.moldtex.continuous.integrator, 'AUTO')
+        self.assertEqual(entry.sim.get_continuous_params()["integrator"],
+                         h.engine().INTEGRATOR_AUTO)
+        obj.moldtex["model"] = 7
+        self.assertIn("Model held a value", labels(draw_all(self, obj)))
+        entry = h.run(obj, 1)  # read as MoMaS, the default, and set back to it
+        self.assertEqual(obj.moldtex.model, 'MOMAS')
+        self.assertEqual(entry.sim.get_config()["model"], h.engine().MODEL_MOMAS)
+
     def test_pattern_lengths_follow_the_object_or_a_scene_length(self):
         live = h.live()
         obj = continuous_torus()

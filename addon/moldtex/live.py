@@ -660,7 +660,8 @@ def needs_reset(obj):
 def _build(entry, obj, mesh, depsgraph=None):
     settings = obj.moldtex
     from .properties import repair_enums  # (properties imports this module)
-    repaired = " ".join(repair_enums(settings))  # unknown enum values -> defaults
+    # unknown enum values -> defaults
+    repaired = " ".join(repair_enums(settings) + repair_enums(settings.continuous))
     config = config_from_settings(settings)
     device_note = backend_note(settings)
     note = " ".join(filter(None, (repaired, device_note)))

@@ -605,8 +605,10 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         name="Time Step", default=1.0 / 60.0, min=0.001, max=0.25, precision=4,
         unit='TIME_ABSOLUTE',
         description="Time Step: simulated seconds per step (Δt; 1/60 s reproduces the papers). In "
-                    "surface units the result depends on simulated time, not on the step "
-                    "count: a smaller step is finer in time, not slower in motion",
+                    "surface units and in the continuous model the result depends on "
+                    "simulated time, not on the step count: a smaller step is finer in "
+                    "time, not slower in motion. Continuous model: keep it well below the "
+                    "turn decision period, the mean lifetime and the activation time",
         update=_push_params)
     sensor_size: IntProperty(
         name="Sensor Size", default=0, min=0, max=4,

@@ -176,7 +176,7 @@ class MOLDTEX_PT_main(bpy.types.Panel):
             check_transform(obj)
         except MeshExportError as error:
             _wrapped(layout.box(), str(error), icon='ERROR')
-        for note in invalid_enum_notes(settings):
+        for note in invalid_enum_notes(settings) + invalid_enum_notes(settings.continuous):
             _wrapped(layout, note + " Reset fixes it.", icon='ERROR')
         column = _split(layout)
         if len(obj.data.uv_layers) == 0:
