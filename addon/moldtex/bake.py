@@ -75,7 +75,7 @@ class BakePlan:
     """What a bake writes where; made from an object's settings by plan_for()."""
 
     def __init__(self, object_name, directory, prefix, first_frame, last_frame,
-                 steps_per_frame, format_id, resume):
+                 steps_per_frame, format_id, resume, continuous=False):
         self.object_name = object_name
         self.directory = directory
         self.prefix = prefix
@@ -85,6 +85,9 @@ class BakePlan:
         self.format_id = format_id
         self.image_format = FORMAT_VALUES[format_id]
         self.resume = bool(resume)
+        # The continuous model: the metrics' coverage is the mean u / U (Eq. 1 over the
+        # image, which holds u / U), said so in the progress lines.
+        self.continuous = bool(continuous)
 
     @property
     def frame_count(self):
@@ -130,7 +133,8 @@ def plan_for(obj, scene):
     from .properties import enum_value  # (properties imports live, which imports us)
     return BakePlan(obj.name, output_directory(obj), prefix, first, last,
                     settings.bake_steps_per_frame, enum_value(settings, "bake_format"),
-                    settings.bake_resume)
+                    settings.bake_resume,
+                    live.model_of(settings) == engine.MODEL_CONTINUOUS)
 
 
 def clipping_note(obj, plan):
@@ -144,12 +148,19 @@ def clipping_note(obj, plan):
             "trails: those values are cut off. Choose OpenEXR to keep them.")
 
 
-def progress_line(progress):
-    """ "frame 12/250 (coverage 0.31)" of an engine progress dict."""
+def measure_text(coverage, continuous=False):
+    """ "coverage 0.31" (MoMaS' Eq. 1), or for the continuous model, whose image holds
+    u / U, "mean 0.97 U"."""
+    return f"mean {coverage:.2f} U" if continuous else f"coverage {coverage:.2f}"
+
+
+def progress_line(progress, continuous=False):
+    """ "frame 12/250 (coverage 0.31)" of an engine progress dict ("(mean 0.97 U)" for
+    the continuous model)."""
     total = progress["last_frame"] - progress["first_frame"] + 1
     text = f"frame {progress['frames_done']}/{total}"
     if progress["frames_done"]:
-        text += f" (coverage {progress['coverage']:.2f})"
+        text += f" ({measure_text(progress['coverage'], continuous)})"
     return text
 
 
@@ -294,7 +305,9 @@ def summary(plan, progress, failure=None):
         return (f"Bake cancelled after {done}/{total} frames (turn on Resume to "
                 f"continue it).")
     text = f"Baked {total} frames ({plan.describe_files()}) into {plan.directory}"
-    if done:
+    if done and plan.continuous:
+        text += f"; last frame: mean u / U {progress['coverage']:.3f}"
+    elif done:
         text += (f"; last frame: coverage {100.0 * progress['coverage']:.1f} %, presence "
                  f"{100.0 * progress['presence']:.1f} %")
     return text + "."
@@ -333,9 +346,9 @@ def _print_frames(job, shown, progress, out):
         for index in range(shown + 1, done):
             row = rows.get(progress["first_frame"] + index - 1)
             if row is not None:
-                print(f"Moldtex bake: frame {index}/{total} (coverage "
-                      f"{row['coverage']:.2f})", file=out)
-    print(f"Moldtex bake: {progress_line(progress)}", file=out)
+                print(f"Moldtex bake: frame {index}/{total} "
+                      f"({measure_text(row['coverage'], job.plan.continuous)})", file=out)
+    print(f"Moldtex bake: {progress_line(progress, job.plan.continuous)}", file=out)
     out.flush()
 
 

@@ -10,8 +10,8 @@ Blender 4.2+ with the add-on enabled in the preferences:
 Blender as a Python module (pip install bpy):
     python <add-on folder>/moldtex/cli.py --blend scene.blend --object Rock ...
 
-Prints one progress line per frame ("Moldtex bake: frame 12/250 (coverage 0.31)") and
-where the files are. Exit status: 0 done, 1 the bake failed or was interrupted (a
+Prints one progress line per frame ("Moldtex bake: frame 12/250 (coverage 0.31)"; for
+the continuous model "(mean 0.97 U)", the mean u / U) and where the files are. Exit status: 0 done, 1 the bake failed or was interrupted (a
 missing object, an unwritable folder, ...), 2 bad arguments. Arguments not given keep
 the object's Bake settings saved in the .blend. Frames are whole files at any moment
 (written as .partial and renamed), so a killed job can be rerun with --resume and

@@ -560,11 +560,13 @@ settings (restarts the simulation as Reset does). Press again or Esc to cancel""
     def _show_progress(self, context, progress):
         window_manager = context.window_manager
         window_manager.progress_update(progress["frames_done"])
-        text = f"Moldtex bake: {bake.progress_line(progress)} — Esc to cancel"
+        continuous = self._job is not None and self._job.plan.continuous
+        line = bake.progress_line(progress, continuous)
+        text = f"Moldtex bake: {line} — Esc to cancel"
         entry = live.get(self._job.name) if self._job is not None else None
         timing = bake.timing_text(entry) if entry is not None else ""
         if timing:
-            text = f"Moldtex bake: {bake.progress_line(progress)}, {timing} — Esc to cancel"
+            text = f"Moldtex bake: {line}, {timing} — Esc to cancel"
         _status(context, text, header=True)
         _tag_redraw(context)
 

@@ -215,7 +215,8 @@ class MOLDTEX_PT_main(bpy.types.Panel):
         if entry is not None and entry.notice:
             _wrapped(layout, entry.notice, icon='INFO')
         if entry is not None and entry.baking:
-            _wrapped(layout, "Baking: " + _bake_progress_text(entry.bake_progress) +
+            _wrapped(layout, "Baking: " + _bake_progress_text(entry.bake_progress,
+                                                              entry.bake_plan) +
                      " (the live simulation waits)", icon='RENDER_ANIMATION')
 
         box = layout.box()
@@ -539,11 +540,14 @@ def _draw_food(layout, obj):
         _wrapped(box, "Hunger Rate is 0: the agents ignore the food.", icon='INFO')
 
 
-def _bake_progress_text(progress):
+def _bake_progress_text(progress, plan=None):
     if not progress:
         return "starting"
-    text = bake.progress_line(progress)
-    if progress["frames_done"]:
+    continuous = plan is not None and plan.continuous
+    text = bake.progress_line(progress, continuous)
+    if progress["frames_done"] and continuous:
+        text = f"{text.split(' (')[0]}, mean u / U {progress['coverage']:.3f}"
+    elif progress["frames_done"]:
         text = (f"{text.split(' (')[0]}, coverage {100.0 * progress['coverage']:.1f} %, "
                 f"presence {100.0 * progress['presence']:.1f} %")
     return text
@@ -603,7 +607,8 @@ class MOLDTEX_PT_bake(_SubPanel, bpy.types.Panel):
             return
         if baking:
             timing = bake.timing_text(entry)
-            _wrapped(layout, "Baking: " + _bake_progress_text(entry.bake_progress) +
+            _wrapped(layout, "Baking: " + _bake_progress_text(entry.bake_progress,
+                                                              entry.bake_plan) +
                      (f"; {timing}" if timing else "") + ". Esc cancels.", icon='TIME')
         elif entry.bake_summary:
             _wrapped(layout, entry.bake_summary, icon='INFO')
