@@ -287,6 +287,38 @@ class LookTests(unittest.TestCase):
         apply_look("marble")
         self.assertEqual(obj.moldtex.model, 'MOMAS')
 
+    def test_a_saved_look_keeps_the_model_and_its_parameters(self):
+        # What the + button writes (presets.preset_text), applied to another object.
+        obj = continuous_torus()
+        cont = obj.moldtex.continuous
+        values = {"move_rate": 31.5, "turn_rate": 3.25, "turn_frequency": 8.0,
+                  "sensor_distance": 17.0, "sensor_angle": -0.5, "deposit_rate": 2.75,
+                  "diffusion_rate": 7.5, "decay_rate": 1.75, "mean_lifetime": 0.6,
+                  "activation_time": 0.9, "display_range": 2.5}
+        for key, value in values.items():
+            setattr(cont, key, value)
+        cont.integrator = 'FORWARD'
+        obj.moldtex.time_step = 0.0125
+        obj.moldtex.agent_count = 4321
+        cont.keep_u = True
+        path = os.path.join(tempfile.gettempdir(), "moldtex_test_saved_continuous.py")
+        with open(path, "w", encoding="utf-8") as file:
+            file.write(presets_module().preset_text(obj, "Saved"))
+        try:
+            other = h.add_primitive("sphere")
+            self.assertEqual(bpy.ops.moldtex.preset_apply(filepath=path), {'FINISHED'})
+        finally:
+            os.remove(path)
+        settings = other.moldtex
+        self.assertEqual(settings.model, 'CONTINUOUS')
+        self.assertEqual(settings.agent_count, 4321)  # not scaled with the resolution
+        self.assertAlmostEqual(settings.time_step, 0.0125, places=6)
+        self.assertEqual(settings.continuous.integrator, 'FORWARD')
+        for key, value in values.items():  # the deposit rate as saved, Keep U set last
+            self.assertAlmostEqual(getattr(settings.continuous, key), value, places=5,
+                                   msg=key)
+        self.assertTrue(settings.continuous.keep_u)
+
     def test_every_look_grows_a_pattern_live(self):
         # Each look on the torus at 256², 3 simulated seconds (180 steps) through Reset
         # and Step, read from the object's image. Its noise floor is the same look
