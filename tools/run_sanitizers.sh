@@ -14,7 +14,8 @@
 #    measure an emergent behaviour (Pattern.*, Food.HungryAgentsGatherAtTheSource,
 #    Food.FiniteSourceEmptiesAndStopsAttracting, Fields.MazeAgentsNeverStandInAWall...,
 #    Fields.AttractorDrawsAgents, Species.CompetingSpeciesOverlap..., the pattern
-#    measures of SurfaceUnits.*: 30..160 s each in Release): 12..50 s each
+#    measures of SurfaceUnits.* and the continuous model's discretisation checks
+#    (ContinuousModel.*, Continuous{Backends,OpenCl}.*): 30..160 s each in Release): 12..50 s each
 #    under ASan (2.5 minutes together on 2 cores), and the code they run is the step
 #    that the shorter tests of the same files run too;
 #  - the OpenCL instances (PoCL compiles kernels with its own LLVM at run time, which
@@ -53,7 +54,7 @@ empty_icd="$(mktemp -d)"
 trap 'rm -rf "$empty_icd" "${fuzz_dir:-}"' EXIT
 export OCL_ICD_VENDORS="$empty_icd"
 echo "== CTest under ASan/UBSan (without the statistical pattern tests; OpenCL skips)"
-slow='^Pattern\.|^Food\.(HungryAgentsGather|FiniteSourceEmpties)|^Fields\.(Maze|AttractorDraws)|^Species\.CompetingSpecies|^SurfaceUnits\.(NoTrail|IslandsThatTouch|OpenBoundaries|SameCells|ResultFollows)|^SurfaceUnitsBackends'
+slow='^Pattern\.|^Food\.(HungryAgentsGather|FiniteSourceEmpties)|^Fields\.(Maze|AttractorDraws)|^Species\.CompetingSpecies|^SurfaceUnits\.(NoTrail|IslandsThatTouch|OpenBoundaries|SameCells|ResultFollows)|^SurfaceUnitsBackends|^ContinuousModel\.(SeedSpread|Character|Turnover|Stretched|MomasInContrast|MeanConcentration)|^ContinuousOpenCl|^ContinuousBackends'
 ctest --test-dir "$BUILD" --output-on-failure -j"$JOBS" -E "$slow"
 tested=$SECONDS
 

@@ -9,6 +9,9 @@
 //   Plane{Cpu,OpenCL}/1024x1024/1M   flat quad (2 triangles), 1024^2 texture, 1,000,000 agents
 //   Sphere{Cpu,OpenCL}/2048x2048/1M  lat-long UV sphere 64 x 32 segments, 2048^2, 1,000,000 agents
 //   {Plane,Sphere}Surface{Cpu,OpenCL}   the same in surface units, 2 texels per length unit
+//   {Plane,Sphere}Continuous{Cpu,OpenCL}   the continuous model (layton-intrinsic-slime.md)
+//                                 with the core's default agent scaled to one texel per
+//                                 step at 60 Hz (Jones' geometry), turnover on (tau 0.5 s)
 // Cpu: all cores (thread_count = 0). OpenCL: the first device moldtex_opencl_get_device
 // lists (the label names it); skipped with the core's reason when there is none.
 // Counters: agent_steps_per_s (agents x steps per wall second) and texel_updates_per_s
@@ -63,7 +66,8 @@ bool FirstOpenClDevice(moldtex_opencl_device_info* info, std::string* why) {
 // Built once per case and kept across the benchmark's repeated calls, so neither
 // mesh setup, kernel compilation, spawning nor warm-up is timed.
 Case* GetCase(const std::string& name, const mtx::Mesh& mesh, uint32_t w, uint32_t h,
-              uint32_t agents, moldtex_backend backend, double texels_per_unit = 0) {
+              uint32_t agents, moldtex_backend backend, double texels_per_unit = 0,
+              bool continuous = false, uint32_t integrator = MOLDTEX_INTEGRATOR_AUTO) {
   static std::map<std::string, std::unique_ptr<Case>> cases;
   auto& c = cases[name];
   if (c) return c.get();
@@ -84,6 +88,7 @@ Case* GetCase(const std::string& name, const mtx::Mesh& mesh, uint32_t w, uint32
     p.length_unit = float(texels_per_unit * std::sqrt(mesh.total_area() / (mesh.total_uv_area() * double(w) * h)));
   moldtex_sim_config config = mtx::make_config(w, h, agents, 1);
   config.backend = backend;
+  if (continuous) config.model = MOLDTEX_MODEL_CONTINUOUS;
   if (backend == MOLDTEX_BACKEND_OPENCL) {
     moldtex_opencl_device_info device;
     if (!FirstOpenClDevice(&device, &c->error)) return c.get();
@@ -94,6 +99,24 @@ Case* GetCase(const std::string& name, const mtx::Mesh& mesh, uint32_t w, uint32
   if (!c->sim) {
     c->error = "sim_create failed (" + std::to_string(int(st)) + "): " + moldtex_last_error();
     return c.get();
+  }
+  if (continuous) {
+    // The default agent is drawn on a lattice of 0.01 mesh units: rescale it to texels.
+    const double texel = std::sqrt(mesh.total_area() / (mesh.total_uv_area() * double(w) * h));
+    const double k = texel / 0.01;
+    moldtex_continuous_params cp;
+    moldtex_continuous_params_init(&cp);
+    cp.move_rate *= float(k);
+    cp.sensor_distance *= float(k);
+    cp.diffusion_rate *= float(k * k);
+    cp.mean_lifetime = 0.5f;
+    cp.activation_time = 0.2f;
+    cp.integrator = integrator;
+    if (moldtex_sim_set_continuous_params(c->sim.get(), &cp) != MOLDTEX_OK) {
+      c->error = std::string("set_continuous_params failed: ") + moldtex_last_error();
+      c->sim.reset();
+      return c.get();
+    }
   }
   char buf[512] = {};
   moldtex_sim_get_backend_name(c->sim.get(), buf, sizeof(buf));
@@ -164,6 +187,21 @@ mtx::SurfacePtr& SphereSurface() {
 
 // Radius in texels -> mesh units on the 2048^2 lat-long sphere: the equator's 2048
 // texels span 2 pi, so a texel is ~pi/1024 wide there.
+void BM_PlaneContinuous(benchmark::State& state, moldtex_backend backend, const char* key) {
+  RunSteps(state, GetCase(key, mtx::make_quad(), 1024, 1024, 1000000, backend, 0.0, true));
+}
+
+void BM_SphereContinuous(benchmark::State& state, moldtex_backend backend, const char* key) {
+  RunSteps(state, GetCase(key, mtx::make_uv_sphere(64, 32, 1.0), 2048, 2048, 1000000, backend, 0.0, true));
+}
+
+// The add-on's defaults (512^2, 60k agents) on the UV sphere, whose pole fans make the
+// PDE stiff: AUTO (backward Euler here) against forward Euler with its sub-steps.
+void BM_SphereContinuousSmall(benchmark::State& state, uint32_t integrator, const char* key) {
+  RunSteps(state, GetCase(key, mtx::make_uv_sphere(64, 32, 1.0), 512, 512, 60000, MOLDTEX_BACKEND_CPU, 0.0,
+                          true, integrator));
+}
+
 void BM_PaintDab(benchmark::State& state) {
   const uint32_t size = 2048;
   static std::vector<float> image(size_t(size) * size * 4, 0.f);
@@ -249,5 +287,21 @@ BENCHMARK_CAPTURE(BM_SphereSurface, cpu, MOLDTEX_BACKEND_CPU, "sphere-surface-cp
     ->Name("SphereSurfaceCpu/2048x2048/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_SphereSurface, opencl, MOLDTEX_BACKEND_OPENCL, "sphere-surface-opencl")
     ->Name("SphereSurfaceOpenCL/2048x2048/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
+
+BENCHMARK_CAPTURE(BM_PlaneContinuous, cpu, MOLDTEX_BACKEND_CPU, "plane-continuous-cpu")
+    ->Name("PlaneContinuousCpu/1024x1024/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_PlaneContinuous, opencl, MOLDTEX_BACKEND_OPENCL, "plane-continuous-opencl")
+    ->Name("PlaneContinuousOpenCL/1024x1024/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_SphereContinuous, cpu, MOLDTEX_BACKEND_CPU, "sphere-continuous-cpu")
+    ->Name("SphereContinuousCpu/2048x2048/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_SphereContinuous, opencl, MOLDTEX_BACKEND_OPENCL, "sphere-continuous-opencl")
+    ->Name("SphereContinuousOpenCL/2048x2048/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
+
+BENCHMARK_CAPTURE(BM_SphereContinuousSmall, auto, MOLDTEX_INTEGRATOR_AUTO, "sphere-small-auto")
+    ->Name("SphereContinuousCpu/512x512/60k/auto")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_SphereContinuousSmall, forward, MOLDTEX_INTEGRATOR_FORWARD, "sphere-small-forward")
+    ->Name("SphereContinuousCpu/512x512/60k/forward")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_SphereContinuousSmall, backward, MOLDTEX_INTEGRATOR_BACKWARD, "sphere-small-backward")
+    ->Name("SphereContinuousCpu/512x512/60k/backward")->UseRealTime()->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

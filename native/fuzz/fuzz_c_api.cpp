@@ -84,16 +84,22 @@ moldtex_brush brush(Bytes& in) {
 }
 
 // The simulation's pheromone after accepted calls: finite, in [0, 1].
+// MoMaS pheromone lies in [0, 1]; the continuous model's u / U is finite and >= 0.
 void check_pheromone(moldtex_sim sim, uint32_t width, uint32_t height) {
   std::vector<float> rgba(size_t(width) * height * 4);
   if (check(moldtex_sim_read_rgba(sim, rgba.data(), rgba.size())) != MOLDTEX_OK) bug("read_rgba failed");
+  moldtex_sim_config c;
+  moldtex_sim_config_init(&c);
+  if (check(moldtex_sim_get_config(sim, &c)) != MOLDTEX_OK) bug("get_config failed");
+  const bool continuous = c.model == MOLDTEX_MODEL_CONTINUOUS;
   for (float v : rgba)
-    if (!(v >= 0.f && v <= 1.f)) bug("a pheromone value outside [0, 1]");
+    if (!(v >= 0.f && (continuous ? std::isfinite(v) : v <= 1.f)))
+      bug(continuous ? "a concentration that is negative or not finite" : "a pheromone value outside [0, 1]");
 }
 
 enum Op : uint8_t {
   kRayCast, kClosestPoint, kTrace, kPaint, kCreateSim, kStep, kAddAgents, kEraseAgents, kUndo,
-  kSetFood, kSetFields, kCheckpoint, kRasterize, kSetParams, kReset, kOpCount
+  kSetFood, kSetFields, kCheckpoint, kRasterize, kSetParams, kReset, kSetContinuous, kOpCount
 };
 
 void fuzz_mesh(Bytes& in) {
@@ -201,6 +207,7 @@ void fuzz_mesh(Bytes& in) {
         c.seed_center = point(in);
         c.seed_radius = in.f32();
         c.seed_rays = in.u16() % 1100;
+        c.model = in.u8() % 3;  // 2 is not a model
         moldtex_sim_params p;
         moldtex_sim_params_init(&p);
         p.thread_count = 1;
@@ -301,6 +308,18 @@ void fuzz_mesh(Bytes& in) {
         moldtex_species_params_init(&sp, which % 4);
         sp.attraction[which % 4] = in.f32();
         if (sim) check(moldtex_sim_set_species_params(sim, which % 5, &sp));
+        break;
+      }
+      case kSetContinuous: {
+        moldtex_continuous_params p;
+        moldtex_continuous_params_init(&p);
+        float* fields[] = {&p.move_rate, &p.turn_rate, &p.turn_frequency, &p.sensor_distance,
+                           &p.sensor_angle, &p.deposit_rate, &p.diffusion_rate, &p.decay_rate,
+                           &p.mean_lifetime, &p.activation_time, &p.time_step};
+        const uint8_t which = in.u8();
+        *fields[which % 11] = in.f32();
+        p.integrator = in.u8() % 4;
+        if (sim) check(moldtex_sim_set_continuous_params(sim, &p));
         break;
       }
       case kReset:

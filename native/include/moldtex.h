@@ -297,7 +297,7 @@ typedef struct moldtex_continuous_params {
 } moldtex_continuous_params;
 
 typedef enum moldtex_integrator {
-  MOLDTEX_INTEGRATOR_AUTO = 0,     /* forward Euler while it needs at most 16 sub-steps per
+  MOLDTEX_INTEGRATOR_AUTO = 0,     /* forward Euler while it needs at most 64 sub-steps per
                                       step for stability, else backward Euler */
   MOLDTEX_INTEGRATOR_FORWARD = 1,  /* forward Euler (Eq. 2), sub-stepped for stability
                                       (at most 256 sub-steps; beyond that refused) */

@@ -52,7 +52,7 @@ double Mean(const TexelGeometry& g, const std::vector<double>& field,
 }
 
 double CharacteristicLength(const TexelGeometry& g, const std::vector<double>& f, double bin,
-                            double max_distance) {
+                            double max_distance, double level) {
   double mean = 0, area = 0;
   for (size_t i = 0; i < f.size(); ++i)
     if (g.inside(i)) {
@@ -84,15 +84,37 @@ double CharacteristicLength(const TexelGeometry& g, const std::vector<double>& f
           weight[b] += w;
         }
     }
-  double previous = 1.0, previous_d = 0.0;
+  double previous = 1.0 - level, previous_d = 0.0;
   for (int b = 0; b < bins; ++b) {
     if (weight[b] <= 0) continue;
-    const double c = sum[b] / weight[b] / var, d = (b + 0.5) * bin;
+    const double c = sum[b] / weight[b] / var - level, d = (b + 0.5) * bin;
     if (c <= 0) return previous_d + (d - previous_d) * previous / (previous - c);
     previous = c;
     previous_d = d;
   }
   return max_distance;
+}
+
+double GradientLength(const TexelGeometry& g, const std::vector<double>& f) {
+  double slope = 0, weight = 0, mean = 0, area = 0;
+  for (uint32_t y = 0; y < g.height; ++y)
+    for (uint32_t x = 0; x < g.width; ++x) {
+      const size_t i = size_t(y) * g.width + x;
+      if (!g.inside(i)) continue;
+      mean += g.area[i] * f[i];
+      area += g.area[i];
+      for (int axis = 0; axis < 2; ++axis) {
+        if ((axis == 0 && x + 1 >= g.width) || (axis == 1 && y + 1 >= g.height)) continue;
+        const size_t j = axis == 0 ? i + 1 : i + g.width;
+        if (!g.inside(j)) continue;
+        const double d = norm(sub(g.position[i], g.position[j]));
+        if (!(d > 0)) continue;
+        const double w = std::sqrt(g.area[i] * g.area[j]);
+        slope += w * std::fabs(f[j] - f[i]) / d;
+        weight += w;
+      }
+    }
+  return slope > 0 ? (mean / area) / (slope / weight) : 0.0;
 }
 
 }  // namespace mtx

@@ -29,7 +29,16 @@ double Mean(const TexelGeometry& g, const std::vector<double>& field,
 // autocorrelation, from texel pairs along both texel axes binned by the 3D distance of
 // their centres (bins of `bin` mesh units), with linear interpolation in the crossing
 // bin.
+// With `level` > 0: the first crossing of that level instead of zero (e.g. 0.5: the
+// half-decay distance, set by the trails' width and spacing, steadier than the zero).
 double CharacteristicLength(const TexelGeometry& g, const std::vector<double>& f, double bin,
-                            double max_distance);
+                            double max_distance, double level = 0.0);
+
+// Gradient length: mean(f) / mean |df/ds|, the slope measured along the texel axes
+// between neighbouring texel centres by their 3D distance (area-weighted). A sum of local
+// terms, so its sampling noise falls with the surface area like a mean's, unlike a
+// correlation length set by the few largest structures. For a pattern of trails it is
+// proportional to the spacing of the trails (fewer trail edges per area: longer).
+double GradientLength(const TexelGeometry& g, const std::vector<double>& f);
 
 }  // namespace mtx

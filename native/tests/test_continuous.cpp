@@ -4,10 +4,14 @@
 // measured with three numbers on the texture, all in 3D:
 //  - the mean concentration relative to U (Eq. 5),
 //  - coverage: the 3D-area fraction where u > U (trails stand above the uniform level),
-//  - the characteristic length: the first zero of the autocorrelation, in mesh units.
-// Each comparison averages two seeds; the seed-to-seed spread of the same measures (the
-// noise floor) is measured in SeedSpreadIsBelowTheTolerances, so a tolerance of 10% is
-// known to leave room above it.
+//  - a characteristic length: the gradient length mean(u) / mean |du/ds| in 3D, which is
+//    proportional to the spacing of the trails.
+// Each comparison averages two seeds at five times. The seed-to-seed spread of the same
+// measures (the noise floor) is measured in SeedSpreadIsBelowTheTolerances: about 1% for
+// the mean, 2% for coverage and 1% for the gradient length, so 10% leaves room above it.
+// The first zero of the autocorrelation (issue #10's example of a length) is printed
+// too but not asserted: it is set by the few largest structures on the torus and spreads
+// 0.135-0.177 (25%) between seed pairs of the same run.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -27,18 +31,23 @@ const Mesh& Torus() {
   return m;
 }
 
-// Cells of about 0.3 mesh units on the torus (many cells, so lengths average well).
+// The core's default agent with turnover (tau 0.5 s, t_a 0.2 s): a network that stays
+// the same in character from about 2 s on (without turnover it keeps coarsening, Fig. 5),
+// with cells of a few tenths of a mesh unit, many on the torus.
 moldtex_continuous_params Look() {
   moldtex_continuous_params p;
   moldtex_continuous_params_init(&p);
+  p.mean_lifetime = 0.5f;
+  p.activation_time = 0.2f;
   return p;
 }
 
-struct Run {
+struct RunSpec {
   uint32_t size = 256;
   uint32_t agents = 40000;
   uint64_t seed = 1;
   double seconds = 4.0;
+  uint32_t snapshots = 0;  // extra snapshots, 0.5 s apart, ending at `seconds`
   uint32_t threads = 0;
   const Mesh* mesh = nullptr;
   Backend backend = Backend::Cpu;
@@ -46,11 +55,12 @@ struct Run {
 };
 
 struct Outcome {
-  std::vector<double> shown;  // u / U (channel R)
+  std::vector<double> shown;  // u / U (channel R) at the end
+  std::vector<std::vector<double>> snapshots;  // and `snapshots` before, 0.5 s apart
   moldtex_sim_stats stats{};
 };
 
-Outcome Simulate(const Run& r) {
+Outcome Simulate(const RunSpec& r) {
   const Mesh& m = r.mesh ? *r.mesh : Torus();
   Outcome out;
   auto s = create_surface(m);
@@ -66,17 +76,23 @@ Outcome Simulate(const Run& r) {
   EXPECT_TRUE(sim) << LastError();
   if (!sim) return out;
   EXPECT_EQ(moldtex_sim_set_continuous_params(sim.get(), &r.p), MOLDTEX_OK) << LastError();
-  const uint32_t steps = uint32_t(std::lround(r.seconds / r.p.time_step));
-  EXPECT_EQ(moldtex_sim_step(sim.get(), steps), MOLDTEX_OK) << LastError();
-  const std::vector<float> rgba = read_rgba(sim.get(), r.size, r.size);
-  out.shown.resize(size_t(r.size) * r.size);
-  for (size_t i = 0; i < out.shown.size(); ++i) out.shown[i] = rgba[4 * i];
+  auto advance_to = [&](double t) {
+    const uint32_t steps = uint32_t(std::lround(t / r.p.time_step)) - uint32_t(get_stats(sim.get()).step_count);
+    EXPECT_EQ(moldtex_sim_step(sim.get(), steps), MOLDTEX_OK) << LastError();
+    const std::vector<float> rgba = read_rgba(sim.get(), r.size, r.size);
+    std::vector<double> shown(size_t(r.size) * r.size);
+    for (size_t i = 0; i < shown.size(); ++i) shown[i] = rgba[4 * i];
+    return shown;
+  };
+  for (uint32_t k = r.snapshots; k > 0; --k) out.snapshots.push_back(advance_to(r.seconds - 0.5 * k));
+  out.shown = advance_to(r.seconds);
+  out.snapshots.push_back(out.shown);
   out.stats = get_stats(sim.get());
   return out;
 }
 
 struct Character {
-  double mean = 0, coverage = 0, length = 0;
+  double mean = 0, coverage = 0, length = 0, correlation = 0;
 };
 
 Character Measure(const Mesh& m, uint32_t size, const std::vector<double>& shown) {
@@ -86,26 +102,36 @@ Character Measure(const Mesh& m, uint32_t size, const std::vector<double>& shown
   std::vector<double> above(shown.size());
   for (size_t i = 0; i < shown.size(); ++i) above[i] = shown[i] > 1.0 ? 1.0 : 0.0;
   c.coverage = Mean(g, above, [](uint32_t, uint32_t) { return true; });
-  c.length = CharacteristicLength(g, shown, 0.01, 1.5);
+  c.length = GradientLength(g, shown);
+  c.correlation = CharacteristicLength(g, shown, 0.01, 1.5);
   return c;
 }
 
-// The mean character over two seeds.
-Character Character2(Run r) {
+// The mean character over seeds `first` and `first + 1`, each measured at 5 times 0.5 s
+// apart (the pattern renews itself within a lifetime, so the snapshots are partly
+// independent samples and their mean is steadier than one snapshot).
+Character Character2(RunSpec r, uint64_t first = 1) {
   Character sum;
-  for (uint64_t seed : {1, 2}) {
+  r.snapshots = 4;
+  for (uint64_t seed : {first, first + 1}) {
     r.seed = seed;
-    const Character c = Measure(r.mesh ? *r.mesh : Torus(), r.size, Simulate(r).shown);
-    sum.mean += c.mean / 2;
-    sum.coverage += c.coverage / 2;
-    sum.length += c.length / 2;
+    const Outcome o = Simulate(r);
+    for (const auto& shown : o.snapshots) {
+      const Character c = Measure(r.mesh ? *r.mesh : Torus(), r.size, shown);
+      const double n = 2.0 * o.snapshots.size();
+      sum.mean += c.mean / n;
+      sum.coverage += c.coverage / n;
+      sum.length += c.length / n;
+      sum.correlation += c.correlation / n;
+    }
   }
   return sum;
 }
 
 std::string Str(const Character& c) {
   char b[160];
-  std::snprintf(b, sizeof b, "mean %.3f U, coverage %.3f, length %.3f", c.mean, c.coverage, c.length);
+  std::snprintf(b, sizeof b, "mean %.3f U, coverage %.3f, gradient length %.4f (correlation zero %.3f)", c.mean,
+                c.coverage, c.length, c.correlation);
   return b;
 }
 
@@ -113,6 +139,7 @@ std::string Str(const Character& c) {
 ::testing::AssertionResult Same(const Character& a, const Character& b, double tol) {
   const double dm = std::fabs(a.mean / b.mean - 1), dc = std::fabs(a.coverage / b.coverage - 1),
                dl = std::fabs(a.length / b.length - 1);
+  std::printf("  %s\n  vs %s\n  differences %.3f, %.3f, %.3f\n", Str(a).c_str(), Str(b).c_str(), dm, dc, dl);
   if (dm <= tol && dc <= tol && dl <= tol) return ::testing::AssertionSuccess();
   return ::testing::AssertionFailure() << Str(a) << " vs " << Str(b) << ": differences " << dm << ", " << dc
                                        << ", " << dl << " (tolerance " << tol << ")";
@@ -147,7 +174,8 @@ TEST(ContinuousModel, ParametersAreValidatedAndKept) {
   moldtex_sim_config unknown = make_config(64, 64, 100, 1);
   unknown.model = 9;
   moldtex_sim raw = nullptr;
-  EXPECT_EQ(moldtex_sim_create(s.get(), &unknown, nullptr, &raw), MOLDTEX_ERROR_INVALID_ARGUMENT);
+  const moldtex_sim_params defaults = default_params();
+  EXPECT_EQ(moldtex_sim_create(s.get(), &unknown, &defaults, &raw), MOLDTEX_ERROR_INVALID_ARGUMENT);
   EXPECT_NE(LastError().find("model"), std::string::npos) << LastError();
 }
 
@@ -159,7 +187,7 @@ TEST(ContinuousModel, ParametersAreValidatedAndKept) {
 // fluctuates binomially, sd sqrt(N p (1 - p)) / (N p) = 0.8% for N = 40000,
 // p = exp(-1): 3% is about 4 sd, and the measurement averages 5 samples.
 TEST(ContinuousModel, MeanConcentrationSettlesAtU) {
-  Run r;
+  RunSpec r;
   r.size = 128;
   r.seconds = 2.0;  // 12 decay times: the start-up remnant is exp(-12.6) of U
   Outcome o = Simulate(r);
@@ -181,7 +209,7 @@ TEST(ContinuousModel, MeanConcentrationSettlesAtU) {
 }
 
 TEST(ContinuousModel, SameSeedSameTextureForAnyThreadCount) {
-  Run r;
+  RunSpec r;
   r.size = 128;
   r.agents = 20000;
   r.seconds = 0.5;
@@ -199,39 +227,63 @@ TEST(ContinuousModel, SameSeedSameTextureForAnyThreadCount) {
 
 // The noise floor of the character measures: two seeds against two other seeds.
 TEST(ContinuousModel, SeedSpreadIsBelowTheTolerances) {
-  Run r;
-  const Character a = Character2(r);
-  r.seed = 10;  // Character2 overrides the seed: use other seeds by another look-alike run
-  Character b;
-  for (uint64_t seed : {3, 4}) {
-    r.seed = seed;
-    const Character c = Measure(Torus(), r.size, Simulate(r).shown);
-    b.mean += c.mean / 2;
-    b.coverage += c.coverage / 2;
-    b.length += c.length / 2;
-  }
+  RunSpec r;
+  const Character a = Character2(r, 1), b = Character2(r, 3), c3 = Character2(r, 5);
+  std::printf("seeds 5+6: %s\n", Str(c3).c_str());
   std::printf("seeds 1+2: %s\nseeds 3+4: %s\n", Str(a).c_str(), Str(b).c_str());
   EXPECT_TRUE(Same(a, b, 0.05)) << "the 10% tolerances below need a noise floor well under them";
+  EXPECT_TRUE(Same(a, c3, 0.05));
   EXPECT_GT(a.coverage, 0.05) << "a pattern (trails above U) must have formed";
   EXPECT_LT(a.coverage, 0.6);
-  EXPECT_GT(a.length, 0.05);
-  EXPECT_LT(a.length, 1.0);
+  EXPECT_GT(a.correlation, 0.05) << "cells of a few tenths of a unit";
+  EXPECT_LT(a.correlation, 1.0);
 }
 
 // Fig. 10d: the time step from 1/30 to 1/240 s leaves the character within 10%.
 TEST(ContinuousModel, CharacterDoesNotDependOnTheTimeStep) {
-  Run r;
+  RunSpec r;
   const Character reference = Character2(r);  // 1/60 s
   for (float dt : {1.f / 30.f, 1.f / 240.f}) {
-    Run q = r;
+    RunSpec q = r;
     q.p.time_step = dt;
     EXPECT_TRUE(Same(Character2(q), reference, 0.10)) << "dt = " << dt;
   }
 }
 
+// The contrast Fig. 10d draws: MoMaS (texel units, as the paper defines it) on the same
+// torus for the same 4 simulated seconds at 1/60 and 1/240 s. Its pheromone is normalised
+// by its own mean so the same measures apply. MoMaS' moves, deposits and blur are per
+// step, so a smaller time step changes the pattern far beyond the continuous model's 10%.
+Character MomasCharacter(float dt, uint64_t seed) {
+  auto s = create_surface(Torus());
+  moldtex_sim_config c = make_config(256, 256, 40000, seed);
+  c.backend = MOLDTEX_BACKEND_CPU;
+  moldtex_sim_params p = default_params();
+  p.time_step = dt;
+  auto sim = create_sim(s.get(), c, p);
+  EXPECT_TRUE(sim) << LastError();
+  if (!sim) return {};
+  EXPECT_EQ(moldtex_sim_step(sim.get(), uint32_t(std::lround(4.0 / dt))), MOLDTEX_OK);
+  const std::vector<float> rgba = read_rgba(sim.get(), 256, 256);
+  std::vector<double> f(rgba.size() / 4);
+  for (size_t i = 0; i < f.size(); ++i) f[i] = rgba[4 * i];
+  const TexelGeometry g = Texels(Torus(), 256, 256);
+  const double mean = Mean(g, f, [](uint32_t, uint32_t) { return true; });
+  for (double& v : f) v /= mean;
+  Character ch = Measure(Torus(), 256, f);
+  ch.mean = mean;  // the unnormalised mean pheromone
+  return ch;
+}
+
+TEST(ContinuousModel, MomasInContrastDependsOnTheTimeStep) {
+  const Character a = MomasCharacter(1.f / 60.f, 1), b = MomasCharacter(1.f / 240.f, 1);
+  std::printf("MoMaS, mean pheromone / coverage above the mean / gradient length:\n");
+  EXPECT_FALSE(Same(b, a, 0.10)) << "MoMaS was expected to change with the time step";
+}
+
 // Fig. 10c: four times the agents at a quarter of the deposit rate (U fixed).
 TEST(ContinuousModel, CharacterDoesNotDependOnTheAgentCountAtFixedU) {
-  Run r;
+  RunSpec r;
   r.agents = 20000;
   const Character reference = Character2(r);
   r.agents = 80000;
@@ -241,7 +293,7 @@ TEST(ContinuousModel, CharacterDoesNotDependOnTheAgentCountAtFixedU) {
 
 // Fig. 10b: the texture resolution doubled.
 TEST(ContinuousModel, CharacterDoesNotDependOnTheResolution) {
-  Run r;
+  RunSpec r;
   const Character reference = Character2(r);
   r.size = 512;
   EXPECT_TRUE(Same(Character2(r), reference, 0.10));
@@ -265,7 +317,7 @@ double PatchVariation(const Mesh& m, uint32_t size, const std::vector<double>& s
 }
 
 TEST(ContinuousModel, TurnoverMakesThePatternMoreUniform) {
-  Run r;
+  RunSpec r;
   r.seconds = 10.0;
   double off = 0, on = 0;
   for (uint64_t seed : {1, 2}) {
@@ -289,7 +341,7 @@ TEST(ContinuousModel, StretchedUvsDoNotChangeTheLengthIn3D) {
     const double u = x / 4;
     return Vec2{u * u, y / 4};
   });
-  Run r;
+  RunSpec r;
   r.mesh = &warped;
   r.size = 512;
   r.agents = 40000;
@@ -308,10 +360,10 @@ TEST(ContinuousModel, StretchedUvsDoNotChangeTheLengthIn3D) {
         const double y = h.position[i][1];
         if (!in || y < 0.3 || y > 3.7) h.triangle[i] = -1;
       }
-      (half == 0 ? left : right) += CharacteristicLength(h, shown, 0.01, 1.5) / 2;
+      (half == 0 ? left : right) += GradientLength(h, shown) / 2;
     }
   }
-  std::printf("length: compressed half %.3f, stretched half %.3f\n", left, right);
+  std::printf("gradient length: compressed half %.4f, stretched half %.4f\n", left, right);
   EXPECT_NEAR(left / right, 1.0, 0.10);
 }
 
@@ -345,23 +397,26 @@ TEST(ContinuousModel, CheckpointResumesExactly) {
 // They are not bit-identical (the device's sin, cos, log and exp round differently, and a
 // different rounding soon sends one agent another way), so they must agree in character:
 // the same 10% as the discretisation checks, over two seeds each.
-class ContinuousBackends : public ::testing::TestWithParam<Backend> {};
-
-TEST_P(ContinuousBackends, OpenClAgreesWithTheCpuInCharacter) {
+TEST(ContinuousOpenCl, AgreesWithTheCpuInCharacter) {
   moldtex_sim_config probe = make_config(8, 8, 1, 1);
-  MTX_PIN_BACKEND(probe);
-  Run r;
+  std::string why;
+  if (!PinBackend(Backend::OpenCl, probe, &why)) {
+    if (OpenClRequiredByEnv()) FAIL() << "MOLDTEX_REQUIRE_OPENCL is set: " << why;
+    GTEST_SKIP() << why;
+  }
+  RunSpec r;
   r.seconds = 3.0;
   const Character cpu = Character2(r);
-  r.backend = GetParam();
+  r.backend = Backend::OpenCl;
   const Character other = Character2(r);
-  std::printf("CPU: %s\nthis backend: %s\n", Str(cpu).c_str(), Str(other).c_str());
-  EXPECT_TRUE(Same(other, cpu, 0.10));
+    EXPECT_TRUE(Same(other, cpu, 0.10));
   EXPECT_NEAR(other.mean, 1.0, 0.01) << "the mean concentration is U on every backend";
 }
 
 // With no decay and no deposits the PDE only moves pheromone: the total stays (float
 // rounding of ~1e-7 per step, random in sign, stays far below 1e-5 over 1000 steps).
+class ContinuousBackends : public ::testing::TestWithParam<Backend> {};
+
 TEST_P(ContinuousBackends, MassIsConservedOnEveryBackend) {
   auto s = create_surface(Torus());
   moldtex_sim_config c = make_config(128, 128, 20000, 3);
@@ -384,4 +439,29 @@ TEST_P(ContinuousBackends, MassIsConservedOnEveryBackend) {
 MTX_BACKENDS(ContinuousBackends);
 
 }  // namespace
+}  // namespace mtx
+
+namespace mtx {
+// Writes EXR snapshots for a look (run with --gtest_also_run_disabled_tests).
+TEST(ContinuousModel, DISABLED_WriteSnapshots) {
+  const char* dir = std::getenv("MTX_SNAPSHOT_DIR");
+  if (!dir) GTEST_SKIP();
+  auto s = create_surface(Torus());
+  moldtex_sim_config c = make_config(256, 256, 40000, 1);
+  c.model = MOLDTEX_MODEL_CONTINUOUS;
+  c.backend = MOLDTEX_BACKEND_CPU;
+  auto sim = create_sim(s.get(), c, default_params());
+  moldtex_continuous_params p = Look();
+  if (const char* tau = std::getenv("MTX_TAU")) p.mean_lifetime = std::strtof(tau, nullptr);
+  if (const char* ta = std::getenv("MTX_TA")) p.activation_time = std::strtof(ta, nullptr);
+  moldtex_sim_set_continuous_params(sim.get(), &p);
+  for (int second = 1; second <= 8; second *= 2) {
+    moldtex_sim_step(sim.get(), second == 1 ? 60 : 60 * second / 2);
+    const std::string path = std::string(dir) + "/torus_" + std::to_string(second) + "s.f32";
+    const std::vector<float> rgba = read_rgba(sim.get(), 256, 256);
+    FILE* f = std::fopen(path.c_str(), "wb");
+    for (size_t i = 0; i < rgba.size(); i += 4) std::fwrite(&rgba[i], 4, 1, f);
+    std::fclose(f);
+  }
+}
 }  // namespace mtx

@@ -53,6 +53,12 @@ double uniform_steady_state(const moldtex_continuous_params& p, double agents, d
   return agents * p.deposit_rate / (p.decay_rate * area) * alive;
 }
 
+float deposit_unit_amount(const moldtex_continuous_params& p) {
+  const double k = double(p.decay_rate) * p.time_step;
+  const double spread = k > 1e-6 ? std::expm1(k) / k : 1.0 + k / 2;
+  return static_cast<float>(double(p.deposit_rate) * p.time_step * spread / MTX_DEPOSIT_UNITS);
+}
+
 std::vector<double> agents_per_species(const Agents& a, uint32_t species_count) {
   std::vector<double> n(species_count, 0.0);
   for (uint8_t s : a.species)
@@ -83,7 +89,9 @@ ContinuousStepConstants continuous_constants(const StepSettings& settings, const
   c.dt = p.time_step;
   c.exposure_step = p.mean_lifetime > 0.f ? p.time_step / p.mean_lifetime : 0.f;
   c.activation_time = p.activation_time;
-  c.max_piece = 0.5f;
+  // A deposit every texel along the path: bilinear hats one texel apart sum to an even
+  // line (exactly so along a texel axis), at half the atomics of half-texel pieces.
+  c.max_piece = 1.0f;
   c.width = d.width;
   c.height = d.height;
   c.species_count = settings.species_count;

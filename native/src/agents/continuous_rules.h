@@ -28,6 +28,13 @@ AliasTable build_area_alias_table(const Surface& surface);
 // * exp(-t_a / tau) (tau = 0: no turnover, the factor is 1); +inf when r_dec = 0.
 double uniform_steady_state(const moldtex_continuous_params& p, double agents, double area);
 
+// The amount of one fixed-point deposit unit: r_dep dt / MTX_DEPOSIT_UNITS, times
+// (e^k - 1) / k, k = r_dec dt. Deposits enter before the step's decay e^-k, but in truth
+// they arrive evenly during the step and decay on average by (1 - e^-k) / k; the factor
+// makes the total exact for any dt (the steady state is U, not U k e^-k / (1 - e^-k),
+// which is 5% low at 1/60 s with the default decay).
+float deposit_unit_amount(const moldtex_continuous_params& p);
+
 // Live agents per species (agent species tags), for U.
 std::vector<double> agents_per_species(const Agents& agents, uint32_t species_count);
 

@@ -49,7 +49,7 @@ struct PdeStepInfo {
 // Forward-Euler sub-steps dt needs for stability (max_rate * r_dif * dt / n <= 0.9).
 uint32_t forward_substeps(const TexelLaplacian& lap, double r_dif, double dt);
 
-// Whether a step runs backward Euler: BACKWARD, or AUTO beyond 16 forward sub-steps.
+// Whether a step runs backward Euler: BACKWARD, or AUTO beyond 64 forward sub-steps.
 // Throws INVALID_ARGUMENT for FORWARD beyond 256 sub-steps (with what to do instead) and
 // for an unknown integrator.
 bool use_backward_euler(const TexelLaplacian& lap, double r_dif, double dt, uint32_t integrator);

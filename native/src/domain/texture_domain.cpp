@@ -12,7 +12,8 @@ namespace moldtex {
 size_t TextureDomain::bytes() const {
   return texel_triangle.capacity() * 4 + classes.capacity() + gutter_texel.capacity() * 4 +
          gutter_source.capacity() * 4 + triangle_area_scale.capacity() * 4 +
-         texels_per_unit.capacity() * 4 + seam_texel.capacity() * 4 + seam_neighbour.capacity() * 4;
+         texels_per_unit.capacity() * 4 + seam_texel.capacity() * 4 + seam_neighbour.capacity() * 4 +
+         texel_island.capacity() * 4 + interior_bits.capacity() * 4;
 }
 
 namespace {
@@ -185,6 +186,21 @@ TextureDomain build_texture_domain(const Surface& s, uint32_t width, uint32_t he
     }
   }
   build_seam_neighbours(s, d, pool);
+  d.texel_island.assign(d.texel_count(), -1);
+  for (size_t i = 0; i < d.texel_count(); ++i)
+    if (d.classes[i] == MOLDTEX_TEXEL_INSIDE && d.texel_triangle[i] >= 0)
+      d.texel_island[i] = static_cast<int32_t>(s.island[d.texel_triangle[i]]);
+  d.interior_bits.assign((d.texel_count() + 31) / 32, 0u);
+  for (uint32_t y = 1; y + 1 < height; ++y)
+    for (uint32_t x = 1; x + 1 < width; ++x) {
+      const size_t i = size_t(y) * width + x;
+      const int32_t island = d.texel_island[i];
+      bool interior = island >= 0;
+      for (int dy = -1; dy <= 1 && interior; ++dy)
+        for (int dx = -1; dx <= 1 && interior; ++dx)
+          interior = d.texel_island[i + dy * static_cast<ptrdiff_t>(width) + dx] == island;
+      if (interior) d.interior_bits[i / 32] |= 1u << (i % 32);
+    }
   return d;
 }
 

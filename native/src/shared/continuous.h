@@ -27,7 +27,7 @@ MTX_BEGIN_NAMESPACE
 /* At most this many turn decisions in one step (a time step much longer than 1 / f_i
  * aliases anyway: the paper's limit). */
 #define MTX_MAX_DECISIONS_PER_STEP 16
-/* A move is split into pieces no longer than half a texel (a deposit every piece), but
+/* A move is split into pieces no longer than max_piece texels (a deposit every piece), but
  * into no more than this many. */
 #define MTX_MAX_DEPOSIT_PIECES 64
 
@@ -49,7 +49,7 @@ typedef struct mtx_continuous_constants {
   float dt;
   float exposure_step;   /* dt / tau; 0 = no turnover */
   float activation_time; /* t_a */
-  float max_piece;       /* longest deposit piece in texel units (0.5) */
+  float max_piece;       /* longest deposit piece in texel units (1) */
   mtx_u32 width, height;
   mtx_u32 species_count;
   mtx_u32 has_fields;
@@ -143,6 +143,7 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
       life->clock = k->decision_period * mtx_rng_float(&rng);
     }
   }
+  const float born = life->age; /* age at the start of this step */
   life->age += k->dt;
 
   /* Turn decisions at f_i: each one senses and turns by the impulse omega / f_i (Jones'
@@ -174,7 +175,7 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
     if (life->clock >= k->decision_period) life->clock = 0.0f; /* aliasing: drop the rest */
   }
 
-  /* Move v * dt in pieces of at most half a texel, depositing an equal share at the end
+  /* Move v * dt in pieces of at most max_piece texels, depositing an equal share at the end
    * of each piece: over successive steps the deposits sit evenly along the whole path,
    * r_dep / v per unit length, whatever dt or the piece count (Eq. 4). A piece that
    * would enter an obstacle from free ground is undone and the agent turns back. */
@@ -183,6 +184,9 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
   int pieces = MTX_CAST(int, ceil(texels_moved / k->max_piece));
   pieces = pieces < 1 ? 1 : (pieces > MTX_MAX_DEPOSIT_PIECES ? MTX_MAX_DEPOSIT_PIECES : pieces);
   const float piece = k->move_length / MTX_CAST(float, pieces);
+  const float piece_time = k->dt / MTX_CAST(float, pieces);
+  /* Piece i covers ages born + [i, i + 1) dt / pieces: it deposits when its middle is
+   * past the activation time, so activation starts within the step, not a step late. */
   const int deposits = k->deposit_on && life->age >= k->activation_time;
   const float units = MTX_DEPOSIT_UNITS / MTX_CAST(float, pieces);
   MTX_GLOBAL mtx_i64* own = sums + species * (k->width * k->height);
@@ -201,7 +205,7 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
         continue;
       }
     }
-    if (!deposits) continue;
+    if (!deposits || born + (MTX_CAST(float, i) + 0.5f) * piece_time < k->activation_time) continue;
     mtx_texel_stencil st;
     mtx_texel_stencil_of(s, w, k->width, k->height, &st);
     if (st.count > 0) mtx_texel_deposit(own, &st, units);

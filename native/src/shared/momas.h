@@ -50,6 +50,9 @@ typedef struct mtx_surface_tables {
   MTX_GLOBAL const float* texels_per_unit;
   MTX_GLOBAL const int* texel_triangle;
   MTX_GLOBAL const mtx_u32* island;
+  /* The island of each island texel, -1 elsewhere (the continuous model's stencils). */
+  MTX_GLOBAL const int* texel_island;
+  MTX_GLOBAL const mtx_u32* interior_bits; /* see TextureDomain::interior_bits */
 } mtx_surface_tables;
 
 MTX_FN mtx_u32 mtx_texel_of_uv(float u, float v, mtx_u32 width, mtx_u32 height) {

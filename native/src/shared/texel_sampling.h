@@ -46,6 +46,25 @@ MTX_FN void mtx_texel_stencil_of(mtx_surface_tables s, const mtx_walker* w, mtx_
   const float fx0 = floor(x), fy0 = floor(y);
   const float fx = x - fx0, fy = y - fy0;
   const int x0 = MTX_CAST(int, fx0), y0 = MTX_CAST(int, fy0);
+  /* Fast path: the texel holding the point is interior (its 3x3 block lies in one
+   * island), so all four texels are cells of the point's island. */
+  const mtx_u32 home = x >= 0.0f && y >= 0.0f
+                           ? MTX_CAST(mtx_u32, MTX_CAST(int, y + 0.5f)) * width + MTX_CAST(mtx_u32, MTX_CAST(int, x + 0.5f))
+                           : 0u;
+  if (x >= 0.0f && y >= 0.0f && x + 0.5f < MTX_CAST(float, width) && y + 0.5f < MTX_CAST(float, height) &&
+      (s.interior_bits[home >> 5] >> (home & 31u)) & 1u) {
+    const mtx_u32 i0 = MTX_CAST(mtx_u32, y0) * width + MTX_CAST(mtx_u32, x0);
+    st->cell[0] = i0;
+    st->cell[1] = i0 + 1;
+    st->cell[2] = i0 + width;
+    st->cell[3] = i0 + width + 1;
+    st->weight[0] = (1.0f - fx) * (1.0f - fy);
+    st->weight[1] = fx * (1.0f - fy);
+    st->weight[2] = (1.0f - fx) * fy;
+    st->weight[3] = fx * fy;
+    st->count = 4;
+    return;
+  }
   const mtx_u32 island = s.island[w->triangle];
   float total = 0.0f;
   int counted[4] = {0, 0, 0, 0};
@@ -57,8 +76,7 @@ MTX_FN void mtx_texel_stencil_of(mtx_surface_tables s, const mtx_walker* w, mtx_
     st->weight[k] = 0.0f;
     if (ix < 0 || iy < 0 || ix >= MTX_CAST(int, width) || iy >= MTX_CAST(int, height)) continue;
     const mtx_u32 i = MTX_CAST(mtx_u32, iy) * width + MTX_CAST(mtx_u32, ix);
-    const int t = s.texel_triangle[i];
-    if (t < 0 || s.classes[i] != MTX_TEXEL_INSIDE || s.island[t] != island) continue;
+    if (s.texel_island[i] != MTX_CAST(int, island)) continue;
     st->cell[k] = i;
     st->weight[k] = wk;
     counted[k] = 1;

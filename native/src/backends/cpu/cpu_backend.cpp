@@ -101,7 +101,7 @@ void CpuBackend::step_continuous(const StepSettings& settings, uint64_t seed, ui
   });
   // 2. Per species: the deposits become concentration (amount / cell area), then the PDE
   //    advances by dt; the gutter shows what lies across each seam (for Blender only).
-  const float amount = p.deposit_rate * p.time_step / MTX_DEPOSIT_UNITS;
+  const float amount = deposit_unit_amount(p);
   const TexelLaplacian& lap = *laplacian_;
   for (uint32_t k = 0; k < species_count_; ++k) {
     float* plane = pheromone_.data() + k * texels;

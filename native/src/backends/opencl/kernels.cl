@@ -27,6 +27,8 @@ __kernel void momas_agents(__global const mtx_frame* frames, __global const uint
   s.texels_per_unit = texels_per_unit;
   s.texel_triangle = texel_triangle;
   s.island = island;
+  s.texel_island = 0;
+  s.interior_bits = 0;
   mtx_walker w;
   w.triangle = triangle[i];
   w.bary[1] = b1[i];
@@ -184,6 +186,7 @@ __kernel void continuous_agents(__global const mtx_frame* frames, __global const
                                 __global const uchar* species, __global float4* lives,
                                 __global const float* texels_per_unit,
                                 __global const int* texel_triangle, __global const uint* island,
+                                __global const int* texel_island, __global const uint* interior_bits,
                                 __global const float* alias_prob, __global const uint* alias_index,
                                 const mtx_continuous_constants k, const uint count) {
   const uint i = get_global_id(0);
@@ -199,6 +202,8 @@ __kernel void continuous_agents(__global const mtx_frame* frames, __global const
   s.texels_per_unit = texels_per_unit;
   s.texel_triangle = texel_triangle;
   s.island = island;
+  s.texel_island = texel_island;
+  s.interior_bits = interior_bits;
   mtx_walker w;
   w.triangle = triangle[i];
   w.bary[1] = b1[i];

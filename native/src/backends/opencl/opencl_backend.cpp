@@ -86,7 +86,7 @@ struct OpenClBackend::State {
   cl_mem triangle = nullptr, b1 = nullptr, b2 = nullptr, hx = nullptr, hy = nullptr,
          species = nullptr, hunger = nullptr, lives = nullptr;
   // Continuous model tables (made at its first step).
-  cl_mem sums = nullptr, alias_prob = nullptr, alias_index = nullptr, rows = nullptr,
+  cl_mem texel_island = nullptr, interior_bits = nullptr, sums = nullptr, alias_prob = nullptr, alias_index = nullptr, rows = nullptr,
          row_start = nullptr, col = nullptr, weight = nullptr, area = nullptr;
   cl_mem pheromone = nullptr, scratch = nullptr, marks = nullptr, field = nullptr;
 
@@ -94,7 +94,7 @@ struct OpenClBackend::State {
     for (cl_mem m : {frames, adjacency, corner_uvs, classes, gutter_texel, gutter_source, frame3d,
                      food, eaters, triangle, b1, b2, hx, hy, species, hunger, lives, pheromone,
                      scratch, marks, field, texels_per_unit, texel_triangle, island, seam_texel,
-                     seam_neighbour, sums, alias_prob, alias_index, rows, row_start, col, weight,
+                     seam_neighbour, texel_island, interior_bits, sums, alias_prob, alias_index, rows, row_start, col, weight,
                      area})
       if (m) r.clReleaseMemObject(m);
     release_plan();
@@ -465,6 +465,8 @@ void OpenClBackend::prepare_continuous() {
   auto data = [](const auto& v) { return v.empty() ? nullptr : static_cast<const void*>(v.data()); };
   const size_t texels = d.texel_count();
   s.sums = s.buffer(texels * 8 * species_count_, nullptr, device_bytes_);
+  s.texel_island = s.buffer(texels * 4, d.texel_island.data(), device_bytes_);
+  s.interior_bits = s.buffer(d.interior_bits.size() * 4, d.interior_bits.data(), device_bytes_);
   const cl_long zero = 0;
   check(s.r.clEnqueueFillBuffer(s.queue, s.sums, &zero, 8, 0, texels * 8 * species_count_, 0, nullptr, nullptr),
         "clearing the deposit sums");
@@ -497,9 +499,9 @@ void OpenClBackend::step_continuous(const StepSettings& settings, uint64_t seed,
   cl_kernel k = continuous_kernel(c.has_fields != 0);
   s.args(k, s.frames, s.adjacency, s.corner_uvs, s.classes, s.pheromone, s.field, s.sums, s.triangle,
          s.b1, s.b2, s.hx, s.hy, s.species, s.lives, s.texels_per_unit, s.texel_triangle, s.island,
-         s.alias_prob, s.alias_index, c, static_cast<cl_uint>(agent_count_));
+         s.texel_island, s.interior_bits, s.alias_prob, s.alias_index, c, static_cast<cl_uint>(agent_count_));
   s.run(k, agent_count_);
-  const float amount = p.deposit_rate * p.time_step / MTX_DEPOSIT_UNITS;
+  const float amount = deposit_unit_amount(p);
   s.args(s.convert_kernel, s.pheromone, s.sums, s.rows, s.area, amount, cells, texels, planes);
   s.run(s.convert_kernel, cells);
   diffuse_continuous(p);
