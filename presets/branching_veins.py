@@ -4,7 +4,7 @@
 # off them at shallow angles; only the agents older than 3 s (about 5 %) lay pheromone,
 # so the few long-lived paths stand out as thin veins. On Suzanne at 512², 60 000
 # agents: veins everywhere after 3 s (std of u/U 1.0), sparser and sharper at 10 s
-# (std 2.6, 68 % of the surface below 0.25 U; the same on the torus).
+# (std 2.4, 65 % of the surface below 0.25 U).
 # Look: Continuous model: thin, long branching veins, like lightning or leaf veins (shallow sensor angle, turnover).
 import math
 import bpy

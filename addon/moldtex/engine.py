@@ -294,7 +294,7 @@ MODEL_MOMAS = 0       # momas-paper.md Algorithm 1 (SimParams)
 MODEL_CONTINUOUS = 1  # layton-intrinsic-slime.md §3.2 (ContinuousParams)
 
 # moldtex_integrator values (moldtex.h): how the continuous model's PDE is stepped
-INTEGRATOR_AUTO = 0      # forward Euler while 16 sub-steps suffice, else backward
+INTEGRATOR_AUTO = 0      # forward Euler while 64 sub-steps suffice, else backward
 INTEGRATOR_FORWARD = 1   # forward Euler (Eq. 2), sub-stepped for stability
 INTEGRATOR_BACKWARD = 2  # backward Euler (Eq. 3)
 

@@ -288,7 +288,7 @@ MODEL_ITEMS = [
 ]
 
 INTEGRATOR_ITEMS = [
-    ("AUTO", "Auto", "Forward Euler while 16 sub-steps per step keep it stable, else "
+    ("AUTO", "Auto", "Forward Euler while 64 sub-steps per step keep it stable, else "
                      "backward Euler", 0),
     ("FORWARD", "Forward", "Forward Euler (Eq. 2), sub-stepped for stability (the core "
                            "refuses more than 256 sub-steps a step)", 1),
