@@ -32,17 +32,19 @@ void WriteBytes(const std::string& path, const std::vector<char>& bytes) {
 bool Contains(const std::string& text, const std::string& word) { return text.find(word) != std::string::npos; }
 
 // Where each array of a checkpoint starts (its first element, after its uint64 count),
-// following io/checkpoint.cpp's file order: magic, config, params, fingerprint, step,
-// then metrics, species, fields, food, the agent arrays and the pheromone.
+// following io/checkpoint.cpp's file order: magic, config, params, the continuous
+// model's params, simulated time, fingerprint, step, then metrics, species, fields,
+// food, the agent arrays (with the continuous model's clocks) and the pheromone.
 struct CheckpointLayout {
   size_t metrics = 0, triangle = 0, b1 = 0, b2 = 0, hx = 0, hy = 0, species = 0, hunger = 0,
-         pheromone = 0;
+         clock = 0, age = 0, exposure = 0, threshold = 0, pheromone = 0;
   uint64_t agents = 0, metric_rows = 0, texels = 0;
 };
 
 CheckpointLayout Layout(const std::vector<char>& bytes) {
   CheckpointLayout l;
-  size_t at = 8 + sizeof(moldtex_sim_config) + sizeof(moldtex_sim_params) + 8 + 8;
+  size_t at = 8 + sizeof(moldtex_sim_config) + sizeof(moldtex_sim_params) +
+              sizeof(moldtex_continuous_params) + 8 + 8 + 8;
   auto array = [&](size_t element, size_t* start, uint64_t* count) {
     uint64_t n;
     std::memcpy(&n, bytes.data() + at, 8);
@@ -62,6 +64,10 @@ CheckpointLayout Layout(const std::vector<char>& bytes) {
   array(4, &l.hy, nullptr);
   array(1, &l.species, nullptr);
   array(4, &l.hunger, nullptr);
+  array(4, &l.clock, nullptr);
+  array(4, &l.age, nullptr);
+  array(4, &l.exposure, nullptr);
+  array(4, &l.threshold, nullptr);
   array(4, &l.pheromone, &l.texels);
   EXPECT_EQ(at, bytes.size()) << "the test's idea of the checkpoint layout is out of date";
   return l;
@@ -117,6 +123,9 @@ TEST(BadCheckpoint, NonFiniteOrOutOfRangeValuesAreRefusedAndNothingIsLoaded) {
       {"heading not unit", [&](auto& v) { Put(v, l.hx + 4 * 4, 3.f); Put(v, l.hy + 4 * 4, 0.f); }, "agent 4"},
       {"triangle out of range", [&](auto& v) { Put(v, l.triangle + 4 * 5, uint32_t{99}); }, "triangle"},
       {"hunger NaN", [&](auto& v) { Put(v, l.hunger + 4 * 6, kNaN); }, "hunger"},
+      {"age NaN", [&](auto& v) { Put(v, l.age + 4 * 8, kNaN); }, "agent 8"},
+      {"clock -1", [&](auto& v) { Put(v, l.clock + 4 * 8, -1.f); }, "clock"},
+      {"threshold inf", [&](auto& v) { Put(v, l.threshold + 4 * 9, kInf); }, "agent 9"},
       {"species out of range", [&](auto& v) { Put(v, l.species + 7, uint8_t{3}); }, "species"},
   };
   for (const Case& c : cases) {

@@ -41,6 +41,10 @@ constexpr uint32_t kMaxForwardSubsteps = 256;  // beyond this, refuse forward Eu
 // wins up to about 90 sub-steps.
 constexpr uint32_t kAutoForwardSubsteps = 64;
 constexpr double kBackwardTolerance = 1e-6;    // CG: |b - A x| <= tol |b|
+// Local time stepping: the coarse sub-step suits this fraction of the cells; the fine
+// cells' sub-steps per coarse one are bounded (beyond: backward Euler, or refused).
+constexpr double kCoarseQuantile = 0.99;
+constexpr uint32_t kMaxFineSubsteps = 1024;
 constexpr size_t kRowGrain = 4096;             // rows per parallel_for chunk
 
 using Vec3d = std::array<double, 3>;
@@ -271,19 +275,58 @@ uint32_t backward_step(const TexelLaplacian& lap, float* u, double h, double dec
 }
 
 // Forward Euler (Eq. 2) in n sub-steps between u and scratch; the last one applies decay.
-void forward_steps(const TexelLaplacian& lap, float* u, std::vector<float>& scratch, double h,
-                   uint32_t n, double decay, ThreadPool& pool) {
+// With fine cells in `plan`, each sub-step is local time stepping (LocalSteppingPlan).
+void forward_steps(const TexelLaplacian& lap, const LocalSteppingPlan& plan, float* u,
+                   std::vector<float>& scratch, double h, uint32_t n, double decay, ThreadPool& pool) {
   if (scratch.size() < lap.area.size()) scratch.resize(lap.area.size());
   float* in = u;
   float* out = scratch.data();
   const float hf = static_cast<float>(h);
+  const bool local = !plan.fine_rows.empty();
+  // Fine cells' current and next values (texel-indexed) and the inflow per CSR entry.
+  std::vector<float> cur, next, flux;
+  if (local) {
+    cur.assign(lap.area.size(), 0.f);
+    next.assign(lap.area.size(), 0.f);
+    flux.assign(lap.col.size(), 0.f);
+  }
+  const float hfine = static_cast<float>(h / plan.fine);
   for (uint32_t step = 0; step < n; ++step) {
     const float d = step + 1 == n ? static_cast<float>(decay) : 1.f;
+    if (!local) {
+      pool.parallel_for(lap.rows.size(), kRowGrain, [&](size_t begin, size_t end) {
+        for (size_t r = begin; r < end; ++r)
+          out[lap.rows[r]] = mtx_diffuse_cell(lap.rows.data(), lap.start.data(), lap.col.data(),
+                                              lap.weight.data(), lap.area.data(), in,
+                                              static_cast<mtx_u32>(r), hf, d);
+      });
+      std::swap(in, out);
+      continue;
+    }
+    for (uint32_t r : plan.fine_rows) {
+      cur[lap.rows[r]] = in[lap.rows[r]];
+      std::fill(flux.begin() + lap.start[r], flux.begin() + lap.start[r + 1], 0.f);
+    }
+    for (uint32_t q = 0; q < plan.fine; ++q) {
+      pool.parallel_for(plan.fine_rows.size(), 256, [&](size_t begin, size_t end) {
+        for (size_t f = begin; f < end; ++f) {
+          const uint32_t r = plan.fine_rows[f];
+          next[lap.rows[r]] = mtx_fine_cell(lap.rows.data(), lap.start.data(), lap.col.data(),
+                                            lap.weight.data(), lap.area.data(), plan.is_fine.data(), in,
+                                            cur.data(), flux.data(), r, hfine);
+        }
+      });
+      for (uint32_t r : plan.fine_rows) cur[lap.rows[r]] = next[lap.rows[r]];
+    }
     pool.parallel_for(lap.rows.size(), kRowGrain, [&](size_t begin, size_t end) {
-      for (size_t r = begin; r < end; ++r)
-        out[lap.rows[r]] = mtx_diffuse_cell(lap.rows.data(), lap.start.data(), lap.col.data(),
-                                            lap.weight.data(), lap.area.data(), in,
-                                            static_cast<mtx_u32>(r), hf, d);
+      for (size_t r = begin; r < end; ++r) {
+        const uint32_t i = lap.rows[r];
+        out[i] = plan.is_fine[i] ? cur[i] * d
+                                 : mtx_coarse_cell(lap.rows.data(), lap.start.data(), lap.col.data(),
+                                                   lap.weight.data(), lap.area.data(), plan.is_fine.data(),
+                                                   lap.reverse.data(), in, flux.data(), static_cast<mtx_u32>(r),
+                                                   hf, d);
+      }
     });
     std::swap(in, out);
   }
@@ -352,26 +395,73 @@ TexelLaplacian build_texel_laplacian(const Surface& s, const TextureDomain& d, T
       rate += entries[k].second;
     }
     lap.max_rate = std::max(lap.max_rate, rate / lap.area[lap.rows[r]]);
+    lap.rate.push_back(static_cast<float>(rate / lap.area[lap.rows[r]]));
+  }
+  // Reverse entries: row j's columns are sorted, so (j -> i) is found by bisection.
+  lap.reverse.resize(lap.col.size());
+  for (size_t r = 0; r < n; ++r)
+    for (uint32_t k = lap.start[r]; k < lap.start[r + 1]; ++k) {
+      const uint32_t j = row_index[lap.col[k]];
+      const auto first = lap.col.begin() + lap.start[j], last = lap.col.begin() + lap.start[j + 1];
+      lap.reverse[k] = static_cast<uint32_t>(std::lower_bound(first, last, lap.rows[r]) - lap.col.begin());
+    }
+  if (n > 0) {
+    std::vector<float> rates = lap.rate;
+    const size_t q = std::min(n - 1, static_cast<size_t>(kCoarseQuantile * static_cast<double>(n)));
+    std::nth_element(rates.begin(), rates.begin() + static_cast<std::ptrdiff_t>(q), rates.end());
+    lap.coarse_rate = rates[q];
   }
   return lap;
 }
 
-uint32_t forward_substeps(const TexelLaplacian& lap, double r_dif, double dt) {
-  const double x = lap.max_rate * r_dif * dt / kForwardLimit;
+namespace {
+uint32_t substeps_for(double rate, double rdt) {
+  const double x = rate * rdt / kForwardLimit;
   if (!(x > 1.0)) return 1;
   if (x >= 4e9) return UINT32_MAX;
   return static_cast<uint32_t>(std::ceil(x));
 }
+}  // namespace
+
+uint32_t forward_substeps(const TexelLaplacian& lap, double r_dif, double dt) {
+  return substeps_for(lap.coarse_rate, r_dif * dt);
+}
+
+const LocalSteppingPlan& local_stepping_plan(const TexelLaplacian& lap, double r_dif, double dt) {
+  const double rdt = r_dif * dt;
+  if (lap.local && lap.local->rdt == rdt) return *lap.local;
+  auto plan = std::make_shared<LocalSteppingPlan>();
+  plan->rdt = rdt;
+  plan->coarse = substeps_for(lap.coarse_rate, rdt);
+  const double h = plan->coarse == UINT32_MAX ? 0.0 : rdt / plan->coarse;
+  plan->fine = h > 0 ? substeps_for(lap.max_rate, h) : 1;
+  if (plan->fine > 1 && plan->coarse != UINT32_MAX) {
+    plan->is_fine.assign(lap.area.size(), 0);
+    for (size_t r = 0; r < lap.rows.size(); ++r)
+      if (lap.rate[r] * h > kForwardLimit) {
+        plan->fine_rows.push_back(static_cast<uint32_t>(r));
+        plan->is_fine[lap.rows[r]] = 1;
+      }
+  }
+  if (plan->fine_rows.empty()) plan->fine = 1;
+  lap.local = plan;
+  return *plan;
+}
 
 bool use_backward_euler(const TexelLaplacian& lap, double r_dif, double dt, uint32_t integrator) {
   const uint32_t substeps = forward_substeps(lap, r_dif, dt);
+  const uint32_t fine = substeps == UINT32_MAX ? UINT32_MAX : local_stepping_plan(lap, r_dif, dt).fine;
+  const bool too_many = substeps > kMaxForwardSubsteps || fine > kMaxFineSubsteps;
   switch (integrator) {
-    case MOLDTEX_INTEGRATOR_AUTO: return substeps > kAutoForwardSubsteps;
+    case MOLDTEX_INTEGRATOR_AUTO: return substeps > kAutoForwardSubsteps || fine > kMaxFineSubsteps;
     case MOLDTEX_INTEGRATOR_FORWARD:
-      if (substeps > kMaxForwardSubsteps)
+      if (too_many)
         fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
-             "Forward Euler would need " + (substeps == UINT32_MAX ? std::string("billions of") : std::to_string(substeps)) +
-                 " sub-steps per step to stay stable (at most " + std::to_string(kMaxForwardSubsteps) +
+             "Forward Euler would need " +
+                 (substeps == UINT32_MAX ? std::string("billions of") : std::to_string(substeps)) +
+                 " sub-steps per step (and " + (fine == UINT32_MAX ? std::string("billions") : std::to_string(fine)) +
+                 " finer ones for the smallest texels) to stay stable (at most " +
+                 std::to_string(kMaxForwardSubsteps) + " and " + std::to_string(kMaxFineSubsteps) +
                  "): use backward Euler, or a smaller time step or diffusion rate");
       return false;
     case MOLDTEX_INTEGRATOR_BACKWARD: return true;
@@ -395,7 +485,8 @@ PdeStepInfo advance_diffusion_decay(const TexelLaplacian& lap, float* u, std::ve
     info.iterations = backward_step(lap, u, r_dif * dt, decay);
   else {
     info.substeps = substeps;
-    forward_steps(lap, u, scratch, r_dif * dt / substeps, substeps, decay, pool);
+    forward_steps(lap, local_stepping_plan(lap, r_dif, dt), u, scratch, r_dif * dt / substeps, substeps,
+                  decay, pool);
   }
   return info;
 }

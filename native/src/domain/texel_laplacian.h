@@ -20,6 +20,20 @@ namespace moldtex {
 
 struct BackwardEulerSystem;  // texel_laplacian.cpp
 
+// Local time stepping for forward Euler: most cells are stable with a sub-step of h, a few
+// stiff ones (texels that are small in 3D: UV poles, pinched or squeezed UVs) need much
+// shorter ones. Rather than sub-stepping every cell for the stiffest, a step runs
+// `coarse` sub-steps, and within each the fine cells run `fine` shorter ones against
+// their coarse neighbours' values at the coarse sub-step's start; the flux through each
+// coarse-fine face is summed on the fine side and taken once from the coarse side, so
+// the total is conserved exactly as with global steps (shared/pde.h).
+struct LocalSteppingPlan {
+  double rdt = -1;                 // r_dif dt it was made for
+  uint32_t coarse = 1, fine = 1;   // coarse sub-steps per step; fine ones per coarse one
+  std::vector<uint32_t> fine_rows; // the fine cells (row indices); empty: global steps
+  std::vector<uint8_t> is_fine;    // per texel: 1 for a fine cell
+};
+
 struct TexelLaplacian {
   // Island texels (the cells), in texel order.
   std::vector<uint32_t> rows;
@@ -31,6 +45,12 @@ struct TexelLaplacian {
   std::vector<float> area;
   double max_rate = 0;    // max over cells of sum_j c_ij / A_i (1 / mesh units^2)
   double total_area = 0;  // sum of the cell areas
+  // Per row: its rate sum_j c_ij / A_i. Per CSR entry (i -> j): the index of (j -> i).
+  std::vector<float> rate;
+  std::vector<uint32_t> reverse;
+  // The rate that 99% of the cells stay below: local time stepping's coarse sub-step.
+  double coarse_rate = 0;
+  mutable std::shared_ptr<LocalSteppingPlan> local;  // for the last r_dif dt (cache)
   // Backward Euler's matrix M + r_dif dt K for the last r_dif dt used, built on first use
   // (advance_diffusion_decay). Treat the fields above as immutable once built: copies
   // share this cache.
@@ -46,8 +66,13 @@ struct PdeStepInfo {
   bool backward = false;
 };
 
-// Forward-Euler sub-steps dt needs for stability (max_rate * r_dif * dt / n <= 0.9).
+// Forward-Euler sub-steps dt needs for stability (rate * r_dif * dt / n <= 0.9): of the
+// coarse cells with local time stepping (99% of them), or of every cell.
 uint32_t forward_substeps(const TexelLaplacian& lap, double r_dif, double dt);
+
+// The local time stepping plan for r_dif dt (cached in lap.local): coarse sub-steps for
+// coarse_rate; cells stiffer than that are fine, with enough fine sub-steps for max_rate.
+const LocalSteppingPlan& local_stepping_plan(const TexelLaplacian& lap, double r_dif, double dt);
 
 // Whether a step runs backward Euler: BACKWARD, or AUTO beyond 64 forward sub-steps.
 // Throws INVALID_ARGUMENT for FORWARD beyond 256 sub-steps (with what to do instead) and

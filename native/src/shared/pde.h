@@ -29,6 +29,51 @@ MTX_FN float mtx_diffuse_cell(MTX_GLOBAL const mtx_u32* rows, MTX_GLOBAL const m
   return (ui + h / area[i] * flux) * decay;
 }
 
+/* Local time stepping (domain/texel_laplacian.h, LocalSteppingPlan): within one coarse
+ * sub-step the few stiff cells ("fine", is_fine[texel] = 1) take several fine sub-steps
+ * of length h, reading their fine neighbours' current values (cur) and their coarse
+ * neighbours' values frozen at the coarse sub-step's start (frozen). What flows in from
+ * each coarse neighbour is summed in flux[k] (the row's CSR entry k), and the coarse
+ * neighbour gives up exactly that amount (mtx_coarse_cell), so the total is conserved. */
+MTX_FN float mtx_fine_cell(MTX_GLOBAL const mtx_u32* rows, MTX_GLOBAL const mtx_u32* start,
+                           MTX_GLOBAL const mtx_u32* col, MTX_GLOBAL const float* weight,
+                           MTX_GLOBAL const float* area, MTX_GLOBAL const mtx_u8* is_fine,
+                           MTX_GLOBAL const float* frozen, MTX_GLOBAL const float* cur,
+                           MTX_GLOBAL float* flux, mtx_u32 r, float h) {
+  const mtx_u32 i = rows[r];
+  const float ui = cur[i];
+  float total = 0.0f;
+  for (mtx_u32 k = start[r]; k < start[r + 1]; ++k) {
+    const mtx_u32 j = col[k];
+    const int fine = is_fine[j];
+    const float f = weight[k] * ((fine ? cur[j] : frozen[j]) - ui);
+    total += f;
+    if (!fine) flux[k] += h * f;
+  }
+  return ui + h / area[i] * total;
+}
+
+/* A coarse cell's sub-step of length h: forward Euler with its coarse neighbours, minus
+ * what its fine neighbours drew from it (flux at the reverse entry, reverse[k] being the
+ * entry (j -> i) of the entry (i -> j)), times `decay`. */
+MTX_FN float mtx_coarse_cell(MTX_GLOBAL const mtx_u32* rows, MTX_GLOBAL const mtx_u32* start,
+                             MTX_GLOBAL const mtx_u32* col, MTX_GLOBAL const float* weight,
+                             MTX_GLOBAL const float* area, MTX_GLOBAL const mtx_u8* is_fine,
+                             MTX_GLOBAL const mtx_u32* reverse, MTX_GLOBAL const float* in,
+                             MTX_GLOBAL const float* flux, mtx_u32 r, float h, float decay) {
+  const mtx_u32 i = rows[r];
+  const float ui = in[i];
+  float total = 0.0f, drawn = 0.0f;
+  for (mtx_u32 k = start[r]; k < start[r + 1]; ++k) {
+    const mtx_u32 j = col[k];
+    if (is_fine[j])
+      drawn += flux[reverse[k]];
+    else
+      total += weight[k] * (in[j] - ui);
+  }
+  return (ui + (h * total - drawn) / area[i]) * decay;
+}
+
 MTX_END_NAMESPACE
 
 #endif

@@ -66,7 +66,8 @@ struct OpenClBackend::State {
   // The continuous model's agent kernel, fields off / on (programs 0 / 2), its deposit
   // conversion and the PDE's forward-Euler sub-step.
   cl_kernel continuous_kernels[2] = {};
-  cl_kernel convert_kernel = nullptr, pde_kernel = nullptr;
+  cl_kernel convert_kernel = nullptr, pde_kernel = nullptr, fine_start_kernel = nullptr,
+            fine_diffuse_kernel = nullptr, coarse_diffuse_kernel = nullptr;
   cl_kernel deposit_kernel = nullptr, gutter_kernel = nullptr, diffuse_kernel = nullptr;
   // Surface units (see domain/surface_diffusion.h).
   cl_kernel surface_kernel = nullptr, seam_kernel = nullptr, fine_kernel = nullptr,
@@ -87,7 +88,12 @@ struct OpenClBackend::State {
          species = nullptr, hunger = nullptr, lives = nullptr;
   // Continuous model tables (made at its first step).
   cl_mem texel_island = nullptr, interior_bits = nullptr, sums = nullptr, alias_prob = nullptr, alias_index = nullptr, rows = nullptr,
-         row_start = nullptr, col = nullptr, weight = nullptr, area = nullptr;
+         row_start = nullptr, col = nullptr, weight = nullptr, area = nullptr, reverse = nullptr;
+  // Local time stepping: the plan's lists (remade when r_dif dt changes) and the fine
+  // cells' values and inflows.
+  cl_mem is_fine = nullptr, fine_rows = nullptr, fine_cur = nullptr, fine_next = nullptr,
+         fine_flux = nullptr;
+  double local_rdt = -1;
   cl_mem pheromone = nullptr, scratch = nullptr, marks = nullptr, field = nullptr;
 
   ~State() {
@@ -95,14 +101,14 @@ struct OpenClBackend::State {
                      food, eaters, triangle, b1, b2, hx, hy, species, hunger, lives, pheromone,
                      scratch, marks, field, texels_per_unit, texel_triangle, island, seam_texel,
                      seam_neighbour, texel_island, interior_bits, sums, alias_prob, alias_index, rows, row_start, col, weight,
-                     area})
+                     area, reverse, is_fine, fine_rows, fine_cur, fine_next, fine_flux})
       if (m) r.clReleaseMemObject(m);
     release_plan();
     for (cl_kernel k : agent_kernels)
       if (k) r.clReleaseKernel(k);
     for (cl_kernel k : continuous_kernels)
       if (k) r.clReleaseKernel(k);
-    for (cl_kernel k : {convert_kernel, pde_kernel})
+    for (cl_kernel k : {convert_kernel, pde_kernel, fine_start_kernel, fine_diffuse_kernel, coarse_diffuse_kernel})
       if (k) r.clReleaseKernel(k);
     for (cl_kernel k : {deposit_kernel, gutter_kernel, diffuse_kernel, surface_kernel, seam_kernel,
                         fine_kernel, scatter_kernel})
@@ -477,10 +483,17 @@ void OpenClBackend::prepare_continuous() {
   s.col = s.buffer(lap->col.size() * 4, data(lap->col), device_bytes_);
   s.weight = s.buffer(lap->weight.size() * 4, data(lap->weight), device_bytes_);
   s.area = s.buffer(lap->area.size() * 4, data(lap->area), device_bytes_);
+  s.reverse = s.buffer(lap->reverse.size() * 4, data(lap->reverse), device_bytes_);
   cl_int err = CL_SUCCESS;
   s.convert_kernel = s.r.clCreateKernel(s.programs[0], "deposits_to_concentration", &err);
   check(err, "creating the deposit kernel");
   s.pde_kernel = s.r.clCreateKernel(s.programs[0], "pde_diffuse", &err);
+  check(err, "creating the diffusion kernel");
+  s.fine_start_kernel = s.r.clCreateKernel(s.programs[0], "pde_fine_start", &err);
+  check(err, "creating the diffusion kernel");
+  s.fine_diffuse_kernel = s.r.clCreateKernel(s.programs[0], "pde_fine_diffuse", &err);
+  check(err, "creating the diffusion kernel");
+  s.coarse_diffuse_kernel = s.r.clCreateKernel(s.programs[0], "pde_coarse_diffuse", &err);
   check(err, "creating the diffusion kernel");
   laplacian_ = std::move(lap);
 }
@@ -531,10 +544,49 @@ void OpenClBackend::diffuse_continuous(const moldtex_continuous_params& p) {
   const float h = static_cast<float>(double(p.diffusion_rate) * p.time_step / n);
   const float decay = static_cast<float>(std::exp(-double(p.decay_rate) * p.time_step));
   const cl_uint cells = static_cast<cl_uint>(lap.rows.size());
+  const cl_uint planes = static_cast<cl_uint>(species_count_);
+  const cl_uint texels32 = static_cast<cl_uint>(texels);
+  const LocalSteppingPlan& plan = local_stepping_plan(lap, p.diffusion_rate, p.time_step);
+  if (plan.fine_rows.empty()) {
+    for (uint32_t j = 0; j < n; ++j) {
+      s.args(s.pde_kernel, s.rows, s.row_start, s.col, s.weight, s.area, s.pheromone, s.scratch, h,
+             j + 1 == n ? decay : 1.f, cells, texels32, planes);
+      s.run(s.pde_kernel, cells);
+      std::swap(s.pheromone, s.scratch);
+    }
+    return;
+  }
+  if (s.local_rdt != plan.rdt) {  // the plan's lists on the device
+    for (cl_mem* m : {&s.is_fine, &s.fine_rows, &s.fine_cur, &s.fine_next, &s.fine_flux})
+      if (*m) {
+        s.r.clReleaseMemObject(*m);
+        *m = nullptr;
+      }
+    size_t bytes = 0;
+    s.is_fine = s.buffer(plan.is_fine.size(), plan.is_fine.data(), bytes);
+    s.fine_rows = s.buffer(plan.fine_rows.size() * 4, plan.fine_rows.data(), bytes);
+    s.fine_cur = s.buffer(texels * 4 * planes, nullptr, bytes);
+    s.fine_next = s.buffer(texels * 4 * planes, nullptr, bytes);
+    s.fine_flux = s.buffer(lap.col.size() * 4 * planes, nullptr, bytes);
+    s.local_rdt = plan.rdt;
+  }
+  const cl_uint fine = static_cast<cl_uint>(plan.fine_rows.size());
+  const cl_uint entries = static_cast<cl_uint>(lap.col.size());
+  const float hfine = static_cast<float>(double(p.diffusion_rate) * p.time_step / n / plan.fine);
   for (uint32_t j = 0; j < n; ++j) {
-    s.args(s.pde_kernel, s.rows, s.row_start, s.col, s.weight, s.area, s.pheromone, s.scratch, h,
-           j + 1 == n ? decay : 1.f, cells, static_cast<cl_uint>(texels), static_cast<cl_uint>(species_count_));
-    s.run(s.pde_kernel, cells);
+    s.args(s.fine_start_kernel, s.rows, s.row_start, s.fine_rows, s.pheromone, s.fine_cur, s.fine_flux, fine,
+           texels32, entries, planes);
+    s.run(s.fine_start_kernel, fine);
+    for (uint32_t q = 0; q < plan.fine; ++q) {
+      s.args(s.fine_diffuse_kernel, s.rows, s.row_start, s.col, s.weight, s.area, s.is_fine, s.fine_rows,
+             s.pheromone, s.fine_cur, s.fine_next, s.fine_flux, hfine, fine, texels32, entries, planes);
+      s.run(s.fine_diffuse_kernel, fine);
+      std::swap(s.fine_cur, s.fine_next);
+    }
+    s.args(s.coarse_diffuse_kernel, s.rows, s.row_start, s.col, s.weight, s.area, s.is_fine, s.reverse,
+           s.pheromone, s.fine_cur, s.fine_flux, s.scratch, h, j + 1 == n ? decay : 1.f, cells, texels32,
+           entries, planes);
+    s.run(s.coarse_diffuse_kernel, cells);
     std::swap(s.pheromone, s.scratch);
   }
 }
