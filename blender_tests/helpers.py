@@ -247,9 +247,15 @@ def fresh_sim(obj):
                                      obj.moldtex.uv_map)
     surface = eng.Surface(mesh.positions, mesh.triangles, mesh.uvs, mesh.triangle_uvs)
     try:
-        return eng.Simulation(surface, live_module.config_from_settings(obj.moldtex),
-                              live_module.params_from_settings(obj.moldtex,
-                                                               surface.info()["area"]))
+        settings = obj.moldtex
+        area = surface.info()["area"]
+        config = live_module.config_from_settings(settings)
+        continuous = (live_module.continuous_params_from_settings(settings, area)
+                      if config["model"] == eng.MODEL_CONTINUOUS else None)
+        return eng.Simulation(surface, config,
+                              live_module.params_from_settings(settings, area,
+                                                               config["model"]),
+                              None, continuous)
     finally:
         surface.release()
 

@@ -189,3 +189,22 @@ def busy_scene_states():
     settings.fields_source = 'IMAGE'
     brush.target = 'OBSTACLE'
     settings.bake_use_scene_range = True
+    # The continuous model's panels: both pattern scale modes, turnover off and on, a
+    # negative sensor angle (its note), several species (their note), a PNG bake (the
+    # clipping note).
+    settings.model = 'CONTINUOUS'
+    cont = settings.continuous
+    for mode in ('OBJECT', 'LENGTH'):
+        settings.pattern_scale_mode = mode
+        for lifetime, angle in ((0.0, 0.5), (1.0, -0.5)):
+            cont.mean_lifetime = lifetime
+            cont.sensor_angle = angle
+            settings.species_count = 2 if lifetime else 1
+            settings.bake_format = 'PNG8' if lifetime else 'EXR_HALF'
+            yield f"CONTINUOUS/{mode}/lifetime {lifetime}"
+    settings.model = 'MOMAS'
+    settings.pattern_scale_mode = 'OBJECT'
+    settings.species_count = 1
+    settings.bake_format = 'EXR_HALF'
+    cont.mean_lifetime = 0.0
+    cont.sensor_angle = 0.5

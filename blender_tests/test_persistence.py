@@ -28,18 +28,29 @@ NON_DEFAULTS = {
     "obstacle_attribute": "Walls", "attractor_attribute": "Goal", "show_fields": True,
     # Food (test_food.py checks the Food collection).
     "hunger_rate": 2.5, "food_radius": 0.3,
-    # Surface units (Agents panel).
+    # Surface units (Agents panel) and the pattern unit both models measure lengths in.
     "pattern_units": "TEXELS", "pattern_scale": 2.5, "time_step": 0.025,
+    "pattern_scale_mode": "LENGTH", "pattern_length": 0.0375,
+    # The behaviour model (its parameters: CONTINUOUS_NON_DEFAULTS).
+    "model": "CONTINUOUS",
     "ramp_stops": '{"stops": [[0.0, [0.1, 0.2, 0.3, 1.0]], [1.0, [0.9, 0.8, 0.7, 1.0]]], '
                   '"interpolation": "EASE"}',
     # The look last applied (the preset menu's label for this object).
     "preset_name": "Golden Web",
 }
+# The continuous model's parameters (obj.moldtex.continuous), Keep U and its target.
+CONTINUOUS_NON_DEFAULTS = {
+    "move_rate": 33.5, "turn_rate": 4.25, "turn_frequency": 12.5, "sensor_distance": 7.75,
+    "sensor_angle": -0.375, "deposit_rate": 2.5, "diffusion_rate": 6.5, "decay_rate": 1.25,
+    "mean_lifetime": 0.75, "activation_time": 1.5, "integrator": "BACKWARD",
+    "display_range": 2.25, "keep_u": True, "target_u": 123.5, "surface_area": 7.25,
+}
 # Not stored: shown by get/set from backend_type and the opencl_* properties, and the
 # panel's angle (°) view of vision_angle.
 DERIVED = {"backend", "vision_angle_ui"}
-# A collection and pointers: test_species.py and test_food.py check that they survive.
-NOT_SCALAR = {"species", "fields_image", "food_collection"}
+# A collection and pointers: test_species.py and test_food.py check that they survive;
+# the continuous group is checked here (CONTINUOUS_NON_DEFAULTS).
+NOT_SCALAR = {"species", "fields_image", "food_collection", "continuous"}
 
 
 class PersistenceTests(unittest.TestCase):
@@ -63,11 +74,28 @@ class PersistenceTests(unittest.TestCase):
         for key, value in NON_DEFAULTS.items():
             self.assertNotEqual(getattr(settings, key), value, f"{key} default")
             setattr(settings, key, value)
+        cont = settings.continuous
+        names = [p.identifier for p in cont.bl_rna.properties
+                 if p.identifier not in {"rna_type", "name"}]
+        self.assertEqual(sorted(names), sorted(CONTINUOUS_NON_DEFAULTS))
+        for key, value in CONTINUOUS_NON_DEFAULTS.items():
+            self.assertNotEqual(getattr(cont, key), value, f"continuous.{key} default")
+            setattr(cont, key, value)
+        # (Keep U on: the deposit rate set last is the one to keep, so its target is
+        # set after it, as a user would find it saved.)
+        cont.target_u = CONTINUOUS_NON_DEFAULTS["target_u"]
+        cont.surface_area = CONTINUOUS_NON_DEFAULTS["surface_area"]
         settings.resolution = "256"  # keep the run small; 1024 is checked below
         self.assertEqual(bpy.ops.moldtex.setup_material(), {'FINISHED'})
         h.run(obj, 60)
         before = h.image_pixels(obj)
         settings.resolution = "1024"
+        # The run measured this sphere's area and Keep U set the deposit rate for the
+        # target U on it: those two are what the file must keep now.
+        saved_continuous = dict(CONTINUOUS_NON_DEFAULTS)
+        for key in ("deposit_rate", "surface_area"):
+            saved_continuous[key] = getattr(cont, key)
+        self.assertNotAlmostEqual(cont.surface_area, 7.25, places=3)
 
         path = os.path.join(self.folder, "moldtex_settings.blend")
         bpy.ops.wm.save_as_mainfile(filepath=path)
@@ -82,6 +110,12 @@ class PersistenceTests(unittest.TestCase):
                 self.assertAlmostEqual(got, value, places=5, msg=key)
             else:
                 self.assertEqual(got, value, key)
+        for key, value in saved_continuous.items():
+            got = getattr(obj.moldtex.continuous, key)
+            if isinstance(value, float):
+                self.assertAlmostEqual(got, value, places=5, msg=f"continuous.{key}")
+            else:
+                self.assertEqual(got, value, f"continuous.{key}")
         image = obj.moldtex.image
         self.assertIsNotNone(image)
         self.assertEqual(image.name, f"Moldtex {name}")

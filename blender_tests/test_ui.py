@@ -127,7 +127,8 @@ class PanelTests(unittest.TestCase):
         h.configure(obj, agents=2000)
         log = draw_all(self, obj)
         shown = {name for kind, name in log if kind == "prop"}
-        self.assertEqual(shown, {"pattern_units", "pattern_scale", "time_step",
+        self.assertEqual(shown, {"model", "pattern_units", "pattern_scale_mode",
+                                 "pattern_scale", "time_step",
                                  "movement_speed", "turn_speed", "vision_distance",
                                  "vision_angle_ui", "sensor_size", "evaporation_rate",
                                  "diffusion_rate",
@@ -272,7 +273,8 @@ class PanelLayoutTests(unittest.TestCase):
         start = [name for kind, name in log if kind == "operator"].index("Start")
         # Texture resolution, agents and steps per update come first, on the main
         # panel (before the Start button), not in a closed sub-panel.
-        self.assertEqual(shown[:4], ["uv_map", "resolution", "agent_count",
+        # The model comes first: every setting below depends on it.
+        self.assertEqual(shown[:5], ["model", "uv_map", "resolution", "agent_count",
                                      "steps_per_update"])
         order = [entry for entry in log if entry[0] in ("prop", "operator")]
         self.assertLess(order.index(("prop", "steps_per_update")),
@@ -286,7 +288,8 @@ class PanelLayoutTests(unittest.TestCase):
         settings.species_count = 2
         ensure_species(settings)
         checked = 0
-        for data in (settings, settings.species[0], bpy.context.scene.moldtex_brush):
+        for data in (settings, settings.species[0], settings.continuous,
+                     bpy.context.scene.moldtex_brush):
             for name, label in ui.LABELS.items():
                 if name not in data.bl_rna.properties or label == data.bl_rna.properties[
                         name].name:
@@ -295,7 +298,7 @@ class PanelLayoutTests(unittest.TestCase):
                 self.assertIn(prop.name.lower(), prop.description.lower(),
                               f"{name}: the tooltip does not give the long name")
                 checked += 1
-        self.assertGreater(checked, 20)
+        self.assertGreater(checked, 30)
         # Live steps and bake steps no longer read alike.
         self.assertNotEqual(ui.LABELS["steps_per_update"], ui.LABELS["bake_steps_per_frame"])
 

@@ -6,6 +6,7 @@
 import bpy
 obj = bpy.context.object
 s = obj.moldtex
+s.model = 'MOMAS'
 s.movement_speed = 1.5
 s.turn_speed = 30.0
 s.vision_distance = 1.5

@@ -6,6 +6,7 @@
 import bpy
 obj = bpy.context.object
 s = obj.moldtex
+s.model = 'MOMAS'
 s.movement_speed = 2.0
 s.turn_speed = 2.0
 s.vision_distance = 2.0

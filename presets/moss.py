@@ -5,6 +5,7 @@
 import bpy
 obj = bpy.context.object
 s = obj.moldtex
+s.model = 'MOMAS'
 s.movement_speed = 1.0
 s.turn_speed = 40.0
 s.vision_distance = 0.4

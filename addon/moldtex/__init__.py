@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Moldtex: grows Physarum slime mold (MoMaS) over a mesh's UV layout into a texture.
+"""Moldtex: grows Physarum slime mold (MoMaS, or the continuous model of Layton et al.)
+over a mesh's UV layout into a texture.
 
 Layout (engine never imports bpy; UI never calls ctypes):
   engine.py       ctypes binding of libmoldtex.so (next to this file)

@@ -75,7 +75,7 @@ class BakePlan:
     """What a bake writes where; made from an object's settings by plan_for()."""
 
     def __init__(self, object_name, directory, prefix, first_frame, last_frame,
-                 steps_per_frame, format_id, resume):
+                 steps_per_frame, format_id, resume, continuous=False):
         self.object_name = object_name
         self.directory = directory
         self.prefix = prefix
@@ -85,6 +85,9 @@ class BakePlan:
         self.format_id = format_id
         self.image_format = FORMAT_VALUES[format_id]
         self.resume = bool(resume)
+        # The continuous model: the metrics' coverage is the mean u / U (Eq. 1 over the
+        # image, which holds u / U), said so in the progress lines.
+        self.continuous = bool(continuous)
 
     @property
     def frame_count(self):
@@ -130,15 +133,34 @@ def plan_for(obj, scene):
     from .properties import enum_value  # (properties imports live, which imports us)
     return BakePlan(obj.name, output_directory(obj), prefix, first, last,
                     settings.bake_steps_per_frame, enum_value(settings, "bake_format"),
-                    settings.bake_resume)
+                    settings.bake_resume,
+                    live.model_of(settings) == engine.MODEL_CONTINUOUS)
 
 
-def progress_line(progress):
-    """ "frame 12/250 (coverage 0.31)" of an engine progress dict."""
+def clipping_note(obj, plan):
+    """Why this bake's files cannot hold what the simulation makes, or "": the
+    continuous model's u / U runs above 1 (1 = the uniform steady state), which PNG
+    (0..1) cuts off."""
+    if (live.model_of(obj.moldtex) != engine.MODEL_CONTINUOUS
+            or plan.image_format not in (engine.IMAGE_PNG8, engine.IMAGE_PNG16)):
+        return ""
+    return ("PNG holds 0 to 1, but the continuous model's u / U runs above 1 on the "
+            "trails: those values are cut off. Choose OpenEXR to keep them.")
+
+
+def measure_text(coverage, continuous=False):
+    """ "coverage 0.31" (MoMaS' Eq. 1), or for the continuous model, whose image holds
+    u / U, "mean 0.97 U"."""
+    return f"mean {coverage:.2f} U" if continuous else f"coverage {coverage:.2f}"
+
+
+def progress_line(progress, continuous=False):
+    """ "frame 12/250 (coverage 0.31)" of an engine progress dict ("(mean 0.97 U)" for
+    the continuous model)."""
     total = progress["last_frame"] - progress["first_frame"] + 1
     text = f"frame {progress['frames_done']}/{total}"
     if progress["frames_done"]:
-        text += f" (coverage {progress['coverage']:.2f})"
+        text += f" ({measure_text(progress['coverage'], continuous)})"
     return text
 
 
@@ -283,7 +305,9 @@ def summary(plan, progress, failure=None):
         return (f"Bake cancelled after {done}/{total} frames (turn on Resume to "
                 f"continue it).")
     text = f"Baked {total} frames ({plan.describe_files()}) into {plan.directory}"
-    if done:
+    if done and plan.continuous:
+        text += f"; last frame: mean u / U {progress['coverage']:.3f}"
+    elif done:
         text += (f"; last frame: coverage {100.0 * progress['coverage']:.1f} %, presence "
                  f"{100.0 * progress['presence']:.1f} %")
     return text + "."
@@ -322,9 +346,9 @@ def _print_frames(job, shown, progress, out):
         for index in range(shown + 1, done):
             row = rows.get(progress["first_frame"] + index - 1)
             if row is not None:
-                print(f"Moldtex bake: frame {index}/{total} (coverage "
-                      f"{row['coverage']:.2f})", file=out)
-    print(f"Moldtex bake: {progress_line(progress)}", file=out)
+                print(f"Moldtex bake: frame {index}/{total} "
+                      f"({measure_text(row['coverage'], job.plan.continuous)})", file=out)
+    print(f"Moldtex bake: {progress_line(progress, job.plan.continuous)}", file=out)
     out.flush()
 
 
@@ -420,6 +444,7 @@ def use_sequence(obj, plan):
         material.setup_material(obj, image, uv_map)
         node = material.moldtex_node(obj, material.TEXTURE_NODE)
     node.image = image
+    material.sync_display_range(obj)  # the frames hold what the live image holds
     user = node.image_user
     # Blender shows file number (f - frame_start + 1) + frame_offset at scene frame f
     # (BKE_image_user_frame_get), so this makes it f for f in first..first+count-1;

@@ -4,14 +4,14 @@
 Any Blender (3.4+):
     blender -b scene.blend -P <add-on folder>/moldtex/cli.py -- --object Rock \\
         --out /farm/rock_bake --frames 1 250 --steps-per-frame 2 --format exr-half \\
-        --preset marble [--resume]
+        --preset marble [--model continuous] [--resume]
 Blender 4.2+ with the add-on enabled in the preferences:
     blender --command moldtex bake --blend scene.blend --object Rock --out ... (same)
 Blender as a Python module (pip install bpy):
     python <add-on folder>/moldtex/cli.py --blend scene.blend --object Rock ...
 
-Prints one progress line per frame ("Moldtex bake: frame 12/250 (coverage 0.31)") and
-where the files are. Exit status: 0 done, 1 the bake failed or was interrupted (a
+Prints one progress line per frame ("Moldtex bake: frame 12/250 (coverage 0.31)"; for
+the continuous model "(mean 0.97 U)", the mean u / U) and where the files are. Exit status: 0 done, 1 the bake failed or was interrupted (a
 missing object, an unwritable folder, ...), 2 bad arguments. Arguments not given keep
 the object's Bake settings saved in the .blend. Frames are whole files at any moment
 (written as .partial and renamed), so a killed job can be rerun with --resume and
@@ -33,6 +33,7 @@ EXIT_USAGE = 2
 
 FORMATS = {"exr-half": "EXR_HALF", "exr-float": "EXR_FLOAT", "png8": "PNG8",
            "png16": "PNG16"}
+MODELS = {"momas": "MOMAS", "continuous": "CONTINUOUS"}
 ADDON_DIR = os.path.dirname(os.path.abspath(__file__))
 
 
@@ -68,8 +69,14 @@ def build_parser(prog):
     parser.add_argument("--prefix", help="file name prefix (default: '<object name>_')")
     parser.add_argument("--preset", metavar="NAME",
                         help="apply a look first: a shipped preset (marble, wood_grain, "
-                             "golden_web, lava_rivers, moss, metal_scratches), one of "
+                             "golden_web, lava_rivers, moss, metal_scratches; continuous: "
+                             "branching_veins, coral_maze, zebra_stripes, starbursts), one of "
                              "yours, or a preset .py file")
+    parser.add_argument("--model", choices=sorted(MODELS),
+                        help="behaviour model: momas, or continuous (the rate-based "
+                             "model with a diffusion-decay PDE and agent turnover, "
+                             "layton-intrinsic-slime.md); applied after --preset "
+                             "(default: the object's, or the preset's)")
     parser.add_argument("--resume", action="store_true",
                         help="continue an interrupted bake from its checkpoint")
     parser.add_argument("--save-as", metavar="FILE",
@@ -163,6 +170,8 @@ def run(argv, prog="cli.py"):
         if args.preset:
             _apply_preset(bpy, package, obj, args.preset)
         settings = obj.moldtex
+        if args.model:
+            settings.model = MODELS[args.model]
         if args.out:
             # "//..." stays relative to the .blend (and so does the image the material
             # plays: portable between machines); anything else is made absolute.

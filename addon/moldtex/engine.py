@@ -13,6 +13,7 @@ foreach_set. Never wrap a ctypes array in a memoryview (it crashed Blender 3.4).
 
 import array
 import ctypes
+import math
 import os
 import sys
 
@@ -131,6 +132,8 @@ class SimConfig(ctypes.Structure):
         ("seed_radius", ctypes.c_float),
         ("seed_rays", ctypes.c_uint32),
         ("fields_rgba", ctypes.c_void_p),
+        # appended for the continuous model (a moldtex_model)
+        ("model", ctypes.c_uint32),
     ]
 
 
@@ -188,6 +191,29 @@ class SimStats(ctypes.Structure):
         ("bytes_in_use", ctypes.c_uint64),
         ("coverage", ctypes.c_double),
         ("presence", ctypes.c_double),
+        # appended for the continuous model (0 for MoMaS)
+        ("u_metric", ctypes.c_double),           # U, layton-intrinsic-slime.md Eq. 5
+        ("mean_concentration", ctypes.c_double),  # area-weighted mean u of species 0
+        ("time", ctypes.c_double),               # simulated seconds since create/reset
+    ]
+
+
+class ContinuousParams(ctypes.Structure):
+    """moldtex_continuous_params: rates per simulated second, lengths in mesh units."""
+    _fields_ = [
+        ("struct_size", ctypes.c_uint32),
+        ("move_rate", ctypes.c_float),        # v: mesh units per second
+        ("turn_rate", ctypes.c_float),        # omega: radians per second
+        ("turn_frequency", ctypes.c_float),   # f_i: turn decisions per second
+        ("sensor_distance", ctypes.c_float),  # d: mesh units along the surface
+        ("sensor_angle", ctypes.c_float),     # theta: degrees (negative: chemo-repulsion)
+        ("deposit_rate", ctypes.c_float),     # r_dep: amount per agent per second
+        ("diffusion_rate", ctypes.c_float),   # r_dif: mesh units^2 per second
+        ("decay_rate", ctypes.c_float),       # r_dec: per second
+        ("mean_lifetime", ctypes.c_float),    # tau: seconds, 0 = no turnover
+        ("activation_time", ctypes.c_float),  # t_a: seconds
+        ("time_step", ctypes.c_float),        # dt: seconds per step
+        ("integrator", ctypes.c_uint32),      # an INTEGRATOR_* value
     ]
 
 
@@ -263,10 +289,22 @@ BRUSH_ERASE = 1   # paint: target 0
 MAX_BRUSH_BATCH = 65535  # batch numbers of moldtex_sim_add_agents are 1 .. this
 
 
+# moldtex_model values (moldtex.h): chosen at create (a config field)
+MODEL_MOMAS = 0       # momas-paper.md Algorithm 1 (SimParams)
+MODEL_CONTINUOUS = 1  # layton-intrinsic-slime.md §3.2 (ContinuousParams)
+
+# moldtex_integrator values (moldtex.h): how the continuous model's PDE is stepped
+INTEGRATOR_AUTO = 0      # forward Euler while 64 sub-steps suffice, else backward
+INTEGRATOR_FORWARD = 1   # forward Euler (Eq. 2), sub-stepped for stability
+INTEGRATOR_BACKWARD = 2  # backward Euler (Eq. 3)
+
+
 CONFIG_FIELDS = tuple(name for name, _ in SimConfig._fields_ if name != "struct_size")
 SPECIES_FIELDS = tuple(name for name, _ in SpeciesParams._fields_ if name != "struct_size")
 PARAM_FIELDS = tuple(name for name, _ in SimParams._fields_ if name != "struct_size")
 STATS_FIELDS = tuple(name for name, _ in SimStats._fields_ if name != "struct_size")
+CONTINUOUS_FIELDS = tuple(name for name, _ in ContinuousParams._fields_
+                          if name != "struct_size")
 SURFACE_INFO_FIELDS = tuple(name for name, _ in SurfaceInfo._fields_ if name != "struct_size")
 BAKE_PROGRESS_FIELDS = tuple(name for name, _ in BakeProgress._fields_
                              if name not in ("struct_size", "message"))
@@ -300,6 +338,9 @@ _SIGNATURES = {
     "moldtex_sim_params_init": (None, [_P(SimParams)]),
     "moldtex_sim_create": (_status, [_Surface, _P(SimConfig), _P(SimParams), _P(_Sim)]),
     "moldtex_sim_release": (None, [_Sim]),
+    "moldtex_continuous_params_init": (None, [_P(ContinuousParams)]),
+    "moldtex_sim_set_continuous_params": (_status, [_Sim, _P(ContinuousParams)]),
+    "moldtex_sim_get_continuous_params": (_status, [_Sim, _P(ContinuousParams)]),
     "moldtex_sim_set_params": (_status, [_Sim, _P(SimParams)]),
     "moldtex_sim_get_params": (_status, [_Sim, _P(SimParams)]),
     "moldtex_sim_get_config": (_status, [_Sim, _P(SimConfig)]),
@@ -360,6 +401,7 @@ _STRUCT_INITS = (
     ("moldtex_sim_config_init", SimConfig),
     ("moldtex_sim_params_init", SimParams),
     ("moldtex_sim_stats_init", SimStats),
+    ("moldtex_continuous_params_init", ContinuousParams),
     ("moldtex_bake_desc_init", BakeDesc),
     ("moldtex_bake_progress_init", BakeProgress),
     ("moldtex_opencl_device_info_init", OpenCLDeviceInfo),
@@ -519,6 +561,42 @@ def default_params():
     params = SimParams()
     _require().moldtex_sim_params_init(ctypes.byref(params))
     return _struct_to_dict(params, PARAM_FIELDS)
+
+
+def default_continuous_params():
+    """The core's defaults of the continuous model (moldtex_continuous_params_init) as
+    a dict of CONTINUOUS_FIELDS (lengths in mesh units, sensor_angle in degrees)."""
+    params = ContinuousParams()
+    _require().moldtex_continuous_params_init(ctypes.byref(params))
+    return _struct_to_dict(params, CONTINUOUS_FIELDS)
+
+
+def u_metric(agent_count, deposit_rate, decay_rate, area, activation_time=0.0,
+             mean_lifetime=0.0):
+    """U of layton-intrinsic-slime.md Eq. 5, the uniform steady-state concentration:
+    N r_dep / (r_dec A) exp(-t_a / tau), the factor 1 when tau = 0 (no turnover).
+    +inf when r_dec or A is 0 (nothing decays, or no surface), as the core reports it.
+    Pure Python (no core call), in the units of its arguments."""
+    if decay_rate <= 0.0 or area <= 0.0:
+        return math.inf
+    value = agent_count * deposit_rate / (decay_rate * area)
+    if mean_lifetime > 0.0:
+        value *= math.exp(-activation_time / mean_lifetime)
+    return value
+
+
+def deposit_rate_for_u(target_u, agent_count, decay_rate, area, activation_time=0.0,
+                       mean_lifetime=0.0):
+    """The r_dep that makes u_metric(...) equal target_u (Eq. 5 solved for r_dep), or
+    None when no deposit rate can (no agents, nothing decays, no surface, or every
+    agent dies before it may deposit)."""
+    if (agent_count <= 0 or decay_rate <= 0.0 or area <= 0.0
+            or not math.isfinite(target_u) or target_u < 0.0):
+        return None
+    survive = math.exp(-activation_time / mean_lifetime) if mean_lifetime > 0.0 else 1.0
+    if survive <= 0.0:
+        return None
+    return target_u * decay_rate * area / (agent_count * survive)
 
 
 def default_config():
@@ -766,15 +844,20 @@ class Surface:
 
 
 class Simulation:
-    """A MoMaS simulation on a surface's UV layout (moldtex_sim)."""
+    """A simulation on a surface's UV layout (moldtex_sim): MoMaS, or the continuous
+    model when config["model"] is MODEL_CONTINUOUS."""
 
-    def __init__(self, surface, config=None, params=None, fields=None):
+    def __init__(self, surface, config=None, params=None, fields=None, continuous=None):
         """config: dict with any of CONFIG_FIELDS (width, height, agent_count, seed,
         backend, opencl_platform, opencl_device, species_count, seed_shape, seed_radius,
         seed_rays; seed_center as (triangle, (b0, b1, b2)); missing = core default);
         params: dict with any of PARAM_FIELDS (missing = core default);
         fields: static fields (array('f') or numpy float32 of width*height*4, see
-        set_fields) taken at create, or None."""
+        set_fields) taken at create, or None;
+        continuous: dict with any of CONTINUOUS_FIELDS for a continuous simulation,
+        given to the core right after it is created, which then resets (the state a
+        reset with these parameters gives), or None for the core's defaults.
+        config["model"] chooses the model (MODEL_*)."""
         lib = _require()
         self._handle = None
         c = SimConfig()
@@ -802,6 +885,18 @@ class Simulation:
         self._handle = handle
         self.width = c.width
         self.height = c.height
+        self.model = c.model
+        if continuous:
+            try:
+                self.set_continuous_params(continuous)
+                # The agents' clocks (ages, lifetimes, turn timers) started from the
+                # defaults at create, and changing the lifetime or decision frequency
+                # restarts them on another random stream: respawn, so that this state
+                # is exactly what a reset (and so a bake) starts from.
+                self.reset()
+            except (EngineError, KeyError, TypeError):
+                self.release()
+                raise
 
     @property
     def handle(self):
@@ -816,6 +911,25 @@ class Simulation:
         _check(_lib.moldtex_sim_get_params(self.handle, ctypes.byref(p)), "Reading parameters")
         _fill(p, params, PARAM_FIELDS, "params")
         _check(_lib.moldtex_sim_set_params(self.handle, ctypes.byref(p)), "Setting parameters")
+
+    def set_continuous_params(self, params):
+        """Continuous model: changes its parameters between steps (a dict with any of
+        CONTINUOUS_FIELDS; lengths in mesh units, sensor_angle in degrees); fields not
+        given keep their current value."""
+        p = ContinuousParams()
+        _lib.moldtex_continuous_params_init(ctypes.byref(p))
+        _check(_lib.moldtex_sim_get_continuous_params(self.handle, ctypes.byref(p)),
+               "Reading the continuous model's parameters")
+        _fill(p, params, CONTINUOUS_FIELDS, "continuous params")
+        _check(_lib.moldtex_sim_set_continuous_params(self.handle, ctypes.byref(p)),
+               "Setting the continuous model's parameters")
+
+    def get_continuous_params(self):
+        p = ContinuousParams()
+        _lib.moldtex_continuous_params_init(ctypes.byref(p))
+        _check(_lib.moldtex_sim_get_continuous_params(self.handle, ctypes.byref(p)),
+               "Reading the continuous model's parameters")
+        return _struct_to_dict(p, CONTINUOUS_FIELDS)
 
     def get_params(self):
         p = SimParams()

@@ -224,10 +224,31 @@ def backend_note(settings):
     return find_opencl_device(settings)[1]
 
 
+MODELS = {"MOMAS": engine.MODEL_MOMAS, "CONTINUOUS": engine.MODEL_CONTINUOUS}
+INTEGRATORS = {"AUTO": engine.INTEGRATOR_AUTO, "FORWARD": engine.INTEGRATOR_FORWARD,
+               "BACKWARD": engine.INTEGRATOR_BACKWARD}
+
+
+def model_of(settings):
+    """engine.MODEL_* the settings ask for (a value this version does not know reads as
+    MoMaS, the default)."""
+    from .properties import enum_value  # (properties imports this module)
+    return MODELS.get(enum_value(settings, "model"), engine.MODEL_MOMAS)
+
+
+def sim_model(entry):
+    """engine.MODEL_* of entry's simulation (the settings may ask for another one until
+    Reset), or None without a simulation."""
+    if entry is None or entry.config is None:
+        return None
+    return entry.config.get("model", engine.MODEL_MOMAS)
+
+
 def config_from_settings(settings):
     from .properties import enum_value  # (properties imports this module)
     size = int(enum_value(settings, "resolution"))
-    config = {"width": size, "height": size, "agent_count": int(settings.agent_count),
+    config = {"model": model_of(settings),
+              "width": size, "height": size, "agent_count": int(settings.agent_count),
               "seed": int(settings.seed), "species_count": int(settings.species_count),
               "seed_shape": SEED_SHAPES[enum_value(settings, "seed_shape")],
               "seed_radius": float(settings.seed_radius),
@@ -242,12 +263,27 @@ def config_from_settings(settings):
 REFERENCE_RESOLUTION = 512
 
 
+def pattern_unit(settings, area):
+    """The pattern unit in mesh units: the length every pattern length of both models is
+    a multiple of (MoMaS' surface-unit "texel", the continuous model's lengths).
+    Pattern Scale Mode 'OBJECT': Pattern Scale × √(area) / 512, area being the surface's
+    3D area in mesh units² (0 where it is not known yet); 'LENGTH': the Pattern Length,
+    a length in the scene, in the mesh's units (object scale applied)."""
+    if _enum(settings, "pattern_scale_mode", 'OBJECT') == 'LENGTH':
+        obj = settings.id_data
+        length = float(settings.pattern_length)
+        return length_in_mesh_units(obj, length) if obj is not None else length
+    if not area or area <= 0:
+        return 0.0
+    return math.sqrt(area) / REFERENCE_RESOLUTION * float(settings.pattern_scale)
+
+
 def length_unit(settings, area):
     """The core's length_unit (mesh units) for settings on a surface of 3D area `area`:
     0 in texel units, or where the area is not known yet."""
-    if _enum(settings, "pattern_units", 'SURFACE') != 'SURFACE' or not area or area <= 0:
+    if _enum(settings, "pattern_units", 'SURFACE') != 'SURFACE':
         return 0.0
-    return math.sqrt(area) / REFERENCE_RESOLUTION * float(settings.pattern_scale)
+    return pattern_unit(settings, area)
 
 
 def _enum(settings, name, default):
@@ -257,16 +293,120 @@ def _enum(settings, name, default):
         return default
 
 
-def params_from_settings(settings, area=None):
+def params_from_settings(settings, area=None, model=None):
+    """The core's moldtex_sim_params for settings on a surface of `area` mesh units²;
+    model (engine.MODEL_*, default: what the settings ask for) decides whether the
+    MoMaS pattern lengths apply (the continuous model ignores them and gets
+    length_unit 0, which the core always accepts)."""
+    if model is None:
+        model = model_of(settings)
     params = {name: getattr(settings, name) for name in PARAM_PROPERTIES}
     params["thread_count"] = min(int(params["thread_count"]), 256)  # the core's limit
     params["time_step"] = float(settings.time_step)
-    params["length_unit"] = length_unit(settings, area)
+    params["length_unit"] = (length_unit(settings, area) if model == engine.MODEL_MOMAS
+                             else 0.0)
     params["hunger_rate"] = settings.hunger_rate
     obj = settings.id_data
     params["food_radius"] = (length_in_mesh_units(obj, settings.food_radius)
                              if obj is not None else settings.food_radius)
     return params
+
+
+def continuous_params_from_settings(settings, area):
+    """The core's moldtex_continuous_params for settings on a surface of `area` mesh
+    units²: lengths from pattern units to mesh units (pattern_unit), the sensor angle
+    in degrees. Raises engine.EngineError when the pattern unit is not known (no
+    area in Object mode)."""
+    from .properties import enum_value  # (properties imports this module)
+    cont = settings.continuous
+    unit = pattern_unit(settings, area)
+    if not unit > 0.0 or not math.isfinite(unit):
+        raise engine.EngineError(
+            "The pattern unit is not known yet (the surface's area is needed for Pattern "
+            "Scale Mode Object): press Reset.", engine.ERROR_INVALID_ARGUMENT)
+    return {
+        "move_rate": float(cont.move_rate) * unit,
+        "turn_rate": float(cont.turn_rate),
+        "turn_frequency": float(cont.turn_frequency),
+        "sensor_distance": float(cont.sensor_distance) * unit,
+        "sensor_angle": math.degrees(float(cont.sensor_angle)),
+        "deposit_rate": float(cont.deposit_rate),
+        "diffusion_rate": float(cont.diffusion_rate) * unit * unit,
+        "decay_rate": float(cont.decay_rate),
+        "mean_lifetime": float(cont.mean_lifetime),
+        "activation_time": float(cont.activation_time),
+        "time_step": float(settings.time_step),
+        "integrator": INTEGRATORS.get(enum_value(cont, "integrator"),
+                                      engine.INTEGRATOR_AUTO),
+    }
+
+
+# ---- U (layton-intrinsic-slime.md Eq. 5) --------------------------------------------
+
+def agents_per_species(settings):
+    """Agents of species 0 at the configured count (agent i belongs to species i %
+    species_count): the N of Eq. 5 as the core counts it."""
+    count = max(1, int(settings.species_count))
+    return -(-int(settings.agent_count) // count)
+
+
+def surface_area(obj, compute=True):
+    """3D area (mesh units²) of obj's surface as the core measures it: the area stored
+    at the last build, else the live simulation's, else (compute=True, not while
+    drawing) measured from the evaluated mesh now and stored. None if unknown (no core,
+    a mesh that cannot be exported)."""
+    settings = obj.moldtex
+    stored = float(settings.continuous.surface_area)
+    if stored > 0.0:
+        return stored
+    entry = _registry.get(obj.name)
+    if entry is not None and entry.surface_info.get("area"):
+        return float(entry.surface_info["area"])
+    if not compute or not engine.available():
+        return None
+    try:
+        import bpy
+        mesh = export_object(obj, bpy.context.evaluated_depsgraph_get(), settings.uv_map)
+        surface = engine.Surface(mesh.positions, mesh.triangles, mesh.uvs,
+                                 mesh.triangle_uvs)
+        try:
+            area = float(surface.info()["area"])
+        finally:
+            surface.release()
+    except (MeshExportError, engine.EngineError):
+        return None
+    if area > 0.0:
+        settings.continuous.surface_area = area
+        return area
+    return None
+
+
+def u_from_settings(settings, area=None, compute=True):
+    """U (Eq. 5) that the settings give on obj's surface (area: mesh units², default
+    surface_area(obj, compute)); None when the area is not known. +inf without decay."""
+    obj = settings.id_data
+    if area is None:
+        area = surface_area(obj, compute) if obj is not None else None
+    if not area:
+        return None
+    cont = settings.continuous
+    return engine.u_metric(agents_per_species(settings), float(cont.deposit_rate),
+                           float(cont.decay_rate), area, float(cont.activation_time),
+                           float(cont.mean_lifetime))
+
+
+def deposit_rate_for_target(settings, area=None):
+    """The deposit rate giving the stored target U (Keep U) with the current agent
+    count, area, decay rate, mean lifetime and activation time; None if none can."""
+    obj = settings.id_data
+    if area is None:
+        area = surface_area(obj) if obj is not None else None
+    if not area:
+        return None
+    cont = settings.continuous
+    return engine.deposit_rate_for_u(float(cont.target_u), agents_per_species(settings),
+                                     float(cont.decay_rate), area,
+                                     float(cont.activation_time), float(cont.mean_lifetime))
 
 
 FOOD_STRENGTH_PROPERTY = "moldtex_strength"
@@ -357,8 +497,16 @@ def species_params_from_settings(settings):
 
 
 def _push_species(entry, settings):
+    # Only the species the simulation has: a new Species count waits for Reset (a
+    # parameter change meanwhile is no error).
+    config = getattr(entry, "config", None)
+    count = config.get("species_count", 1) if config else MAX_SPECIES_PUSHED
     for index, params in species_params_from_settings(settings):
-        entry.sim.set_species_params(index, params)
+        if index < count:
+            entry.sim.set_species_params(index, params)
+
+
+MAX_SPECIES_PUSHED = engine.MAX_SPECIES
 
 
 # Settings naming the vertex group or attribute of each field channel (R, G, B).
@@ -512,7 +660,8 @@ def needs_reset(obj):
 def _build(entry, obj, mesh, depsgraph=None):
     settings = obj.moldtex
     from .properties import repair_enums  # (properties imports this module)
-    repaired = " ".join(repair_enums(settings))  # unknown enum values -> defaults
+    # unknown enum values -> defaults
+    repaired = " ".join(repair_enums(settings) + repair_enums(settings.continuous))
     config = config_from_settings(settings)
     device_note = backend_note(settings)
     note = " ".join(filter(None, (repaired, device_note)))
@@ -532,9 +681,13 @@ def _build(entry, obj, mesh, depsgraph=None):
                                       surface, depsgraph)
         _check_spawn_map(settings, fields)
         surface_info = surface.info()
+        area = surface_info.get("area")
+        continuous = None
+        if config["model"] == engine.MODEL_CONTINUOUS:
+            continuous = continuous_params_from_settings(settings, area)
         sim = engine.Simulation(surface, create_config,
-                                params_from_settings(settings, surface_info.get("area")),
-                                fields)
+                                params_from_settings(settings, area, config["model"]),
+                                fields, continuous)
     except engine.EngineError as error:
         # The core's message says what failed (out of memory already suggests what to
         # lower); for an unusable device, say where to choose another one.
@@ -547,6 +700,8 @@ def _build(entry, obj, mesh, depsgraph=None):
     finally:
         surface.release()  # the simulation holds its own reference
     try:
+        if continuous is not None:
+            _note_u_area(sim, settings, surface_info.get("area"))
         _push_species(_Holder(sim), settings)
         holder = LiveSim(entry.name)
         holder.sim = sim
@@ -573,6 +728,31 @@ def _build(entry, obj, mesh, depsgraph=None):
     entry.warning = note
     entry.food_key, entry.food_names = holder.food_key, holder.food_names
     entry.food_dropped = holder.food_dropped
+
+
+def _note_u_area(sim, settings, triangle_area):
+    """Stores the area U's Eq. 5 uses on this simulation (the core's A: the 3D area of
+    the island texels, the PDE's cells, which the triangles' area approaches as the
+    resolution grows), read back from the U the core reports; then, with Keep U on,
+    sets the deposit rate for the target U on it (a new mesh, resolution or agent
+    count) and gives it to the simulation."""
+    cont = settings.continuous
+    stats = sim.get_stats()
+    u_value = stats.get("u_metric", 0.0)
+    rate = float(cont.deposit_rate)
+    agents = agents_per_species(settings)
+    area = triangle_area
+    if 0.0 < u_value < math.inf and rate > 0.0 and cont.decay_rate > 0.0:
+        # U = N r_dep alive / (r_dec A) with the float32 values the core holds.
+        core = sim.get_continuous_params()
+        alive = (math.exp(-core["activation_time"] / core["mean_lifetime"])
+                 if core["mean_lifetime"] > 0.0 else 1.0)
+        area = agents * core["deposit_rate"] * alive / (core["decay_rate"] * u_value)
+    if area and area > 0.0 and math.isfinite(area):
+        cont.surface_area = area
+    from .properties import keep_u  # (properties imports this module)
+    if keep_u(settings):
+        sim.set_continuous_params({"deposit_rate": float(cont.deposit_rate)})
 
 
 class _Holder:
@@ -633,13 +813,24 @@ def ensure(obj, depsgraph, rebuild=False):
     return entry
 
 
+def _push_settings(entry, obj):
+    """Gives entry's simulation obj's current parameters (those of its model, on its
+    surface's area) and species."""
+    settings = obj.moldtex
+    area = entry.surface_info.get("area")
+    model = sim_model(entry)
+    entry.sim.set_params(params_from_settings(settings, area, model))
+    if model == engine.MODEL_CONTINUOUS:
+        entry.sim.set_continuous_params(continuous_params_from_settings(settings, area))
+    _push_species(entry, settings)
+
+
 def push_params(obj):
     """Sends the object's current parameters to its live simulation, if any."""
     entry = _registry.get(obj.name) if obj is not None else None
     if entry is None or entry.sim is None or entry.baking:
         return  # a running bake keeps the parameters it started with
-    entry.sim.set_params(params_from_settings(obj.moldtex, entry.surface_info.get("area")))
-    _push_species(entry, obj.moldtex)
+    _push_settings(entry, obj)
 
 
 def push_fields(obj):
@@ -670,8 +861,7 @@ def push_fields(obj):
 
 def step(entry, obj, steps):
     """Advances the simulation (with the object's current parameters) and caches stats."""
-    entry.sim.set_params(params_from_settings(obj.moldtex, entry.surface_info.get("area")))
-    _push_species(entry, obj.moldtex)
+    _push_settings(entry, obj)
     _push_food(entry, obj, fresh=False)
     entry.sim.step(steps)
     entry.stats = entry.sim.get_stats()
@@ -687,8 +877,7 @@ def step_for_time(entry, obj, seconds, min_steps=1, max_steps=None):
     """Advances the simulation (with the object's current parameters) by as many steps
     as fit in `seconds` (at least min_steps, at most max_steps), in chunks sized from
     the measured time of a step; caches stats. Returns the number of steps run."""
-    entry.sim.set_params(params_from_settings(obj.moldtex))
-    _push_species(entry, obj.moldtex)
+    _push_settings(entry, obj)
     _push_food(entry, obj, fresh=False)
     began = time.perf_counter()
     done = 0
@@ -813,8 +1002,7 @@ def stepper_waiting(entry):
 def prepare_step(entry, obj):
     """Gives the simulation the object's current parameters, species and food (what
     step() does before stepping)."""
-    entry.sim.set_params(params_from_settings(obj.moldtex))
-    _push_species(entry, obj.moldtex)
+    _push_settings(entry, obj)
     _push_food(entry, obj, fresh=False)
 
 

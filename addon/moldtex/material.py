@@ -1,7 +1,10 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Set Up Material: wires the pheromone image into the object's material.
 
-UV Map ▸ Image Texture ▸ Color Ramp ▸ Principled BSDF Base Color. The user's nodes are
+UV Map ▸ Image Texture ▸ Map Range ▸ Color Ramp ▸ Principled BSDF Base Color. The Map
+Range node spans what the image holds: MoMaS pheromone 0..1, the continuous model's
+u / U 0..Display Range (1 = the uniform steady state), so one ramp fits both and the
+live image and a baked sequence (the same values) look alike. The user's nodes are
 kept; our nodes are found again by name, so running it twice adds nothing. On the way
 to Base Color the Fields image can be laid over the pheromone (Show Fields: walls
 green, attractors blue, spawn regions red), so that what the brush paints is seen.
@@ -14,6 +17,7 @@ import bpy
 UV_NODE = "Moldtex UV"
 TEXTURE_NODE = "Moldtex Texture"
 RAMP_NODE = "Moldtex Ramp"
+RANGE_NODE = "Moldtex Range"  # image value 0..display_maximum -> ramp 0..1
 SPECIES_NODE_PREFIX = "Moldtex Species "  # colour by species (2 or more)
 FIELDS_NODE = "Moldtex Fields"
 OVERLAY_NODE = "Moldtex Fields Overlay"  # base colour + fields colour * strength
@@ -82,6 +86,8 @@ def setup_material(obj, image, uv_map_name):
     texture, _ = _node(nodes, TEXTURE_NODE, "ShaderNodeTexImage", "Moldtex Pheromone")
     ramp, ramp_created = _node(nodes, RAMP_NODE, "ShaderNodeValToRGB", "Moldtex Ramp")
 
+    span, span_created = _node(nodes, RANGE_NODE, "ShaderNodeMapRange", "Moldtex Range")
+
     uv.uv_map = uv_map_name
     texture.image = image
     texture.interpolation = 'Linear'
@@ -90,12 +96,18 @@ def setup_material(obj, image, uv_map_name):
         set_ramp(ramp, stops or DEFAULT_RAMP, interpolation)
         x, y = principled.location.x, principled.location.y
         ramp.location = (x - 320.0, y)
-        texture.location = (x - 640.0, y)
-        uv.location = (x - 860.0, y - 60.0)
+        texture.location = (x - 820.0, y)
+        uv.location = (x - 1040.0, y - 60.0)
+    if span_created:
+        span.data_type = 'FLOAT'
+        span.interpolation_type = 'LINEAR'
+        span.clamp = True
+        span.location = (ramp.location.x - 200.0, ramp.location.y)
 
     links = tree.links
     links.new(uv.outputs["UV"], texture.inputs["Vector"])
-    links.new(texture.outputs["Color"], ramp.inputs["Fac"])
+    links.new(texture.outputs["Color"], span.inputs[0])
+    links.new(span.outputs[0], ramp.inputs["Fac"])
     for node in [n for n in nodes if n.name.startswith(SPECIES_NODE_PREFIX)]:
         nodes.remove(node)
     count = int(obj.moldtex.species_count)
@@ -103,6 +115,7 @@ def setup_material(obj, image, uv_map_name):
         base = _species_mix(tree, obj.moldtex, texture, count, ramp.location).outputs["Vector"]
     else:
         base = ramp.outputs["Color"]
+    sync_display_range(obj)
     fields, fields_created = _node(nodes, FIELDS_NODE, "ShaderNodeTexImage",
                                    "Moldtex Fields")
     overlay, _ = _node(nodes, OVERLAY_NODE, "ShaderNodeVectorMath", "Moldtex Fields Overlay")
@@ -117,6 +130,46 @@ def setup_material(obj, image, uv_map_name):
     links.new(overlay.outputs["Vector"], principled.inputs["Base Color"])
     show_fields(obj, obj.moldtex.show_fields)
     return material
+
+
+def display_maximum(obj):
+    """The image value shown at the top of the ramp: 1 for MoMaS (pheromone in [0, 1]),
+    the Display Range for the continuous model (u / U). The model is that of the live
+    simulation (whose image or bake is shown), else the one the settings ask for."""
+    from . import engine, live  # (live does not import this module)
+    entry = live.get(obj.name)
+    model = live.sim_model(entry) if entry is not None and entry.has_sim else None
+    if model is None:
+        model = live.model_of(obj.moldtex)
+    if model == engine.MODEL_CONTINUOUS:
+        return max(1e-6, float(obj.moldtex.continuous.display_range))
+    return 1.0
+
+
+def sync_display_range(obj):
+    """Points the Range node (and the species' colour weights) at display_maximum(obj);
+    changes nothing that already matches (a change recompiles the material). False if
+    the material has no Moldtex nodes."""
+    span = moldtex_node(obj, RANGE_NODE)
+    if span is None:
+        return False
+    maximum = display_maximum(obj)
+    inputs = span.inputs  # Value, From Min, From Max, To Min, To Max (float sockets)
+    for index, value in ((1, 0.0), (2, maximum), (3, 0.0), (4, 1.0)):
+        if abs(inputs[index].default_value - value) > 1e-9 * max(1.0, value):
+            inputs[index].default_value = value
+    settings = obj.moldtex
+    tree = obj.active_material.node_tree
+    for index in range(int(settings.species_count)):
+        node = tree.nodes.get(f"{SPECIES_NODE_PREFIX}{index + 1}")
+        if node is None:
+            continue
+        color = (tuple(settings.species[index].color) if index < len(settings.species)
+                 else (1.0, 1.0, 1.0))
+        weighted = tuple(c / maximum for c in color)
+        if any(abs(a - b) > 1e-7 for a, b in zip(node.inputs[0].default_value, weighted)):
+            node.inputs[0].default_value = weighted
+    return True
 
 
 def show_fields(obj, show):
@@ -225,8 +278,8 @@ def preset_ramp(obj):
 
 
 def moldtex_node(obj, name):
-    """One of our nodes (UV_NODE, TEXTURE_NODE, RAMP_NODE, FIELDS_NODE, OVERLAY_NODE)
-    in obj's active material."""
+    """One of our nodes (UV_NODE, TEXTURE_NODE, RANGE_NODE, RAMP_NODE, FIELDS_NODE,
+    OVERLAY_NODE) in obj's active material."""
     material = obj.active_material if obj is not None else None
     if material is None or material.node_tree is None:
         return None

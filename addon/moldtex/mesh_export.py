@@ -169,6 +169,14 @@ def length_in_mesh_units(obj, length):
     return length / scale if scale > 0.0 else length
 
 
+def length_in_scene_units(obj, length):
+    """A length in the exported mesh's units, in scene units (length_in_mesh_units'
+    inverse)."""
+    if export_scale(obj) is not None:
+        return length
+    return length * abs(obj.matrix_world.to_scale()[0])
+
+
 def export_object(obj, depsgraph, uv_map_name=""):
     """MeshArrays of the evaluated `obj`. uv_map_name "" means the render UV map."""
     check_object(obj)

@@ -35,6 +35,7 @@ def _show(entry, obj):
     image = image_io.ensure_image(obj, sim.width, sim.height)
     image_io.upload(image, live.read_pixels(entry))
     material.show_image(obj, image)  # back from a baked sequence to the live image
+    material.sync_display_range(obj)  # the ramp spans what this model's image holds
     return image
 
 
@@ -449,6 +450,9 @@ settings (restarts the simulation as Reset does). Press again or Esc to cancel""
             self.report({'ERROR'}, str(error))
             return {'CANCELLED'}
         print(f"Moldtex bake: '{obj.name}', {self._describe(plan)}")
+        note = bake.clipping_note(obj, plan)
+        if note:
+            self.report({'WARNING'}, note)
         try:
             progress = bake.run_synchronously(job)
         except USER_ERRORS as error:
@@ -475,6 +479,9 @@ settings (restarts the simulation as Reset does). Press again or Esc to cancel""
         except USER_ERRORS as error:
             self.report({'ERROR'}, str(error))
             return {'CANCELLED'}
+        note = bake.clipping_note(obj, plan)
+        if note:
+            self.report({'WARNING'}, note)
         window_manager = context.window_manager
         window_manager.progress_begin(0, max(1, plan.frame_count))
         self._window = context.window
@@ -553,11 +560,13 @@ settings (restarts the simulation as Reset does). Press again or Esc to cancel""
     def _show_progress(self, context, progress):
         window_manager = context.window_manager
         window_manager.progress_update(progress["frames_done"])
-        text = f"Moldtex bake: {bake.progress_line(progress)} — Esc to cancel"
+        continuous = self._job is not None and self._job.plan.continuous
+        line = bake.progress_line(progress, continuous)
+        text = f"Moldtex bake: {line} — Esc to cancel"
         entry = live.get(self._job.name) if self._job is not None else None
         timing = bake.timing_text(entry) if entry is not None else ""
         if timing:
-            text = f"Moldtex bake: {bake.progress_line(progress)}, {timing} — Esc to cancel"
+            text = f"Moldtex bake: {line}, {timing} — Esc to cancel"
         _status(context, text, header=True)
         _tag_redraw(context)
 

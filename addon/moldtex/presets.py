@@ -12,6 +12,12 @@ change as context.object:
     s.agent_count = s.scaled_agent_count(60000)  # 60 000 agents on 512 x 512 texels
     s.apply_ramp([(0.0, (0.9, 0.9, 0.85, 1.0)), (1.0, (0.3, 0.3, 0.32, 1.0))])
 
+A look for the continuous model sets s.model = 'CONTINUOUS' and the parameters of
+s.continuous (lengths in pattern units, angles in radians, times in seconds), turns
+Keep U off first and sets it last, and gives a fixed agent count: that model's look
+does not depend on the texture resolution. Its ramp spans u / U from 0 to
+s.continuous.display_range.
+
 scaled_agent_count and apply_ramp are methods of the settings (properties.py), so a
 preset never imports this add-on, whose module name differs between installs
 ("moldtex" as a legacy add-on, "bl_ext.<repository>.moldtex" as a 4.2 extension).
@@ -43,9 +49,15 @@ MENU_IDNAME = "MOLDTEX_MT_presets"
 REFERENCE_RESOLUTION = 512  # agent counts in presets are for 512 x 512 texels
 MAX_AGENTS = 67108864
 
-# Settings a preset sets (besides the agent count and the ramp).
+# Settings a preset sets (besides the model, the agent count and the ramp): MoMaS'...
 PRESET_PROPERTIES = ("movement_speed", "turn_speed", "vision_distance", "vision_angle",
                      "evaporation_rate", "diffusion_rate", "deposit", "substeps")
+# ... and the continuous model's (settings.continuous; Keep U is set last, so that the U
+# it keeps is the one of the preset's own values).
+CONTINUOUS_PRESET_PROPERTIES = ("move_rate", "turn_rate", "turn_frequency",
+                                "sensor_distance", "sensor_angle", "deposit_rate",
+                                "diffusion_rate", "decay_rate", "mean_lifetime",
+                                "activation_time", "integrator", "display_range")
 
 
 def shipped_directory():
@@ -159,20 +171,35 @@ def current_ramp(obj):
     return material.preset_ramp(obj)
 
 
+def _literal(value):
+    return repr(round(value, 7) if isinstance(value, float) else value)
+
+
 def preset_text(obj, title=""):
     """The preset file for obj's current look, in the shipped presets' format."""
+    from .properties import enum_value
     settings = obj.moldtex
+    cont = settings.continuous
+    model = enum_value(settings, "model")
     lines = [f"# Moldtex preset{': ' + title if title else ''}",
              f"{LOOK_PREFIX} Your look{' ' + repr(title) if title else ''}, saved from "
-             f"'{obj.name}'.", "import bpy", "obj = bpy.context.object", "s = obj.moldtex"]
+             f"'{obj.name}'.", "import bpy", "obj = bpy.context.object", "s = obj.moldtex",
+             "c = s.continuous", f"s.model = {model!r}", "c.keep_u = False"]
     for name in PRESET_PROPERTIES:
-        value = getattr(settings, name)
-        lines.append(f"s.{name} = {round(value, 6) if isinstance(value, float) else value!r}")
-    from .properties import enum_value
-    resolution = int(enum_value(settings, "resolution"))
-    at_512 = round(settings.agent_count * (REFERENCE_RESOLUTION / resolution) ** 2)
-    lines.append(f"s.agent_count = s.scaled_agent_count({max(1, at_512)})  "
-                 f"# agents on {REFERENCE_RESOLUTION} x {REFERENCE_RESOLUTION} texels")
+        lines.append(f"s.{name} = {_literal(getattr(settings, name))}")
+    lines.append(f"s.time_step = {_literal(settings.time_step)}")
+    for name in CONTINUOUS_PRESET_PROPERTIES:
+        value = enum_value(cont, name) if name == "integrator" else getattr(cont, name)
+        lines.append(f"c.{name} = {_literal(value)}")
+    if model == 'CONTINUOUS':
+        # The continuous model's look does not depend on the resolution.
+        lines.append(f"s.agent_count = {int(settings.agent_count)}")
+    else:
+        resolution = int(enum_value(settings, "resolution"))
+        at_512 = round(settings.agent_count * (REFERENCE_RESOLUTION / resolution) ** 2)
+        lines.append(f"s.agent_count = s.scaled_agent_count({max(1, at_512)})  "
+                     f"# agents on {REFERENCE_RESOLUTION} x {REFERENCE_RESOLUTION} texels")
+    lines.append(f"c.keep_u = {bool(cont.keep_u)!r}")
     stops, interpolation = current_ramp(obj)
     if stops:
         lines.append("s.apply_ramp([")
@@ -259,8 +286,11 @@ preset, or remove one of your presets"""
     bl_label = "Add Moldtex Preset"
     preset_menu = MENU_IDNAME
     preset_subdir = SUBDIR
-    preset_defines = ["obj = bpy.context.object", "s = obj.moldtex"]
-    preset_values = [f"s.{name}" for name in PRESET_PROPERTIES] + ["s.agent_count"]
+    preset_defines = ["obj = bpy.context.object", "s = obj.moldtex", "c = s.continuous"]
+    preset_values = (["s.model"] + [f"s.{name}" for name in PRESET_PROPERTIES]
+                     + ["s.time_step"]
+                     + [f"c.{name}" for name in CONTINUOUS_PRESET_PROPERTIES]
+                     + ["s.agent_count", "c.keep_u"])
 
     @classmethod
     def poll(cls, context):

@@ -175,8 +175,10 @@ def _config_changed(self, context):
 
 def _species_count_changed(self, context):
     # Gives every species up to the new count its own settings (saved), so the panel
-    # can show them; the simulation takes the count on Reset.
+    # can show them; the simulation takes the count on Reset. U counts the agents of
+    # one species (Eq. 5 per species).
     ensure_species(self)
+    _agents_changed(self, context)
 
 
 def _fields_changed(self, context):
@@ -270,6 +272,192 @@ class MoldtexSpecies(bpy.types.PropertyGroup):
                     "it again after changing)")
 
 
+# ---- the continuous model (layton-intrinsic-slime.md §3.2, Table 1) -------------------
+# Lengths are stored as multiples of the pattern unit (live.pattern_unit: Pattern Scale ×
+# √(object area) / 512, or the Pattern Length in the scene), so one look fits any object;
+# live.continuous_params_from_settings converts them to the mesh units the core takes.
+# Angles are Blender angles (radians, shown in degrees); times are seconds.
+
+MODEL_ITEMS = [
+    ("MOMAS", "MoMaS", "MoMaS (momas-paper.md): agents move a fixed step each tick and "
+                       "leave pheromone in [0, 1] that blurs and evaporates", 0),
+    ("CONTINUOUS", "Continuous", "Continuous model (layton-intrinsic-slime.md §3.2): "
+                                 "rates per second, a diffusion-decay PDE, deposits along "
+                                 "each path and agent turnover; the image shows u / U "
+                                 "(1 = the uniform steady state)", 1),
+]
+
+INTEGRATOR_ITEMS = [
+    ("AUTO", "Auto", "Forward Euler while 64 sub-steps per step keep it stable, else "
+                     "backward Euler", 0),
+    ("FORWARD", "Forward", "Forward Euler (Eq. 2), sub-stepped for stability (the core "
+                           "refuses more than 256 sub-steps a step)", 1),
+    ("BACKWARD", "Backward", "Backward Euler (Eq. 3): stable at any time step, more work "
+                             "per step", 2),
+]
+
+# Set while Keep U itself writes the deposit rate, so that write is not taken for the
+# user's own change (which makes the new deposit rate's U the one to keep).
+_keeping_u = False
+
+
+def keep_u(settings):
+    """With Keep U on, sets the deposit rate so that U (Eq. 5) equals the stored target
+    for the current agent count, surface area, decay rate, mean lifetime and activation
+    time. Returns True if it changed the deposit rate."""
+    global _keeping_u
+    cont = settings.continuous
+    if not cont.keep_u or cont.target_u <= 0.0:
+        return False
+    rate = live.deposit_rate_for_target(settings)
+    if rate is None or abs(rate - cont.deposit_rate) <= 1e-7 * max(rate, 1e-30):
+        return False
+    _keeping_u = True
+    try:
+        cont.deposit_rate = rate
+    finally:
+        _keeping_u = False
+    return True
+
+
+def _continuous_changed(self, context):
+    _push(self.id_data, live.push_params)
+
+
+def _u_input_changed(self, context):
+    # Decay rate, mean lifetime or activation time: Eq. 5's inputs besides r_dep.
+    if not keep_u(self.id_data.moldtex):
+        _push(self.id_data, live.push_params)  # (keep_u's write pushed already)
+
+
+def _deposit_rate_changed(self, context):
+    if self.keep_u and not _keeping_u:
+        # The user set the deposit: its U is the one to keep from now on.
+        self.target_u = live.u_from_settings(self.id_data.moldtex) or 0.0
+    _push(self.id_data, live.push_params)
+
+
+def _keep_u_changed(self, context):
+    if self.keep_u:
+        self.target_u = live.u_from_settings(self.id_data.moldtex) or 0.0
+
+
+def _agents_changed(self, context):
+    # The agent count (or the species count, which splits it) enters U: with Keep U on
+    # the deposit rate follows at once; the simulation takes the count on Reset.
+    if self.model == 'CONTINUOUS':
+        keep_u(self)
+
+
+def _model_changed(self, context):
+    # Takes effect on Reset (a new simulation); the material's display range follows
+    # the simulation's model, so nothing to do here either.
+    pass
+
+
+def _display_range_changed(self, context):
+    from . import material
+    material.sync_display_range(self.id_data)
+
+
+class MoldtexContinuous(bpy.types.PropertyGroup):
+    """Parameters of the continuous model (layton-intrinsic-slime.md Table 1)."""
+    # ---- agent ----
+    move_rate: FloatProperty(
+        name="Move Rate", default=60.0, min=0.0, max=1e6, soft_min=5.0, soft_max=200.0,
+        description="Move Rate (v): distance an agent walks per second, in pattern units "
+                    "(see Pattern Scale) per second. Larger = longer strands",
+        update=_continuous_changed)
+    turn_rate: FloatProperty(
+        name="Turn Rate", subtype='ANGLE', default=math.radians(720.0), min=0.0,
+        max=1e6, soft_min=0.0, soft_max=math.radians(3600.0), precision=0, step=1000,
+        description="Turn Rate (ω): how fast an agent turns, in degrees per second; each "
+                    "turn decision turns it by ω / f at once",
+        update=_continuous_changed)
+    turn_frequency: FloatProperty(
+        name="Turn Frequency", default=20.0, min=1e-3, max=1e6, soft_min=1.0,
+        soft_max=60.0,
+        description="Turn Frequency (Turn Decision Frequency fi): turn decisions per "
+                    "second. Few decisions = straight runs and sharp turns",
+        update=_continuous_changed)
+    sensor_distance: FloatProperty(
+        name="Sensor Distance", default=12.0, min=0.0, max=1e6, soft_min=1.0,
+        soft_max=60.0,
+        description="Sensor Distance (d): how far ahead the sensors are, along the "
+                    "surface, in pattern units (see Pattern Scale). Larger = bigger cells",
+        update=_continuous_changed)
+    sensor_angle: FloatProperty(
+        name="Sensor Angle", subtype='ANGLE', default=math.radians(30.0),
+        min=-math.pi, max=math.pi, soft_min=math.radians(-90.0),
+        soft_max=math.radians(90.0), precision=1, step=100,
+        description="Sensor Angle (θ): angle between the front and side sensors. "
+                    "Negative = chemo-repulsion (agents turn away from pheromone)",
+        update=_continuous_changed)
+    # ---- pheromone ----
+    deposit_rate: FloatProperty(
+        name="Deposit Rate", default=1.0, min=0.0, max=1e12, soft_min=0.0,
+        soft_max=100.0, precision=4,
+        description="Deposit Rate (r_dep): pheromone an agent lays per second, spread "
+                    "evenly along its path. With Keep U on it follows U: set it, and "
+                    "its U becomes the one kept",
+        update=_deposit_rate_changed)
+    diffusion_rate: FloatProperty(
+        name="Diffusion Rate", default=20.0, min=0.0, max=1e6, soft_min=0.0,
+        soft_max=200.0,
+        description="Diffusion Rate (r_dif): how fast pheromone spreads over the "
+                    "surface, in pattern units² per second (see Pattern Scale)",
+        update=_continuous_changed)
+    decay_rate: FloatProperty(
+        name="Decay Rate", default=5.0, min=0.0, max=1e6, soft_min=0.1, soft_max=30.0,
+        description="Decay Rate (r_dec): fraction of the pheromone lost per second. "
+                    "Larger = thinner, sharper trails",
+        update=_u_input_changed)
+    keep_u: BoolProperty(
+        name="Keep U", default=False,
+        description="Keep U: hold the uniform steady-state concentration U (Eq. 5) at "
+                    "its current value: when the agent count, species, surface area, "
+                    "decay rate, mean lifetime or activation time change, the deposit "
+                    "rate follows (the paper's way to keep a look across meshes and "
+                    "agent counts)",
+        update=_keep_u_changed)
+    target_u: FloatProperty(
+        name="Target U", default=0.0, min=0.0, options={'HIDDEN'},
+        description="Target U: the U (Eq. 5, in the core's mesh units) that Keep U holds")
+    display_range: FloatProperty(
+        name="Display Range", default=3.0, min=0.01, max=1e4, soft_min=0.5, soft_max=10.0,
+        description="Display Range: the u / U shown at the top of the colour ramp (0 at "
+                    "its bottom; 1 is the uniform steady state). The live image and "
+                    "baked EXR files hold u / U itself",
+        update=_display_range_changed)
+    # ---- turnover ----
+    mean_lifetime: FloatProperty(
+        name="Mean Lifetime", default=0.0, min=0.0, max=1e6, soft_min=0.0, soft_max=10.0,
+        precision=3, unit='TIME_ABSOLUTE',
+        description="Mean Lifetime (τ̄): agents die after a random time of this mean and "
+                    "start again anywhere on the surface, which keeps the pattern "
+                    "uniform. 0 = agents live for ever",
+        update=_u_input_changed)
+    activation_time: FloatProperty(
+        name="Activation Time", default=0.0, min=0.0, max=1e6, soft_min=0.0,
+        soft_max=10.0, precision=3, unit='TIME_ABSOLUTE',
+        description="Activation Time (Deposit Activation Time t_a): a new agent lays "
+                    "no pheromone until it is this old, so reborn agents do not blot "
+                    "the pattern",
+        update=_u_input_changed)
+    # ---- simulation ----
+    integrator: EnumProperty(
+        name="Integrator", items=INTEGRATOR_ITEMS, default='AUTO',
+        description="Integrator: how the pheromone's diffusion-decay equation is "
+                    "stepped",
+        update=_continuous_changed)
+    # 3D area (mesh units², as the core measures it) of the surface this object last
+    # simulated: U is known without a simulation (the panel, Keep U before a Reset).
+    surface_area: FloatProperty(
+        name="Surface Area", default=0.0, min=0.0, options={'HIDDEN'},
+        description="Surface Area: area of the mesh last simulated, in mesh units², "
+                    "for U")
+
+
 # ---- Backend chooser ------------------------------------------------------------------
 
 BACKEND_AUTO_VALUE = 0
@@ -349,6 +537,11 @@ def _set_backend(self, value):
 
 
 class MoldtexSettings(bpy.types.PropertyGroup):
+    model: EnumProperty(
+        name="Model", items=MODEL_ITEMS, default='MOMAS',
+        description="Model: how the agents and the pheromone behave." + _RESET_NOTE,
+        update=_model_changed)
+    continuous: PointerProperty(type=MoldtexContinuous)
     # ---- agents (momas-paper.md Table 1) ----
     movement_speed: FloatProperty(
         name="Movement Speed", default=1.0, min=0.0, max=64.0, soft_min=1.0, soft_max=2.0,
@@ -383,18 +576,39 @@ class MoldtexSettings(bpy.types.PropertyGroup):
                 "MoMaS' texel units: lengths are in texels of this resolution, so a higher "
                 "resolution gives a finer pattern")),
         default='SURFACE', update=_push_params)
+    pattern_scale_mode: EnumProperty(
+        name="Pattern Scale Mode",
+        items=(('OBJECT', "Object",
+                "The pattern unit follows the object's size: Scale × √(area) / 512, so "
+                "a look is the same on a 10 cm and a 10 m object"),
+               ('LENGTH', "Length",
+                "The pattern unit is a fixed length in the scene: a larger object shows "
+                "more cells of the same size")),
+        default='OBJECT',
+        description="Pattern Scale Mode: what the pattern unit (the length every "
+                    "pattern length is a multiple of) is measured against",
+        update=_push_params)
     pattern_scale: FloatProperty(
         name="Pattern Scale", default=1.0, min=0.01, max=100.0, soft_min=0.25, soft_max=4.0,
-        description="Pattern Scale (surface units): the size of one pattern 'texel' as a fraction of the "
-                    "object's size (1 = a 512² texel of the object's area). Larger = "
-                    "bigger cells and thicker trails, whatever the resolution",
+        description="Pattern Scale: the pattern unit as a fraction of the object's size "
+                    "(1 = √(object area) / 512, a 512² texel of a layout that fills the "
+                    "texture). Larger = bigger cells and thicker trails, whatever the "
+                    "resolution",
+        update=_push_params)
+    pattern_length: FloatProperty(
+        name="Pattern Length", default=0.005, min=1e-6, max=1e6, soft_min=0.0001,
+        soft_max=1.0, subtype='DISTANCE', unit='LENGTH', precision=4,
+        description="Pattern Length: the pattern unit as a length in the scene, measured "
+                    "on the object as it sits there (its scale applied)",
         update=_push_params)
     time_step: FloatProperty(
         name="Time Step", default=1.0 / 60.0, min=0.001, max=0.25, precision=4,
         unit='TIME_ABSOLUTE',
         description="Time Step: simulated seconds per step (Δt; 1/60 s reproduces the papers). In "
-                    "surface units the result depends on simulated time, not on the step "
-                    "count: a smaller step is finer in time, not slower in motion",
+                    "surface units and in the continuous model the result depends on "
+                    "simulated time, not on the step count: a smaller step is finer in "
+                    "time, not slower in motion. Continuous model: keep it well below the "
+                    "turn decision period, the mean lifetime and the activation time",
         update=_push_params)
     sensor_size: IntProperty(
         name="Sensor Size", default=0, min=0, max=4,
@@ -424,7 +638,7 @@ class MoldtexSettings(bpy.types.PropertyGroup):
     agent_count: IntProperty(
         name="Agents", default=60000, min=1, max=67108864, soft_max=4000000,
         description="Agents: number of agents." + _RESET_NOTE,
-        update=_config_changed)
+        update=_agents_changed)
     resolution: EnumProperty(
         name="Resolution", items=RESOLUTION_ITEMS, default="512",
         description="Resolution: size of the pheromone texture." + _RESET_NOTE,
@@ -625,7 +839,7 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         presets.apply_ramp(self.id_data, stops, interpolation)
 
 
-CLASSES = (MoldtexSpecies, MoldtexSettings)
+CLASSES = (MoldtexSpecies, MoldtexContinuous, MoldtexSettings)
 
 
 def register():

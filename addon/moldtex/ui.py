@@ -11,14 +11,17 @@ import textwrap
 
 import bpy
 
-from . import bake, brush, engine, live, presets
-from .mesh_export import MeshExportError, check_transform, resolve_uv_map_name
+from . import bake, brush, engine, live, material, presets
+from .mesh_export import (MeshExportError, check_transform, length_in_scene_units,
+                          resolve_uv_map_name)
 from .properties import invalid_enum_notes
 
 # Short labels shown in the panel: property identifier -> label.
 LABELS = {
     "resolution": "Texture",
-    "pattern_scale": "Scale",
+    "pattern_scale_mode": "Scale",
+    "pattern_scale": "Factor",
+    "pattern_length": "Length",
     "agent_count": "Agents",
     "steps_per_update": "Steps",
     "update_time": "Update",
@@ -40,6 +43,17 @@ LABELS = {
     "bake_steps_per_frame": "Per Frame",
     "bake_directory": "Folder",
     "bake_prefix": "Prefix",
+    # the continuous model (settings.continuous; time_step is shared)
+    "move_rate": "Speed",
+    "turn_rate": "Turning",
+    "turn_frequency": "Decisions",
+    "sensor_distance": "Sight",
+    "sensor_angle": "Angle",
+    "deposit_rate": "Deposit",
+    "decay_rate": "Decay",
+    "display_range": "Display",
+    "mean_lifetime": "Lifetime",
+    "activation_time": "Activation",
     # the Brush panel (scene settings)
     "target": "Paint",
     "agents_per_dab": "Agents",
@@ -81,6 +95,51 @@ def _mesh_object(context):
     return obj if obj is not None and obj.type == 'MESH' else None
 
 
+def _continuous(obj):
+    return obj is not None and obj.moldtex.model == 'CONTINUOUS'
+
+
+def _scene_length(context, value):
+    """A length in scene units as Blender writes it (e.g. "5.86 mm")."""
+    scene = getattr(context, "scene", None)
+    units = scene.unit_settings if scene is not None else None
+    if units is None or units.system == 'NONE':
+        return f"{value:.4g}"
+    try:
+        return bpy.utils.units.to_string(units.system, 'LENGTH',
+                                         value * units.scale_length, precision=3)
+    except (AttributeError, TypeError, ValueError):
+        return f"{value:.4g}"
+
+
+def _pattern_unit_text(context, obj):
+    """ "Unit: 5.86 mm" (the pattern unit in the scene), or how to learn it."""
+    settings = obj.moldtex
+    area = live.surface_area(obj, compute=False)
+    unit = live.pattern_unit(settings, area)
+    if unit <= 0.0:
+        return "Unit: known after Reset (it needs the surface's area)"
+    try:
+        world = length_in_scene_units(obj, unit)
+    except MeshExportError:
+        return ""
+    return f"Unit: {_scene_length(context, world)} on the object"
+
+
+def _u_text(obj):
+    """ "U 0.0123" from the live continuous simulation's stats, else from the settings
+    (Eq. 5 with the last known area); "" when neither is known."""
+    entry = live.get(obj.name)
+    stats = entry.stats if entry is not None and entry.has_sim else None
+    if stats and live.sim_model(entry) == engine.MODEL_CONTINUOUS and "u_metric" in stats:
+        value = stats["u_metric"]
+    else:
+        value = live.u_from_settings(obj.moldtex, compute=False)
+    if value is None:
+        return ""
+    return "U ∞ (no decay)" if value == float("inf") else f"U {value:.4g}"
+
+
 class MOLDTEX_PT_main(bpy.types.Panel):
     bl_label = "Moldtex"
     bl_idname = "MOLDTEX_PT_main"
@@ -104,6 +163,9 @@ class MOLDTEX_PT_main(bpy.types.Panel):
         entry = live.get(obj.name)
 
         layout.label(text=obj.name, icon='OBJECT_DATA')
+        # The model comes first: every setting below depends on it.
+        row = layout.row(align=True)
+        row.prop(settings, "model", expand=True)
         row = layout.row(align=True)
         # The look last applied to this object (not the last one picked anywhere).
         row.menu(presets.MENU_IDNAME, text=presets.menu_label(obj), icon='PRESET')
@@ -114,7 +176,7 @@ class MOLDTEX_PT_main(bpy.types.Panel):
             check_transform(obj)
         except MeshExportError as error:
             _wrapped(layout.box(), str(error), icon='ERROR')
-        for note in invalid_enum_notes(settings):
+        for note in invalid_enum_notes(settings) + invalid_enum_notes(settings.continuous):
             _wrapped(layout, note + " Reset fixes it.", icon='ERROR')
         column = _split(layout)
         if len(obj.data.uv_layers) == 0:
@@ -147,12 +209,14 @@ class MOLDTEX_PT_main(bpy.types.Panel):
         row.operator("moldtex.reset", icon='FILE_REFRESH')
 
         if live.needs_reset(obj):
-            _wrapped(layout, "Resolution, agents, seed, backend, UV map, species or start "
-                             "changed: press Reset (or Start) to apply.", icon='INFO')
+            _wrapped(layout, "Model, resolution, agents, seed, backend, UV map, species "
+                             "or start changed: press Reset (or Start) to apply.",
+                     icon='INFO')
         if entry is not None and entry.notice:
             _wrapped(layout, entry.notice, icon='INFO')
         if entry is not None and entry.baking:
-            _wrapped(layout, "Baking: " + _bake_progress_text(entry.bake_progress) +
+            _wrapped(layout, "Baking: " + _bake_progress_text(entry.bake_progress,
+                                                              entry.bake_plan) +
                      " (the live simulation waits)", icon='RENDER_ANIMATION')
 
         box = layout.box()
@@ -173,12 +237,27 @@ class MOLDTEX_PT_main(bpy.types.Panel):
             if running and entry.steps_per_second > 0.0:
                 grid.label(text="Speed")
                 grid.label(text=f"{entry.steps_per_second:,.0f} steps/s")
+            continuous = live.sim_model(entry) == engine.MODEL_CONTINUOUS
+            if continuous and not entry.baking:
+                grid.label(text="Time")
+                grid.label(text=f"{stats.get('time', 0.0):,.2f} s")
             grid.label(text="Agents")
             grid.label(text=f"{stats['agent_count']:,}")
-            grid.label(text="Coverage")
-            grid.label(text=f"{100.0 * stats['coverage']:.1f} %")
-            grid.label(text="Presence")
-            grid.label(text=f"{100.0 * stats['presence']:.1f} %")
+            if continuous:
+                # U (Eq. 5) and the mean concentration in units of it (1 = the
+                # uniform steady state, reached after a few 1 / decay rate).
+                u_value = stats.get("u_metric", 0.0)
+                grid.label(text="U")
+                grid.label(text="∞" if u_value == float("inf") else f"{u_value:.4g}")
+                grid.label(text="Mean")
+                mean = stats.get("mean_concentration", 0.0)
+                grid.label(text=f"{mean / u_value:.3f} U" if 0.0 < u_value < float("inf")
+                           else f"{mean:.4g}")
+            else:
+                grid.label(text="Coverage")
+                grid.label(text=f"{100.0 * stats['coverage']:.1f} %")
+                grid.label(text="Presence")
+                grid.label(text=f"{100.0 * stats['presence']:.1f} %")
             grid.label(text="Memory")
             grid.label(text=f"{stats['bytes_in_use'] / 2**20:.1f} MiB")
             # e.g. "OpenCL: <device> (<platform>)", or for Auto "CPU (2 threads);
@@ -199,7 +278,30 @@ class _SubPanel:
         return _mesh_object(context) is not None
 
 
-class MOLDTEX_PT_agents(_SubPanel, bpy.types.Panel):
+class _MomasPanel(_SubPanel):
+    @classmethod
+    def poll(cls, context):
+        obj = _mesh_object(context)
+        return obj is not None and not _continuous(obj)
+
+
+class _ContinuousPanel(_SubPanel):
+    @classmethod
+    def poll(cls, context):
+        return _continuous(_mesh_object(context))
+
+
+def _draw_pattern_scale(layout, settings, active=True):
+    column = layout.column(align=True)
+    column.active = active
+    _prop(column.row(align=True), settings, "pattern_scale_mode", expand=True)
+    if settings.pattern_scale_mode == 'LENGTH':
+        _prop(column, settings, "pattern_length")
+    else:
+        _prop(column, settings, "pattern_scale")
+
+
+class MOLDTEX_PT_agents(_MomasPanel, bpy.types.Panel):
     bl_label = "Agents"
     bl_idname = "MOLDTEX_PT_agents"
 
@@ -207,9 +309,7 @@ class MOLDTEX_PT_agents(_SubPanel, bpy.types.Panel):
         settings = context.active_object.moldtex
         units = _split(self.layout)
         _prop(units, settings, "pattern_units")
-        sub = units.column(align=True)
-        sub.active = settings.pattern_units == 'SURFACE'
-        _prop(sub, settings, "pattern_scale")
+        _draw_pattern_scale(units, settings, settings.pattern_units == 'SURFACE')
         _prop(units, settings, "time_step")
         column = _split(self.layout)
         for name in ("movement_speed", "turn_speed", "vision_distance", "vision_angle_ui",
@@ -217,7 +317,7 @@ class MOLDTEX_PT_agents(_SubPanel, bpy.types.Panel):
             _prop(column, settings, name)
 
 
-class MOLDTEX_PT_pheromone(_SubPanel, bpy.types.Panel):
+class MOLDTEX_PT_pheromone(_MomasPanel, bpy.types.Panel):
     bl_label = "Pheromone"
     bl_idname = "MOLDTEX_PT_pheromone"
 
@@ -228,6 +328,74 @@ class MOLDTEX_PT_pheromone(_SubPanel, bpy.types.Panel):
             _prop(column, settings, name)
 
 
+# The continuous model's sub-panels follow layton-intrinsic-slime.md Table 1: Agent,
+# Pheromone, Turnover; its Simulation group (time step, integrator) heads the
+# Simulation sub-panel.
+
+class MOLDTEX_PT_continuous_agents(_ContinuousPanel, bpy.types.Panel):
+    bl_label = "Agents"
+    bl_idname = "MOLDTEX_PT_continuous_agents"
+
+    def draw(self, context):
+        obj = context.active_object
+        settings = obj.moldtex
+        layout = self.layout
+        _draw_pattern_scale(_split(layout), settings)
+        text = _pattern_unit_text(context, obj)
+        if text:
+            _wrapped(layout, text + " (lengths below are in units)", icon='DRIVER_DISTANCE')
+        column = _split(layout)
+        for name in ("move_rate", "turn_rate", "turn_frequency", "sensor_distance",
+                     "sensor_angle"):
+            _prop(column, settings.continuous, name)
+        if settings.continuous.sensor_angle < 0.0:
+            _wrapped(layout, "Negative angle: agents turn away from pheromone "
+                             "(chemo-repulsion).", icon='INFO')
+
+
+class MOLDTEX_PT_continuous_pheromone(_ContinuousPanel, bpy.types.Panel):
+    bl_label = "Pheromone"
+    bl_idname = "MOLDTEX_PT_continuous_pheromone"
+
+    def draw(self, context):
+        obj = context.active_object
+        cont = obj.moldtex.continuous
+        layout = self.layout
+        column = _split(layout)
+        for name in ("deposit_rate", "diffusion_rate", "decay_rate", "keep_u"):
+            _prop(column, cont, name)
+        text = _u_text(obj)
+        if text:
+            kept = " (kept)" if cont.keep_u else ""
+            _wrapped(layout, f"{text}{kept}: the uniform steady state, Eq. 5",
+                     icon='INFO')
+        else:
+            _wrapped(layout, "U (Eq. 5) is known after Reset: it needs the surface's "
+                             "area.", icon='INFO')
+        _prop(_split(layout), cont, "display_range")
+        if (material.moldtex_node(obj, material.TEXTURE_NODE) is not None
+                and material.moldtex_node(obj, material.RANGE_NODE) is None):
+            _wrapped(layout, "The material predates the display range: press Set Up "
+                             "Material to show u / U.", icon='ERROR')
+
+
+class MOLDTEX_PT_continuous_turnover(_ContinuousPanel, bpy.types.Panel):
+    bl_label = "Turnover"
+    bl_idname = "MOLDTEX_PT_continuous_turnover"
+
+    def draw(self, context):
+        cont = context.active_object.moldtex.continuous
+        layout = self.layout
+        column = _split(layout)
+        _prop(column, cont, "mean_lifetime")
+        sub = column.column(align=True)
+        sub.active = cont.mean_lifetime > 0.0
+        _prop(sub, cont, "activation_time")
+        if cont.mean_lifetime <= 0.0:
+            _wrapped(layout, "Lifetime 0: agents live for ever (no turnover).",
+                     icon='INFO')
+
+
 class MOLDTEX_PT_setup(_SubPanel, bpy.types.Panel):
     bl_label = "Simulation"
     bl_idname = "MOLDTEX_PT_setup"
@@ -236,6 +404,10 @@ class MOLDTEX_PT_setup(_SubPanel, bpy.types.Panel):
     def draw(self, context):
         settings = context.active_object.moldtex
         layout = self.layout
+        if _continuous(context.active_object):
+            column = _split(layout)
+            _prop(column, settings, "time_step")
+            _prop(column, settings.continuous, "integrator")
         column = _split(layout)
         column.label(text="Applied on Reset", icon='FILE_REFRESH')
         _prop(column, settings, "seed")
@@ -275,16 +447,21 @@ class MOLDTEX_PT_species(_SubPanel, bpy.types.Panel):
         count = settings.species_count
         if count < 2:
             return
+        continuous = _continuous(context.active_object)
+        if continuous:
+            _wrapped(layout, "Continuous model: its settings apply to every species; "
+                             "each keeps its colour and attractions.", icon='INFO')
         for index in range(min(count, len(settings.species))):
             item = settings.species[index]
             box = layout.box()
             row = box.row()
             row.label(text=f"Species {index + 1}")
             row.prop(item, "color", text="")
-            column = _split(box)
-            for name in ("movement_speed", "turn_speed", "vision_distance",
-                         "vision_angle_ui", "deposit"):
-                _prop(column, item, name)
+            if not continuous:
+                column = _split(box)
+                for name in ("movement_speed", "turn_speed", "vision_distance",
+                             "vision_angle_ui", "deposit"):
+                    _prop(column, item, name)
             column = box.column(align=True)
             column.label(text="Attraction to species:")
             row = column.row(align=True)
@@ -363,11 +540,14 @@ def _draw_food(layout, obj):
         _wrapped(box, "Hunger Rate is 0: the agents ignore the food.", icon='INFO')
 
 
-def _bake_progress_text(progress):
+def _bake_progress_text(progress, plan=None):
     if not progress:
         return "starting"
-    text = bake.progress_line(progress)
-    if progress["frames_done"]:
+    continuous = plan is not None and plan.continuous
+    text = bake.progress_line(progress, continuous)
+    if progress["frames_done"] and continuous:
+        text = f"{text.split(' (')[0]}, mean u / U {progress['coverage']:.3f}"
+    elif progress["frames_done"]:
         text = (f"{text.split(' (')[0]}, coverage {100.0 * progress['coverage']:.1f} %, "
                 f"presence {100.0 * progress['presence']:.1f} %")
     return text
@@ -404,6 +584,9 @@ class MOLDTEX_PT_bake(_SubPanel, bpy.types.Panel):
                 plan = bake.plan_for(obj, scene)
                 _wrapped(layout, f"{plan.frame_count} frames: {plan.describe_files()}",
                          icon='FILE_IMAGE')
+                note = bake.clipping_note(obj, plan)
+                if note:
+                    _wrapped(layout, note, icon='ERROR')
                 if not baking and not settings.bake_resume:
                     _wrapped(layout, "Bakes from step 0 (restarts the simulation as "
                                      "Reset does): the live state is not kept.",
@@ -424,7 +607,8 @@ class MOLDTEX_PT_bake(_SubPanel, bpy.types.Panel):
             return
         if baking:
             timing = bake.timing_text(entry)
-            _wrapped(layout, "Baking: " + _bake_progress_text(entry.bake_progress) +
+            _wrapped(layout, "Baking: " + _bake_progress_text(entry.bake_progress,
+                                                              entry.bake_plan) +
                      (f"; {timing}" if timing else "") + ". Esc cancels.", icon='TIME')
         elif entry.bake_summary:
             _wrapped(layout, entry.bake_summary, icon='INFO')
@@ -479,8 +663,10 @@ class MOLDTEX_PT_brush(_SubPanel, bpy.types.Panel):
         sub.operator("moldtex.brush_redo", icon='LOOP_FORWARDS', text=f"Redo ({undone})")
 
 
-CLASSES = (MOLDTEX_PT_main, MOLDTEX_PT_agents, MOLDTEX_PT_pheromone, MOLDTEX_PT_species,
-           MOLDTEX_PT_brush, MOLDTEX_PT_setup, MOLDTEX_PT_bake)
+CLASSES = (MOLDTEX_PT_main, MOLDTEX_PT_agents, MOLDTEX_PT_pheromone,
+           MOLDTEX_PT_continuous_agents, MOLDTEX_PT_continuous_pheromone,
+           MOLDTEX_PT_continuous_turnover, MOLDTEX_PT_species, MOLDTEX_PT_brush,
+           MOLDTEX_PT_setup, MOLDTEX_PT_bake)
 # (Resolution, Agents and Steps per Update are on the main panel; the Simulation
 # sub-panel keeps what is changed rarely: seed, backend, threads, image.)
 
