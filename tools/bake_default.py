@@ -37,6 +37,9 @@ def parse_args():
     parser.add_argument("--subdivisions", type=int, default=2)
     parser.add_argument("--samples", type=int, default=16)
     parser.add_argument("--render-size", default="480x360")
+    parser.add_argument("--preset", metavar="NAME",
+                        help="a shipped look to apply first (e.g. coral_maze for the "
+                             "continuous model); the agent count below still applies")
     parser.add_argument("--frames", type=int, default=24,
                         help="frames of the EXR sequence (0 = no sequence)")
     return parser.parse_args(argv)
@@ -183,8 +186,13 @@ def grow(suzanne, args, out):
         done += n
         stats = entry.stats
         elapsed = time.perf_counter() - began
-        print(f"  step {done:5d}/{args.steps}  coverage {100 * stats['coverage']:5.1f} %  "
-              f"presence {100 * stats['presence']:5.1f} %  "
+        if settings.model == 'CONTINUOUS':
+            shown = (f"t {stats['time']:5.2f} s  mean u/U "
+                     f"{stats['mean_concentration'] / stats['u_metric']:5.3f}")
+        else:
+            shown = (f"coverage {100 * stats['coverage']:5.1f} %  "
+                     f"presence {100 * stats['presence']:5.1f} %")
+        print(f"  step {done:5d}/{args.steps}  {shown}  "
               f"{done * args.agents / elapsed / 1e6:5.2f} M agent-steps/s")
         sys.stdout.flush()
     if plan is not None and done == plan.frame_count * plan.steps_per_frame:
@@ -203,6 +211,14 @@ def main():
     os.makedirs(out, exist_ok=True)
     enable_addon(args.addon_dir)
     suzanne = build_scene(args)
+    if args.preset:
+        from moldtex import presets
+        path = presets.find(args.preset)
+        if not path:
+            fail(f"no preset '{args.preset}' (presets: {', '.join(sorted(presets.available()))})")
+        if bpy.ops.moldtex.preset_apply(filepath=path) != {'FINISHED'}:
+            fail(f"the preset {args.preset} did not apply")
+        print(f"Preset: {args.preset} (model {suzanne.moldtex.model})")
     seconds, plan = grow(suzanne, args, out)
     print(f"Grew {args.steps} steps in {seconds:.1f} s")
 
