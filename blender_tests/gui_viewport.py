@@ -230,6 +230,9 @@ def _tick():
         obj.name = NAME
         settings = obj.moldtex
         settings.resolution = "256"
+        # One pattern unit per texel, as the 512² default has: at 256² the default unit
+        # would be half a texel, a pattern finer than the 16 x 16 cells can compare.
+        settings.pattern_scale = live.REFERENCE_RESOLUTION / 256
         settings.agent_count = 16000
         bpy.context.scene.view_settings.view_transform = 'Standard'
         _window, area, _region = view3d()
