@@ -27,7 +27,13 @@ constexpr uint32_t kMaxAgents = 1u << 26;
 double estimated_bytes(const moldtex_sim_config& c) {
   double texels = static_cast<double>(c.width) * c.height;
   const double planes = c.species_count;
-  return static_cast<double>(c.agent_count) * 21.0 + texels * (planes * 9 + 4 + 4 + 1) + texels * 0.5;
+  double bytes = static_cast<double>(c.agent_count) * 21.0 + texels * (planes * 9 + 4 + 4 + 1) + texels * 0.5;
+  // The continuous model: the agents' clocks, the deposit sums, and the PDE's operator
+  // (CSR with reverse entries, rates, local time stepping's scratch; backward Euler's
+  // matrix and vectors when it runs): about 200 bytes per texel.
+  if (c.model == MOLDTEX_MODEL_CONTINUOUS)
+    bytes += static_cast<double>(c.agent_count) * 16.0 + texels * (planes * 8 + 200);
+  return bytes;
 }
 
 double physical_memory_bytes() {

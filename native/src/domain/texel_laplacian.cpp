@@ -510,6 +510,15 @@ PdeStepInfo advance_diffusion_decay(const TexelLaplacian& lap, float* u, std::ve
   return info;
 }
 
+size_t TexelLaplacian::bytes() const {
+  size_t b = (rows.capacity() + start.capacity() + col.capacity() + reverse.capacity()) * 4 +
+             (weight.capacity() + area.capacity() + rate.capacity() + sorted_rate.capacity()) * 4;
+  if (local)
+    b += local->fine_rows.capacity() * 4 + local->is_fine.capacity() +
+         (local->cur.capacity() + local->next.capacity() + local->flux.capacity()) * 4;
+  return b;
+}
+
 double total_amount(const TexelLaplacian& lap, const float* u) {
   double sum = 0;
   for (uint32_t i : lap.rows) sum += static_cast<double>(lap.area[i]) * u[i];

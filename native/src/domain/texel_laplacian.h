@@ -54,6 +54,9 @@ struct TexelLaplacian {
   // too stiff.
   std::vector<float> sorted_rate;
   mutable std::shared_ptr<LocalSteppingPlan> local;  // for the last r_dif dt (cache)
+
+  // Memory held, with the local time stepping plan (not backward Euler's matrix).
+  size_t bytes() const;
   // Backward Euler's matrix M + r_dif dt K for the last r_dif dt used, built on first use
   // (advance_diffusion_decay). Treat the fields above as immutable once built: copies
   // share this cache.

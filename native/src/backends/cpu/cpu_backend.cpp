@@ -149,9 +149,12 @@ std::string CpuBackend::name() const {
 }
 
 size_t CpuBackend::bytes() const {
+  size_t continuous = sums_.capacity() * sizeof(int64_t) + pde_scratch_.capacity() * sizeof(float) +
+                      alias_.prob.capacity() * 4 + alias_.alias.capacity() * 4;
+  if (laplacian_) continuous += laplacian_->bytes();
   return agents_.bytes() +
          (pheromone_.capacity() + scratch_.capacity() + field_.capacity()) * sizeof(float) +
-         marks_.capacity();
+         marks_.capacity() + continuous;
 }
 
 }  // namespace moldtex
