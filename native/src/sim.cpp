@@ -200,13 +200,8 @@ std::unique_ptr<Backend> make_opencl(std::shared_ptr<const Surface> surface,
                                      const moldtex_sim_config& c) {
   const std::vector<cl::Device> devices = cl::list_devices();
   for (const cl::Device& d : devices)
-    if (d.platform_index == c.opencl_platform && d.device_index == c.opencl_device) {
-      if (c.model == MOLDTEX_MODEL_CONTINUOUS && !d.int64_atomics)
-        fail(MOLDTEX_ERROR_UNAVAILABLE, "The continuous model needs 64-bit integer atomics "
-                                        "(cl_khr_int64_base_atomics), which " + d.name +
-                                            " lacks: use the CPU backend");
+    if (d.platform_index == c.opencl_platform && d.device_index == c.opencl_device)
       return std::make_unique<OpenClBackend>(surface, domain, c.agent_count, c.species_count, d);
-    }
   std::ostringstream m;
   m << "There is no OpenCL device " << c.opencl_device << " on platform " << c.opencl_platform
     << "; this machine has:";
@@ -223,7 +218,7 @@ std::unique_ptr<Backend> make_auto_opencl(std::shared_ptr<const Surface> surface
                                           const moldtex_sim_config& c, std::string& why_not) {
   try {
     for (const cl::Device& d : cl::list_devices())
-      if (d.is_gpu && (c.model != MOLDTEX_MODEL_CONTINUOUS || d.int64_atomics))
+      if (d.is_gpu)
         return std::make_unique<OpenClBackend>(surface, domain, c.agent_count, c.species_count, d);
     why_not = "no OpenCL GPU device";
   } catch (const Error& e) {

@@ -210,6 +210,33 @@ TEST(ContinuousModel, MeanConcentrationSettlesAtU) {
   EXPECT_NEAR(ratio, 1.0, 0.03);
 }
 
+// Every agent in one spot (a big bang) deposits into the same few texels in the same
+// step: the 32-bit fixed-point sums must not overflow (an agent's deposit is at most
+// (2^31 - 1) / agents units), so the amount after one step is exactly what the agents
+// laid: N r_dep (1 - e^-k) / r_dec with k = r_dec dt (deposits spread over the step,
+// then the step's decay; diffusion moves but keeps it). 1e-4: float sums of a plane.
+TEST(ContinuousModel, DepositsOfAllAgentsInOneTexelDoNotOverflow) {
+  auto s = create_surface(Torus());
+  moldtex_sim_config c = make_config(64, 64, 400000, 1);
+  c.model = MOLDTEX_MODEL_CONTINUOUS;
+  c.backend = MOLDTEX_BACKEND_CPU;
+  c.seed_shape = MOLDTEX_SEED_BIG_BANG;
+  c.seed_center.triangle = 100;
+  auto sim = create_sim(s.get(), c, default_params());
+  ASSERT_TRUE(sim) << LastError();
+  moldtex_continuous_params p = Look();
+  p.mean_lifetime = 0.f;
+  p.activation_time = 0.f;
+  p.move_rate = 0.f;  // nobody leaves the spot
+  ASSERT_EQ(moldtex_sim_set_continuous_params(sim.get(), &p), MOLDTEX_OK);
+  ASSERT_EQ(moldtex_sim_step(sim.get(), 1), MOLDTEX_OK) << LastError();
+  const moldtex_sim_stats st = get_stats(sim.get());
+  const double k = double(p.decay_rate) * p.time_step;
+  const double laid = 400000.0 * p.deposit_rate * -std::expm1(-k) / p.decay_rate;
+  const double area = st.u_metric > 0 ? 400000.0 * p.deposit_rate / (p.decay_rate * st.u_metric) : 0;
+  EXPECT_NEAR(st.mean_concentration * area / laid, 1.0, 1e-4);
+}
+
 TEST(ContinuousModel, SameSeedSameTextureForAnyThreadCount) {
   RunSpec r;
   r.size = 128;

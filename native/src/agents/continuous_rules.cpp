@@ -1,5 +1,6 @@
 #include "agents/continuous_rules.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -53,10 +54,15 @@ double uniform_steady_state(const moldtex_continuous_params& p, double agents, d
   return agents * p.deposit_rate / (p.decay_rate * area) * alive;
 }
 
-float deposit_unit_amount(const moldtex_continuous_params& p) {
+int32_t deposit_units(size_t agents) {
+  const size_t most = 1u << 24, bound = 2147483647u / std::max<size_t>(agents, 1);
+  return static_cast<int32_t>(std::max<size_t>(1, std::min(most, bound)));
+}
+
+float deposit_unit_amount(const moldtex_continuous_params& p, int32_t units) {
   const double k = double(p.decay_rate) * p.time_step;
   const double spread = k > 1e-6 ? std::expm1(k) / k : 1.0 + k / 2;
-  return static_cast<float>(double(p.deposit_rate) * p.time_step * spread / MTX_DEPOSIT_UNITS);
+  return static_cast<float>(double(p.deposit_rate) * p.time_step * spread / units);
 }
 
 std::vector<double> agents_per_species(const Agents& a, uint32_t species_count) {
@@ -68,7 +74,8 @@ std::vector<double> agents_per_species(const Agents& a, uint32_t species_count) 
 
 ContinuousStepConstants continuous_constants(const StepSettings& settings, const TextureDomain& d,
                                              const std::vector<double>& u_per_species,
-                                             uint32_t triangle_count, uint64_t seed, uint64_t step) {
+                                             uint32_t triangle_count, size_t agents, uint64_t seed,
+                                             uint64_t step) {
   const moldtex_continuous_params& p = settings.continuous;
   ContinuousStepConstants c{};
   c.seed = seed;
@@ -98,6 +105,7 @@ ContinuousStepConstants continuous_constants(const StepSettings& settings, const
   c.has_fields = settings.has_fields ? 1u : 0u;
   c.triangle_count = triangle_count;
   c.deposit_on = p.deposit_rate > 0.f ? 1u : 0u;
+  c.deposit_units = deposit_units(agents);
   return c;
 }
 
@@ -121,7 +129,7 @@ void start_agent_lives(const moldtex_continuous_params& p, uint64_t seed, uint64
 }
 
 void continuous_update_agents(const mtx_surface_tables& tables, const ContinuousStepConstants& c,
-                              const float* u, const float* field, int64_t* sums,
+                              const float* u, const float* field, int32_t* sums,
                               const AliasTable& alias, Agents& agents, size_t begin, size_t end) {
   for (size_t i = begin; i < end; ++i) {
     Walker w = agents.load(i);

@@ -28,19 +28,24 @@ AliasTable build_area_alias_table(const Surface& surface);
 // * exp(-t_a / tau) (tau = 0: no turnover, the factor is 1); +inf when r_dec = 0.
 double uniform_steady_state(const moldtex_continuous_params& p, double agents, double area);
 
-// The amount of one fixed-point deposit unit: r_dep dt / MTX_DEPOSIT_UNITS, times
+// Fixed-point units of one agent's deposit in a step: 2^24, or fewer so that all
+// `agents` agents depositing into one texel stay below 2^31 (texel_sampling.h).
+int32_t deposit_units(size_t agents);
+
+// The amount of one fixed-point deposit unit: r_dep dt / units, times
 // (e^k - 1) / k, k = r_dec dt. Deposits enter before the step's decay e^-k, but in truth
 // they arrive evenly during the step and decay on average by (1 - e^-k) / k; the factor
 // makes the total exact for any dt (the steady state is U, not U k e^-k / (1 - e^-k),
 // which is 5% low at 1/60 s with the default decay).
-float deposit_unit_amount(const moldtex_continuous_params& p);
+float deposit_unit_amount(const moldtex_continuous_params& p, int32_t units);
 
 // Live agents per species (agent species tags), for U.
 std::vector<double> agents_per_species(const Agents& agents, uint32_t species_count);
 
 ContinuousStepConstants continuous_constants(const StepSettings& settings, const TextureDomain& d,
                                              const std::vector<double>& u_per_species,
-                                             uint32_t triangle_count, uint64_t seed, uint64_t step);
+                                             uint32_t triangle_count, size_t agents, uint64_t seed,
+                                             uint64_t step);
 
 // Starts the clocks of agents [begin, end) in their steady state (§3.3): with turnover,
 // age ~ Exp(tau) and exposure age / tau, threshold = exposure + Exp(1) (memoryless, so no
@@ -51,7 +56,7 @@ void start_agent_lives(const moldtex_continuous_params& p, uint64_t seed, uint64
                        Agents& agents, size_t begin, size_t end);
 
 void continuous_update_agents(const mtx_surface_tables& tables, const ContinuousStepConstants& c,
-                              const float* u, const float* field, int64_t* sums,
+                              const float* u, const float* field, int32_t* sums,
                               const AliasTable& alias, Agents& agents, size_t begin, size_t end);
 
 }  // namespace moldtex

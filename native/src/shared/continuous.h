@@ -16,10 +16,6 @@
 #include "shared/walk.h"
 #endif
 
-/* On an OpenCL device without 64-bit atomics this model is left out of the program (the
- * host refuses it there with a message), so MoMaS still builds. */
-#if !defined(__OPENCL_C_VERSION__) || defined(cl_khr_int64_base_atomics)
-
 MTX_BEGIN_NAMESPACE
 
 #define MTX_RNG_TURNOVER 5
@@ -55,6 +51,8 @@ typedef struct mtx_continuous_constants {
   mtx_u32 has_fields;
   mtx_u32 triangle_count; /* entries of the alias table */
   mtx_u32 deposit_on;     /* 0 when r_dep = 0 (nothing to add) */
+  mtx_i32 deposit_units;  /* fixed-point units of one agent's deposit in one step */
+  mtx_u32 padding;
 } mtx_continuous_constants;
 
 /* The per-agent clocks of the continuous model. */
@@ -123,9 +121,9 @@ MTX_FN float mtx_continuous_probe(mtx_surface_tables s, MTX_GLOBAL const float* 
 }
 
 /* One step of agent `agent` (walker w, clocks life, species `species`). `sums` holds one
- * fixed-point plane per species (MTX_DEPOSIT_UNITS per whole deposit of r_dep * dt). */
+ * fixed-point plane per species (k->deposit_units per whole deposit of r_dep * dt). */
 MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const float* u,
-                                      MTX_GLOBAL const float* field, MTX_GLOBAL mtx_i64* sums,
+                                      MTX_GLOBAL const float* field, MTX_GLOBAL mtx_i32* sums,
                                       MTX_GLOBAL const float* alias_prob,
                                       MTX_GLOBAL const mtx_u32* alias_index, mtx_walker* w,
                                       mtx_agent_life* life, mtx_u32 species, mtx_u64 agent,
@@ -188,8 +186,8 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
   /* Piece i covers ages born + [i, i + 1) dt / pieces: it deposits when its middle is
    * past the activation time, so activation starts within the step, not a step late. */
   const int deposits = k->deposit_on && life->age >= k->activation_time;
-  const float units = MTX_DEPOSIT_UNITS / MTX_CAST(float, pieces);
-  MTX_GLOBAL mtx_i64* own = sums + species * (k->width * k->height);
+  MTX_GLOBAL mtx_i32* own = sums + species * (k->width * k->height);
+  const mtx_i32 share = k->deposit_units / pieces, extra = k->deposit_units - share * pieces;
   for (int i = 0; i < pieces; ++i) {
     const mtx_walker before = *w;
     mtx_walk(s.frames, s.adjacency, w, piece, 0, 0);
@@ -208,12 +206,11 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
     if (!deposits || born + (MTX_CAST(float, i) + 0.5f) * piece_time < k->activation_time) continue;
     mtx_texel_stencil st;
     mtx_texel_stencil_of(s, w, k->width, k->height, &st);
-    if (st.count > 0) mtx_texel_deposit(own, &st, units);
+    /* Piece i's whole share: the pieces' shares add up to exactly deposit_units. */
+    if (st.count > 0) mtx_texel_deposit(own, &st, share + (i < extra ? 1 : 0));
   }
 }
 
 MTX_END_NAMESPACE
-
-#endif /* 64-bit atomics */
 
 #endif

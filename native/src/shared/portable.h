@@ -20,8 +20,8 @@ typedef long mtx_i64;
 #define MTX_MARK(marks, index) ((marks)[index] = (mtx_u8)1)
 /* Integer counters: exact whatever the order of the increments. */
 #define MTX_COUNT(counters, index) atomic_inc((counters) + (index))
-/* 64-bit integer sums (fixed-point deposits): exact whatever the order of the adds. */
-#define MTX_ADD_I64(sums, index, value) atom_add((sums) + (index), (value))
+/* 32-bit integer sums (fixed-point deposits): exact whatever the order of the adds. */
+#define MTX_ADD_I32(sums, index, value) atomic_add((sums) + (index), (value))
 #define MTX_BEGIN_NAMESPACE
 #define MTX_END_NAMESPACE
 #else
@@ -40,8 +40,8 @@ typedef int64_t mtx_i64;
   std::atomic_ref<mtx_u8>((marks)[index]).store(1, std::memory_order_relaxed)
 #define MTX_COUNT(counters, index) \
   std::atomic_ref<mtx_u32>((counters)[index]).fetch_add(1u, std::memory_order_relaxed)
-#define MTX_ADD_I64(sums, index, value) \
-  std::atomic_ref<mtx_i64>((sums)[index]).fetch_add((value), std::memory_order_relaxed)
+#define MTX_ADD_I32(sums, index, value) \
+  std::atomic_ref<mtx_i32>((sums)[index]).fetch_add((value), std::memory_order_relaxed)
 #define MTX_BEGIN_NAMESPACE namespace moldtex {
 #define MTX_END_NAMESPACE }
 using std::ceil;

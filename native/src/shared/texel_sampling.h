@@ -19,19 +19,13 @@
 #include "shared/portable.h"
 #include "shared/walk.h"
 #endif
-#if !defined(__OPENCL_C_VERSION__) || defined(cl_khr_int64_base_atomics)
-#ifdef __OPENCL_C_VERSION__
-/* Deposit sums are 64-bit integer atomics (devices without them skip this model). */
-#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
-#endif
 
 MTX_BEGIN_NAMESPACE
 
-/* Fixed-point scale of deposits: a whole deposit is this many units, so sums of
- * integer parts are exact (and the same for any order of threads); 2^24 units keep the
- * weights to 6e-8 and leave 2^39 whole deposits per texel and step before overflow. */
-#define MTX_DEPOSIT_UNITS 16777216.0f
-
+/* Deposits are fixed-point integer sums, so their total does not depend on the order
+ * of the adds (bit-identical for any thread count). One agent's deposit of a step is
+ * k->deposit_units units (continuous.h): at most 2^24 and at most (2^31 - 1) / agents,
+ * so even every agent depositing into one texel cannot overflow a 32-bit sum. */
 typedef struct mtx_texel_stencil {
   mtx_u32 cell[4];
   float weight[4]; /* sum to 1 over the counted cells; 0 for the others */
@@ -93,31 +87,29 @@ MTX_FN void mtx_texel_stencil_of(mtx_surface_tables s, const mtx_walker* w, mtx_
   for (int k = 0; k < 4; ++k) st->weight[k] /= total;
 }
 
-/* Adds `units` (a fixed-point share of one deposit, MTX_DEPOSIT_UNITS = all of it) to the
- * stencil's cells in proportion to their weights. The integer parts add up exactly to
- * `units`: the last counted cell takes the rounding remainder. */
-MTX_FN void mtx_texel_deposit(MTX_GLOBAL mtx_i64* sums, const mtx_texel_stencil* st, float units) {
-  mtx_i64 left = MTX_CAST(mtx_i64, units + 0.5f);
+/* Adds `units` (a whole number of fixed-point units) to the stencil's cells in
+ * proportion to their weights. The parts add up exactly to `units`: the last counted
+ * cell takes the rounding remainder. */
+MTX_FN void mtx_texel_deposit(MTX_GLOBAL mtx_i32* sums, const mtx_texel_stencil* st, mtx_i32 units) {
+  mtx_i32 left = units;
   int last = -1;
   for (int k = 0; k < 4; ++k)
     if (st->weight[k] > 0.0f) last = k;
   for (int k = 0; k < 4; ++k) {
     if (!(st->weight[k] > 0.0f)) continue;
-    mtx_i64 q = k == last ? left : MTX_CAST(mtx_i64, st->weight[k] * units + 0.5f);
+    mtx_i32 q = k == last ? left : MTX_CAST(mtx_i32, st->weight[k] * MTX_CAST(float, units) + 0.5f);
     q = q > left ? left : q;
     left -= q;
-    if (q != 0) MTX_ADD_I64(sums, st->cell[k], q);
+    if (q != 0) MTX_ADD_I32(sums, st->cell[k], q);
   }
 }
 
 /* The concentration that `units` of fixed-point deposit add to a cell of 3D area
- * `area`, `amount` being r_dep * dt / MTX_DEPOSIT_UNITS. */
-MTX_FN float mtx_deposit_concentration(mtx_i64 units, float amount, float area) {
+ * `area`, `amount` being the amount of one unit. */
+MTX_FN float mtx_deposit_concentration(mtx_i32 units, float amount, float area) {
   return MTX_CAST(float, units) * amount / area;
 }
 
 MTX_END_NAMESPACE
-
-#endif /* 64-bit atomics */
 
 #endif

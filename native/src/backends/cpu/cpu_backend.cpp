@@ -91,7 +91,8 @@ void CpuBackend::step_continuous(const StepSettings& settings, uint64_t seed, ui
   if (sums_.size() != pheromone_.size()) sums_.assign(pheromone_.size(), 0);
   if (step_index % kSortInterval == 0) sort_by_tile(*surface_, d.width, d.height, agents_);
   const ContinuousStepConstants c =
-      continuous_constants(settings, d, settings.u_metric, surface_->triangle_count(), seed, step_index);
+      continuous_constants(settings, d, settings.u_metric, surface_->triangle_count(), agents_.size(), seed,
+                           step_index);
   // 1. Agents read the concentration as it was at the start of the step and add their
   //    deposits into integer sums (exact in any order).
   const mtx_surface_tables tables = surface_tables(*surface_, d);
@@ -101,11 +102,11 @@ void CpuBackend::step_continuous(const StepSettings& settings, uint64_t seed, ui
   });
   // 2. Per species: the deposits become concentration (amount / cell area), then the PDE
   //    advances by dt; the gutter shows what lies across each seam (for Blender only).
-  const float amount = deposit_unit_amount(p);
+  const float amount = deposit_unit_amount(p, c.deposit_units);
   const TexelLaplacian& lap = *laplacian_;
   for (uint32_t k = 0; k < species_count_; ++k) {
     float* plane = pheromone_.data() + k * texels;
-    int64_t* sums = sums_.data() + k * texels;
+    int32_t* sums = sums_.data() + k * texels;
     pool_->parallel_for(lap.rows.size(), 4096, [&](size_t begin, size_t end) {
       for (size_t r = begin; r < end; ++r) {
         const uint32_t i = lap.rows[r];
@@ -149,7 +150,7 @@ std::string CpuBackend::name() const {
 }
 
 size_t CpuBackend::bytes() const {
-  size_t continuous = sums_.capacity() * sizeof(int64_t) + pde_scratch_.capacity() * sizeof(float) +
+  size_t continuous = sums_.capacity() * sizeof(int32_t) + pde_scratch_.capacity() * sizeof(float) +
                       alias_.prob.capacity() * 4 + alias_.alias.capacity() * 4;
   if (laplacian_) continuous += laplacian_->bytes();
   return agents_.bytes() +

@@ -49,7 +49,7 @@ class CpuBackend final : public Backend {
   // Continuous model (built at its first step): the PDE's operator, the fixed-point
   // deposit sums (one plane per species) and the respawn table.
   std::unique_ptr<TexelLaplacian> laplacian_;
-  std::vector<int64_t> sums_;
+  std::vector<int32_t> sums_;
   AliasTable alias_;
   std::vector<float> pde_scratch_;
 };

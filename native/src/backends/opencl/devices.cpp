@@ -59,8 +59,6 @@ std::vector<Device> list_devices() {
       r.clGetDeviceInfo(ids[d], CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof(alloc), &alloc, nullptr);
       dev.global_memory = mem;
       dev.max_allocation = alloc;
-      dev.int64_atomics =
-          device_string(r, ids[d], CL_DEVICE_EXTENSIONS).find("cl_khr_int64_base_atomics") != std::string::npos;
       devices.push_back(dev);
     }
   }

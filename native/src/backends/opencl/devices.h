@@ -14,7 +14,6 @@ struct Device {
   std::string name, platform_name;
   bool is_gpu = false;
   uint64_t global_memory = 0, max_allocation = 0;
-  bool int64_atomics = false;  // cl_khr_int64_base_atomics (the continuous model's deposits)
 };
 
 // All devices of all platforms. Throws moldtex::Error(MOLDTEX_ERROR_UNAVAILABLE) with the

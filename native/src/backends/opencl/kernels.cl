@@ -225,13 +225,12 @@ __kernel void pde_coarse_diffuse(__global const uint* rows, __global const uint*
                                                        in + p * texels, flux + p * entries, r, h, decay);
 }
 
-#ifdef cl_khr_int64_base_atomics
 /* The continuous model's agents (shared/continuous.h); lives holds 4 floats per agent
  * (clock, age, exposure, threshold), sums one fixed-point plane per species. */
 __kernel void continuous_agents(__global const mtx_frame* frames, __global const uint* adjacency,
                                 __global const float* corner_uvs, __global const uchar* classes,
                                 __global const float* u, __global const float* field,
-                                __global long* sums, __global uint* triangle, __global float* b1,
+                                __global int* sums, __global uint* triangle, __global float* b1,
                                 __global float* b2, __global float* hx, __global float* hy,
                                 __global const uchar* species, __global float4* lives,
                                 __global const float* texels_per_unit,
@@ -283,7 +282,7 @@ __kernel void continuous_agents(__global const mtx_frame* frames, __global const
 
 /* Deposit sums of the cells become concentration, every plane: u += sums * amount /
  * area; sums = 0. */
-__kernel void deposits_to_concentration(__global float* u, __global long* sums,
+__kernel void deposits_to_concentration(__global float* u, __global int* sums,
                                         __global const uint* rows, __global const float* area,
                                         const float amount, const uint count, const uint texels,
                                         const uint planes) {
@@ -292,10 +291,9 @@ __kernel void deposits_to_concentration(__global float* u, __global long* sums,
   const uint i = rows[r];
   if (!(area[i] > 0.0f)) return;
   for (uint p = 0; p < planes; ++p) {
-    const long q = sums[p * texels + i];
+    const int q = sums[p * texels + i];
     if (q == 0) continue;
     u[p * texels + i] += mtx_deposit_concentration(q, amount, area[i]);
     sums[p * texels + i] = 0;
   }
 }
-#endif /* cl_khr_int64_base_atomics */

@@ -456,10 +456,6 @@ cl_kernel OpenClBackend::continuous_kernel(bool fields) {
 void OpenClBackend::prepare_continuous() {
   if (laplacian_) return;
   State& s = *state_;
-  if (!device_.int64_atomics)
-    fail(MOLDTEX_ERROR_UNAVAILABLE, "The continuous model needs 64-bit integer atomics "
-                                    "(cl_khr_int64_base_atomics), which " + device_.name +
-                                        " lacks: use the CPU backend");
   const Surface& sf = *surface_;
   const TextureDomain& d = *domain_;
   auto lap = std::make_unique<TexelLaplacian>();
@@ -470,11 +466,11 @@ void OpenClBackend::prepare_continuous() {
   const AliasTable alias = build_area_alias_table(sf);
   auto data = [](const auto& v) { return v.empty() ? nullptr : static_cast<const void*>(v.data()); };
   const size_t texels = d.texel_count();
-  s.sums = s.buffer(texels * 8 * species_count_, nullptr, device_bytes_);
+  s.sums = s.buffer(texels * 4 * species_count_, nullptr, device_bytes_);
   s.texel_island = s.buffer(texels * 4, d.texel_island.data(), device_bytes_);
   s.interior_bits = s.buffer(d.interior_bits.size() * 4, d.interior_bits.data(), device_bytes_);
-  const cl_long zero = 0;
-  check(s.r.clEnqueueFillBuffer(s.queue, s.sums, &zero, 8, 0, texels * 8 * species_count_, 0, nullptr, nullptr),
+  const cl_int zero = 0;
+  check(s.r.clEnqueueFillBuffer(s.queue, s.sums, &zero, 4, 0, texels * 4 * species_count_, 0, nullptr, nullptr),
         "clearing the deposit sums");
   s.alias_prob = s.buffer(alias.prob.size() * 4, data(alias.prob), device_bytes_);
   s.alias_index = s.buffer(alias.alias.size() * 4, data(alias.alias), device_bytes_);
@@ -505,7 +501,8 @@ void OpenClBackend::step_continuous(const StepSettings& settings, uint64_t seed,
   const TexelLaplacian& lap = *laplacian_;
   const moldtex_continuous_params& p = settings.continuous;
   const mtx_continuous_constants c =
-      continuous_constants(settings, d, settings.u_metric, surface_->triangle_count(), seed, step_index);
+      continuous_constants(settings, d, settings.u_metric, surface_->triangle_count(), agent_count_, seed,
+                           step_index);
   const cl_uint planes = species_count_;
   const cl_uint texels = static_cast<cl_uint>(d.texel_count());
   const cl_uint cells = static_cast<cl_uint>(lap.rows.size());
@@ -514,7 +511,7 @@ void OpenClBackend::step_continuous(const StepSettings& settings, uint64_t seed,
          s.b1, s.b2, s.hx, s.hy, s.species, s.lives, s.texels_per_unit, s.texel_triangle, s.island,
          s.texel_island, s.interior_bits, s.alias_prob, s.alias_index, c, static_cast<cl_uint>(agent_count_));
   s.run(k, agent_count_);
-  const float amount = deposit_unit_amount(p);
+  const float amount = deposit_unit_amount(p, c.deposit_units);
   s.args(s.convert_kernel, s.pheromone, s.sums, s.rows, s.area, amount, cells, texels, planes);
   s.run(s.convert_kernel, cells);
   diffuse_continuous(p);
