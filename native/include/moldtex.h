@@ -294,6 +294,12 @@ typedef struct moldtex_continuous_params {
   float activation_time;  /* t_a: an agent deposits only from this age on; seconds, >= 0 */
   float time_step;        /* dt: seconds per step; (0, 1] */
   uint32_t integrator;    /* a moldtex_integrator */
+  /* Directional bias (§3.3, Fig. 6), with the vectors of moldtex_sim_set_bias: each step
+   * an agent turns toward the nearest of `bias_symmetry` copies of its triangle's bias
+   * direction (rotated by 360 / n degrees each) at bias_strength * |vector| * (angle to
+   * it) radians per second (integrated exactly over the step). 0 = off. */
+  float bias_strength;    /* per second; 0 .. 1e6 */
+  uint32_t bias_symmetry; /* n, 1 .. 6 (default 1) */
 } moldtex_continuous_params;
 
 typedef enum moldtex_integrator {
@@ -310,6 +316,12 @@ MOLDTEX_API moldtex_status moldtex_sim_set_continuous_params(moldtex_sim sim,
     const moldtex_continuous_params* params);
 MOLDTEX_API moldtex_status moldtex_sim_get_continuous_params(moldtex_sim sim,
     moldtex_continuous_params* params);
+/* The bias field of the continuous model: triangle_count * 3 floats, one 3D vector per
+ * triangle (in the order of moldtex_mesh_desc), projected onto its triangle; its length
+ * weights bias_strength there (1 = full, 0 = none). NULL clears it (no bias). Values must
+ * be finite with length <= 1e6. Kept across moldtex_sim_reset and in checkpoints. */
+MOLDTEX_API moldtex_status moldtex_sim_set_bias(moldtex_sim sim, const float* vectors,
+                                                size_t float_count);
 
 /* Behaviour of one species (momas-paper.md §2.5). Same meaning, units and hard ranges as
  * the fields of moldtex_sim_params with the same names. An agent of species s senses

@@ -187,6 +187,9 @@ void validate_continuous_params(const moldtex_continuous_params& p) {
   check_range("Mean lifetime", p.mean_lifetime, 0.f, 1e9f, "seconds; 0 turns turnover off");
   check_range("Activation time", p.activation_time, 0.f, 1e9f, "seconds");
   check_range("Time step", p.time_step, 1e-6f, 1.f, "seconds per step");
+  check_range("Bias strength", p.bias_strength, 0.f, 1e6f, "per second; 0 turns the bias off");
+  if (p.bias_symmetry < 1 || p.bias_symmetry > 6)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The bias symmetry must be between 1 and 6 (copies of the direction)");
   if (p.integrator > MOLDTEX_INTEGRATOR_BACKWARD)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
          "Unknown integrator: use 0 (auto), 1 (forward Euler) or 2 (backward Euler)");
@@ -306,6 +309,30 @@ void Simulation::set_species_params(uint32_t index, const moldtex_species_params
     settings_.params.vision_angle = p.vision_angle;
     settings_.params.deposit = p.deposit;
   }
+}
+
+void Simulation::set_bias(const float* vectors) {
+  if (!vectors) {
+    settings_.bias.clear();
+    bias_3d_.clear();
+    return;
+  }
+  const Surface& s = *surface_;
+  const uint32_t n = s.triangle_count();
+  std::vector<float> local(2 * static_cast<size_t>(n), 0.f);
+  for (uint32_t t = 0; t < n; ++t) {
+    const float* v = vectors + 3 * static_cast<size_t>(t);
+    for (int k = 0; k < 3; ++k)
+      if (!std::isfinite(v[k]) || std::fabs(v[k]) > 1e6f)
+        fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The bias vector of triangle " + std::to_string(t) +
+                                                 " is not finite or longer than 1e6");
+    // Into the triangle's frame: its unit 3D x and y axes (frame3d), i.e. projected.
+    const float* f = s.frame3d.data() + 9 * static_cast<size_t>(t);
+    local[2 * t] = v[0] * f[3] + v[1] * f[4] + v[2] * f[5];
+    local[2 * t + 1] = v[0] * f[6] + v[1] * f[7] + v[2] * f[8];
+  }
+  settings_.bias = std::move(local);
+  bias_3d_.assign(vectors, vectors + 3 * static_cast<size_t>(n));
 }
 
 void Simulation::set_fields(const float* rgba) {
@@ -649,6 +676,7 @@ void Simulation::save_checkpoint(const std::string& path, const std::vector<Metr
   c.species.assign(settings_.species, settings_.species + MTX_MAX_SPECIES);
   c.fields_rgba = fields_rgba_;
   c.food = food_;
+  c.bias = bias_3d_;
   c.surface_fingerprint = surface_->fingerprint;
   c.step_count = step_count_;
   c.metrics = metrics;
@@ -678,7 +706,8 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
       a.threshold.size() != a.triangle.size() || c.food.size() > MTX_MAX_FOOD ||
       c.state.pheromone.size() != domain_->texel_count() * planes ||
       c.species.size() != MTX_MAX_SPECIES ||
-      (!c.fields_rgba.empty() && c.fields_rgba.size() != domain_->texel_count() * 4))
+      (!c.fields_rgba.empty() && c.fields_rgba.size() != domain_->texel_count() * 4) ||
+      (!c.bias.empty() && c.bias.size() != static_cast<size_t>(surface_->triangle_count()) * 3))
     fail(MOLDTEX_ERROR_IO, "The checkpoint " + path + " is damaged");
   validate_checkpoint_values(c, path, surface_->triangle_count(), planes);
   c.params.thread_count = settings_.params.thread_count;  // a machine setting, not part of the state
@@ -691,13 +720,17 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
     set_food(c.food.data(), static_cast<uint32_t>(c.food.size()));  // validates
     food_ = keep;  // the state is taken below, once nothing can refuse any more
   }
-  // Fields first (it may refuse), then the state.
+  // The bias and the fields first (either may refuse; then both are as they were), then
+  // the state.
+  const std::vector<float> bias_before = bias_3d_;
+  set_bias(c.bias.empty() ? nullptr : c.bias.data());
   const moldtex_sim_config saved = config_;
   config_.seed_shape = MOLDTEX_SEED_RANDOM;  // the spawn already happened
   try {
     set_fields(c.fields_rgba.empty() ? nullptr : c.fields_rgba.data());
   } catch (...) {
     config_ = saved;
+    set_bias(bias_before.empty() ? nullptr : bias_before.data());
     throw;
   }
   config_ = saved;

@@ -37,6 +37,9 @@ class Simulation {
   const moldtex_sim_params& params() const { return settings_.params; }
   // The continuous model's parameters (kept, but unused, under MoMaS).
   void set_continuous_params(const moldtex_continuous_params& params);
+  // The continuous model's bias vectors (3 per triangle, see moldtex_sim_set_bias), or
+  // nullptr to clear; validated here.
+  void set_bias(const float* vectors);
   const moldtex_continuous_params& continuous_params() const { return settings_.continuous; }
   bool continuous() const { return config_.model == MOLDTEX_MODEL_CONTINUOUS; }
   const moldtex_sim_config& config() const { return config_; }
@@ -84,6 +87,7 @@ class Simulation {
   std::vector<float> fields_rgba_, field_plane_;
   std::vector<double> spawn_weights_, free_weights_;
   std::vector<moldtex_food_source> food_;  // with the amounts left
+  std::vector<float> bias_3d_;             // as given (checkpoints), empty = none
   std::unique_ptr<Backend> backend_;
   // What each brush batch did, for undo: how many agents it added (the placement index
   // of its next agent) and the agents it erased, with their whole state.

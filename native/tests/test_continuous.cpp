@@ -396,6 +396,70 @@ TEST(ContinuousModel, StretchedUvsDoNotChangeTheLengthIn3D) {
   EXPECT_NEAR(left / right, 1.0, 0.10);
 }
 
+// Directional bias (§3.3, Fig. 6; issue #12's first check): n = 2 along x on a plane
+// whose texel grid is aligned with x and y. The pattern's structure tensor (gradients of
+// u/U by central differences) gives an orientation coherence (lambda1 - lambda2) /
+// (lambda1 + lambda2) and the trails' dominant direction (perpendicular to the dominant
+// gradient). Without bias the network is isotropic: its coherence is the calibration.
+struct Orientation {
+  double coherence = 0, degrees = 0;
+};
+
+Orientation TrailOrientation(const std::vector<double>& f, uint32_t n) {
+  double xx = 0, yy = 0, xy = 0;
+  for (uint32_t y = 1; y + 1 < n; ++y)
+    for (uint32_t x = 1; x + 1 < n; ++x) {
+      const size_t i = size_t(y) * n + x;
+      const double gx = (f[i + 1] - f[i - 1]) / 2, gy = (f[i + n] - f[i - n]) / 2;
+      xx += gx * gx;
+      yy += gy * gy;
+      xy += gx * gy;
+    }
+  const double root = std::sqrt((xx - yy) * (xx - yy) + 4 * xy * xy);
+  Orientation o;
+  o.coherence = root / (xx + yy);
+  double degrees = 0.5 * std::atan2(2 * xy, xx - yy) * 180 / M_PI + 90;  // trails: across the gradient
+  while (degrees > 90) degrees -= 180;
+  o.degrees = degrees;
+  return o;
+}
+
+TEST(ContinuousModel, BiasAlignsTheTrails) {
+  static const Mesh plane = make_plane(8, 8, 0, 0, 4, 4, [](double x, double y) { return Vec2{x / 4, y / 4}; });
+  auto s = create_surface(plane);
+  ASSERT_TRUE(s) << LastError();
+  const uint32_t triangles = plane.triangle_count();
+  std::vector<float> along_x(size_t(triangles) * 3, 0.f);
+  for (uint32_t t = 0; t < triangles; ++t) along_x[3 * t] = 1.f;
+  Orientation off, on;
+  for (uint64_t seed : {1, 2}) {
+    for (int biased = 0; biased < 2; ++biased) {
+      moldtex_sim_config c = make_config(256, 256, 40000, seed);
+      c.model = MOLDTEX_MODEL_CONTINUOUS;
+      c.backend = MOLDTEX_BACKEND_CPU;
+      auto sim = create_sim(s.get(), c, default_params());
+      ASSERT_TRUE(sim) << LastError();
+      moldtex_continuous_params p = Look();
+      p.bias_strength = biased ? 4.f : 0.f;
+      p.bias_symmetry = 2;
+      ASSERT_EQ(moldtex_sim_set_continuous_params(sim.get(), &p), MOLDTEX_OK) << LastError();
+      ASSERT_EQ(moldtex_sim_set_bias(sim.get(), along_x.data(), along_x.size()), MOLDTEX_OK) << LastError();
+      ASSERT_EQ(moldtex_sim_step(sim.get(), 240), MOLDTEX_OK);
+      const std::vector<float> rgba = read_rgba(sim.get(), 256, 256);
+      std::vector<double> f(256 * 256);
+      for (size_t i = 0; i < f.size(); ++i) f[i] = rgba[4 * i];
+      const Orientation o = TrailOrientation(f, 256);
+      std::printf("seed %d, bias %s: coherence %.3f, trails at %.1f degrees\n", int(seed), biased ? "on" : "off",
+                  o.coherence, o.degrees);
+      Orientation& sum = biased ? on : off;
+      sum.coherence += o.coherence / 2;
+      sum.degrees += o.degrees / 2;
+    }
+  }
+  EXPECT_GT(on.coherence, 2 * off.coherence + 0.1);
+  EXPECT_NEAR(on.degrees, 0.0, 10.0);
+}
+
 TEST(ContinuousModel, CheckpointResumesExactly) {
   auto s = create_surface(Torus());
   moldtex_sim_config c = make_config(64, 64, 2000, 5);

@@ -106,6 +106,9 @@ ContinuousStepConstants continuous_constants(const StepSettings& settings, const
   c.triangle_count = triangle_count;
   c.deposit_on = p.deposit_rate > 0.f ? 1u : 0u;
   c.deposit_units = deposit_units(agents);
+  c.bias_on = !settings.bias.empty() && p.bias_strength > 0.f ? 1u : 0u;
+  c.bias_rate = p.bias_strength;
+  c.bias_symmetry = p.bias_symmetry;
   return c;
 }
 
@@ -130,11 +133,12 @@ void start_agent_lives(const moldtex_continuous_params& p, uint64_t seed, uint64
 
 void continuous_update_agents(const mtx_surface_tables& tables, const ContinuousStepConstants& c,
                               const float* u, const float* field, int32_t* sums,
-                              const AliasTable& alias, Agents& agents, size_t begin, size_t end) {
+                              const AliasTable& alias, const float* bias, Agents& agents, size_t begin,
+                              size_t end) {
   for (size_t i = begin; i < end; ++i) {
     Walker w = agents.load(i);
     mtx_agent_life life{agents.clock[i], agents.age[i], agents.exposure[i], agents.threshold[i]};
-    mtx_continuous_agent_step(tables, u, field, sums, alias.prob.data(), alias.alias.data(), &w, &life,
+    mtx_continuous_agent_step(tables, u, field, sums, alias.prob.data(), alias.alias.data(), bias, &w, &life,
                               agents.species[i], i, &c);
     agents.store(i, w);
     agents.clock[i] = life.clock;

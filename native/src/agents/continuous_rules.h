@@ -57,6 +57,7 @@ void start_agent_lives(const moldtex_continuous_params& p, uint64_t seed, uint64
 
 void continuous_update_agents(const mtx_surface_tables& tables, const ContinuousStepConstants& c,
                               const float* u, const float* field, int32_t* sums,
-                              const AliasTable& alias, Agents& agents, size_t begin, size_t end);
+                              const AliasTable& alias, const float* bias, Agents& agents, size_t begin,
+                              size_t end);
 
 }  // namespace moldtex

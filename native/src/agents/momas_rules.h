@@ -26,6 +26,8 @@ struct StepSettings {
   uint32_t model = MOLDTEX_MODEL_MOMAS;
   moldtex_continuous_params continuous{};
   std::vector<double> u_metric;
+  // Directional bias: 2 per triangle in its local frame (empty = none).
+  std::vector<float> bias;
 };
 
 MomasStepConstants momas_constants(const StepSettings& settings, const TextureDomain& d,

@@ -307,6 +307,8 @@ void moldtex_continuous_params_init(moldtex_continuous_params* p) {
   p->activation_time = 0.f;
   p->time_step = 1.f / 60.f;
   p->integrator = MOLDTEX_INTEGRATOR_AUTO;
+  p->bias_strength = 0.f;
+  p->bias_symmetry = 1;
 }
 
 void moldtex_species_params_init(moldtex_species_params* p, uint32_t species) {
@@ -379,6 +381,20 @@ moldtex_status moldtex_sim_set_continuous_params(moldtex_sim sim, const moldtex_
   return guarded([&] {
     use(sim).set_continuous_params(
         read_struct(params, "moldtex_continuous_params", moldtex_continuous_params_init));
+  });
+}
+
+moldtex_status moldtex_sim_set_bias(moldtex_sim sim, const float* vectors, size_t float_count) {
+  return guarded([&] {
+    moldtex::Simulation& s = use(sim);
+    if (vectors) {
+      const size_t need = static_cast<size_t>(s.surface().triangle_count()) * 3;
+      if (float_count != need)
+        moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+                      "The bias needs triangle_count * 3 floats (" + std::to_string(need) + "), got " +
+                          std::to_string(float_count));
+    }
+    s.set_bias(vectors);
   });
 }
 

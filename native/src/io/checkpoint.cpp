@@ -164,6 +164,7 @@ void save_checkpoint(const std::string& path, const Checkpoint& c) {
   w.array(c.species);
   w.array(c.fields_rgba);
   w.array(c.food);
+  w.array(c.bias);
   for_each_array(c.state, [&](const auto& v) { w.array(v); });
   write_file_atomically(path, w.bytes.data(), w.bytes.size());
 }
@@ -189,6 +190,7 @@ Checkpoint load_checkpoint(const std::string& path) {
   r.array(c.species);
   r.array(c.fields_rgba);
   r.array(c.food);
+  r.array(c.bias);
   for_each_array(c.state, [&](auto& v) { r.array(v); });
   return c;
 }

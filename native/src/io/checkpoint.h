@@ -31,6 +31,7 @@ struct Checkpoint {
   std::vector<moldtex_species_params> species;  // MOLDTEX_MAX_SPECIES entries
   std::vector<float> fields_rgba;               // width * height * 4, or empty
   std::vector<moldtex_food_source> food;        // with the amounts left
+  std::vector<float> bias;                      // triangle_count * 3, or empty (version 6)
   SimState state;
 };
 

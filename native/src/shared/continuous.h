@@ -52,7 +52,9 @@ typedef struct mtx_continuous_constants {
   mtx_u32 triangle_count; /* entries of the alias table */
   mtx_u32 deposit_on;     /* 0 when r_dep = 0 (nothing to add) */
   mtx_i32 deposit_units;  /* fixed-point units of one agent's deposit in one step */
-  mtx_u32 padding;
+  mtx_u32 bias_on;        /* a bias field is set and bias_rate > 0 */
+  float bias_rate;        /* bias_strength, per second */
+  mtx_u32 bias_symmetry;  /* n copies of the bias direction */
 } mtx_continuous_constants;
 
 /* The per-agent clocks of the continuous model. */
@@ -125,7 +127,8 @@ MTX_FN float mtx_continuous_probe(mtx_surface_tables s, MTX_GLOBAL const float* 
 MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const float* u,
                                       MTX_GLOBAL const float* field, MTX_GLOBAL mtx_i32* sums,
                                       MTX_GLOBAL const float* alias_prob,
-                                      MTX_GLOBAL const mtx_u32* alias_index, mtx_walker* w,
+                                      MTX_GLOBAL const mtx_u32* alias_index,
+                                      MTX_GLOBAL const float* bias, mtx_walker* w,
                                       mtx_agent_life* life, mtx_u32 species, mtx_u64 agent,
                                       const mtx_continuous_constants* k) {
   /* Turnover (§3.2): exposure grows by dt / tau; past the threshold the agent decays and
@@ -171,6 +174,22 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
       }
     }
     if (life->clock >= k->decision_period) life->clock = 0.0f; /* aliasing: drop the rest */
+  }
+
+  /* Directional bias (§3.3, Fig. 6): turn toward the nearest of the n copies of the
+   * triangle's bias direction; the angle phi to it obeys dphi/dt = -rate |b| phi, so the
+   * step turns by phi (1 - exp(-rate |b| dt)): the same at any dt. */
+  if (k->bias_on) {
+    MTX_GLOBAL const float* b = bias + 2 * w->triangle;
+    const float bx = b[0], by = b[1];
+    const float length = sqrt(bx * bx + by * by);
+    if (length > 0.0f) {
+      float phi = atan2(w->heading.x * by - w->heading.y * bx, w->heading.x * bx + w->heading.y * by);
+      const float sector = 6.28318530718f / MTX_CAST(float, k->bias_symmetry);
+      phi -= sector * floor(phi / sector + 0.5f);
+      const float turn = phi * (1.0f - exp(-k->bias_rate * length * k->dt));
+      w->heading = mtx_unit(mtx_rotate(w->heading, cos(turn), sin(turn)));
+    }
   }
 
   /* Move v * dt in pieces of at most max_piece texels, depositing an equal share at the end

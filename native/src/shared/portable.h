@@ -50,6 +50,8 @@ using std::fabs;
 using std::floor;
 using std::fmax;
 using std::fmin;
+using std::atan2;
+using std::exp;
 using std::log;
 using std::sin;
 using std::sqrt;

@@ -237,7 +237,8 @@ __kernel void continuous_agents(__global const mtx_frame* frames, __global const
                                 __global const int* texel_triangle, __global const uint* island,
                                 __global const int* texel_island, __global const uint* interior_bits,
                                 __global const float* alias_prob, __global const uint* alias_index,
-                                const mtx_continuous_constants k, const uint count) {
+                                __global const float* bias, const mtx_continuous_constants k,
+                                const uint count) {
   const uint i = get_global_id(0);
   if (i >= count) return;
   mtx_surface_tables s;
@@ -271,7 +272,7 @@ __kernel void continuous_agents(__global const mtx_frame* frames, __global const
 #else
   const uint sp = species[i];
 #endif
-  mtx_continuous_agent_step(s, u, field, sums, alias_prob, alias_index, &w, &life, sp, (ulong)i, &k);
+  mtx_continuous_agent_step(s, u, field, sums, alias_prob, alias_index, bias, &w, &life, sp, (ulong)i, &k);
   triangle[i] = w.triangle;
   b1[i] = w.bary[1];
   b2[i] = w.bary[2];

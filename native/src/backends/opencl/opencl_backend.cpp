@@ -87,6 +87,8 @@ struct OpenClBackend::State {
   cl_mem triangle = nullptr, b1 = nullptr, b2 = nullptr, hx = nullptr, hy = nullptr,
          species = nullptr, hunger = nullptr, lives = nullptr;
   // Continuous model tables (made at its first step).
+  cl_mem bias = nullptr;  // the continuous model's bias field (2 per triangle)
+  std::vector<float> bias_uploaded;
   cl_mem texel_island = nullptr, interior_bits = nullptr, sums = nullptr, alias_prob = nullptr, alias_index = nullptr, rows = nullptr,
          row_start = nullptr, col = nullptr, weight = nullptr, area = nullptr, reverse = nullptr;
   // Local time stepping: the plan's lists (remade when r_dif dt changes) and the fine
@@ -100,7 +102,7 @@ struct OpenClBackend::State {
     for (cl_mem m : {frames, adjacency, corner_uvs, classes, gutter_texel, gutter_source, frame3d,
                      food, eaters, triangle, b1, b2, hx, hy, species, hunger, lives, pheromone,
                      scratch, marks, field, texels_per_unit, texel_triangle, island, seam_texel,
-                     seam_neighbour, texel_island, interior_bits, sums, alias_prob, alias_index, rows, row_start, col, weight,
+                     seam_neighbour, bias, texel_island, interior_bits, sums, alias_prob, alias_index, rows, row_start, col, weight,
                      area, reverse, is_fine, fine_rows, fine_cur, fine_next, fine_flux})
       if (m) r.clReleaseMemObject(m);
     release_plan();
@@ -506,10 +508,27 @@ void OpenClBackend::step_continuous(const StepSettings& settings, uint64_t seed,
   const cl_uint planes = species_count_;
   const cl_uint texels = static_cast<cl_uint>(d.texel_count());
   const cl_uint cells = static_cast<cl_uint>(lap.rows.size());
+  if (c.bias_on && settings.bias != s.bias_uploaded) {  // a new bias field
+    if (s.bias && s.bias_uploaded.size() != settings.bias.size()) {
+      s.r.clReleaseMemObject(s.bias);
+      s.bias = nullptr;
+    }
+    if (!s.bias)
+      s.bias = s.buffer(settings.bias.size() * 4, nullptr, device_bytes_);
+    check(s.r.clEnqueueWriteBuffer(s.queue, s.bias, CL_TRUE, 0, settings.bias.size() * 4, settings.bias.data(),
+                                   0, nullptr, nullptr),
+          "uploading the bias field");
+    s.bias_uploaded = settings.bias;
+  }
+  if (!s.bias) {  // never read while bias_on == 0
+    s.bias = s.buffer(4, nullptr, device_bytes_);
+    s.bias_uploaded.assign(1, 0.f);  // what a 4-byte buffer holds
+  }
   cl_kernel k = continuous_kernel(c.has_fields != 0);
   s.args(k, s.frames, s.adjacency, s.corner_uvs, s.classes, s.pheromone, s.field, s.sums, s.triangle,
          s.b1, s.b2, s.hx, s.hy, s.species, s.lives, s.texels_per_unit, s.texel_triangle, s.island,
-         s.texel_island, s.interior_bits, s.alias_prob, s.alias_index, c, static_cast<cl_uint>(agent_count_));
+         s.texel_island, s.interior_bits, s.alias_prob, s.alias_index, s.bias, c,
+         static_cast<cl_uint>(agent_count_));
   s.run(k, agent_count_);
   const float amount = deposit_unit_amount(p, c.deposit_units);
   s.args(s.convert_kernel, s.pheromone, s.sums, s.rows, s.area, amount, cells, texels, planes);
