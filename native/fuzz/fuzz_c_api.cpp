@@ -99,7 +99,7 @@ void check_pheromone(moldtex_sim sim, uint32_t width, uint32_t height) {
 
 enum Op : uint8_t {
   kRayCast, kClosestPoint, kTrace, kPaint, kCreateSim, kStep, kAddAgents, kEraseAgents, kUndo,
-  kSetFood, kSetFields, kCheckpoint, kRasterize, kSetParams, kReset, kSetContinuous, kOpCount
+  kSetFood, kSetFields, kCheckpoint, kRasterize, kSetParams, kReset, kSetContinuous, kSetBias, kOpCount
 };
 
 void fuzz_mesh(Bytes& in) {
@@ -315,11 +315,22 @@ void fuzz_mesh(Bytes& in) {
         moldtex_continuous_params_init(&p);
         float* fields[] = {&p.move_rate, &p.turn_rate, &p.turn_frequency, &p.sensor_distance,
                            &p.sensor_angle, &p.deposit_rate, &p.diffusion_rate, &p.decay_rate,
-                           &p.mean_lifetime, &p.activation_time, &p.time_step};
+                           &p.mean_lifetime, &p.activation_time, &p.time_step, &p.bias_strength};
         const uint8_t which = in.u8();
-        *fields[which % 11] = in.f32();
+        *fields[which % 12] = in.f32();
+        p.bias_symmetry = in.u8() % 8;
         p.integrator = in.u8() % 4;
         if (sim) check(moldtex_sim_set_continuous_params(sim, &p));
+        break;
+      }
+      case kSetBias: {
+        float pattern[6];
+        for (float& v : pattern) v = in.f32();
+        if (!sim) break;
+        const uint8_t how = in.u8() % 3;  // 0: clear, 1: right size, 2: one short
+        std::vector<float> bias(size_t(info.triangle_count) * 3 - (how == 2 && info.triangle_count ? 1 : 0));
+        for (size_t i = 0; i < bias.size(); ++i) bias[i] = pattern[i % 6];
+        check(moldtex_sim_set_bias(sim, how == 0 ? nullptr : bias.data(), bias.size()));
         break;
       }
       case kReset:

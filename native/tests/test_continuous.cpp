@@ -171,6 +171,19 @@ TEST(ContinuousModel, ParametersAreValidatedAndKept) {
     EXPECT_EQ(moldtex_sim_set_continuous_params(sim.get(), &q), MOLDTEX_ERROR_INVALID_ARGUMENT);
     EXPECT_FALSE(LastError().empty());
   }
+  // The bias field: one 3D vector per triangle, finite.
+  const uint32_t triangles = Torus().triangle_count();
+  std::vector<float> bias(size_t(triangles) * 3, 0.5f);
+  EXPECT_EQ(moldtex_sim_set_bias(sim.get(), bias.data(), bias.size()), MOLDTEX_OK) << LastError();
+  EXPECT_EQ(moldtex_sim_set_bias(sim.get(), bias.data(), bias.size() - 1), MOLDTEX_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(LastError().find("triangle_count * 3"), std::string::npos) << LastError();
+  bias[7] = NAN;
+  EXPECT_EQ(moldtex_sim_set_bias(sim.get(), bias.data(), bias.size()), MOLDTEX_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(LastError().find("triangle 2"), std::string::npos) << LastError();
+  EXPECT_EQ(moldtex_sim_set_bias(sim.get(), nullptr, 0), MOLDTEX_OK);
+  moldtex_continuous_params sym = Look();
+  sym.bias_symmetry = 7;
+  EXPECT_EQ(moldtex_sim_set_continuous_params(sim.get(), &sym), MOLDTEX_ERROR_INVALID_ARGUMENT);
   moldtex_sim_config unknown = make_config(64, 64, 100, 1);
   unknown.model = 9;
   moldtex_sim raw = nullptr;
