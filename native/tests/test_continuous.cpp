@@ -409,6 +409,41 @@ TEST(ContinuousModel, StretchedUvsDoNotChangeTheLengthIn3D) {
   EXPECT_NEAR(left / right, 1.0, 0.10);
 }
 
+// No trace of the texture-border seam (issue #9's check, on this model): the torus' UVs
+// fill the texture, so the seam u = 0 runs along the border with no gutter between its
+// sides. Per column line x (between columns x - 1 and x; x = 0 is the seam) two measures
+// of u/U, time-averaged over 5 snapshots of 2 seeds: the mean over the two columns and
+// the mean |difference| of the texel pairs straddling the line. The 255 other lines are
+// placebos: the seam line's measures must lie within 3 standard deviations of theirs.
+TEST(ContinuousModel, NoTraceOfTheTextureBorderSeam) {
+  RunSpec r;
+  r.snapshots = 4;
+  const uint32_t n = r.size;
+  std::vector<double> level(n, 0.0), straddle(n, 0.0);
+  for (uint64_t seed : {1, 2}) {
+    r.seed = seed;
+    const Outcome o = Simulate(r);
+    for (const auto& f : o.snapshots)
+      for (uint32_t x = 0; x < n; ++x) {
+        const uint32_t left = (x + n - 1) % n;
+        for (uint32_t y = 0; y < n; ++y) {
+          const double a = f[size_t(y) * n + left], b = f[size_t(y) * n + x];
+          level[x] += (a + b) / 2;
+          straddle[x] += std::fabs(a - b);
+        }
+      }
+  }
+  for (const std::vector<double>* m : {&level, &straddle}) {
+    double mean = 0, sq = 0;
+    for (uint32_t x = 1; x < n; ++x) mean += (*m)[x] / (n - 1);
+    for (uint32_t x = 1; x < n; ++x) sq += ((*m)[x] - mean) * ((*m)[x] - mean) / (n - 2);
+    const double z = ((*m)[0] - mean) / std::sqrt(sq);
+    std::printf("%s: seam %.4g, other lines %.4g +- %.2g (z = %.2f)\n", m == &level ? "level" : "straddle",
+                (*m)[0], mean, std::sqrt(sq), z);
+    EXPECT_LT(std::fabs(z), 3.0) << (m == &level ? "level" : "straddle");
+  }
+}
+
 // Directional bias (§3.3, Fig. 6; issue #12's first check): n = 2 along x on a plane
 // whose texel grid is aligned with x and y. The pattern's structure tensor (gradients of
 // u/U by central differences) gives an orientation coherence (lambda1 - lambda2) /

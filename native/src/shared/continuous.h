@@ -94,7 +94,7 @@ MTX_FN float mtx_continuous_sense(mtx_surface_tables s, MTX_GLOBAL const float* 
                                   MTX_GLOBAL const float* field, const mtx_walker* p,
                                   mtx_u32 species, const mtx_continuous_constants* k) {
   mtx_texel_stencil st;
-  mtx_texel_stencil_of(s, p, k->width, k->height, &st);
+  mtx_texel_stencil_of(s, p, k->width, k->height, 1, &st);
   if (st.count == 0) return 0.0f;
   const mtx_u32 texels = k->width * k->height;
   float v = 0.0f;
@@ -224,7 +224,7 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
     }
     if (!deposits || born + (MTX_CAST(float, i) + 0.5f) * piece_time < k->activation_time) continue;
     mtx_texel_stencil st;
-    mtx_texel_stencil_of(s, w, k->width, k->height, &st);
+    mtx_texel_stencil_of(s, w, k->width, k->height, 0, &st);
     /* Piece i's whole share: the pieces' shares add up to exactly deposit_units. */
     if (st.count > 0) mtx_texel_deposit(own, &st, share + (i < extra ? 1 : 0));
   }

@@ -4,12 +4,12 @@
  * two calls an agent makes on its domain; another domain (an intrinsic triangulation)
  * provides the same two with its own basis functions.
  *
- * The bilinear stencil of a point takes the four texels around it. A texel counts only
- * when it is a cell of the point's own UV island (an island texel); the weights of the
- * others go to the cells that do count, so a deposit near an island border lands whole
- * on the island and a reading there is the mean of the island's own cells. Across a UV
- * seam the PDE's seam couplings carry the pheromone on, and sensors reach across seams
- * because their probes walk the surface. */
+ * The bilinear stencil of a point takes the four texels around it. For a deposit a
+ * texel counts only when it is a cell of the point's own UV island (an island texel);
+ * the weights of the others go to the cells that do count, so a deposit lands whole on
+ * the island, and the PDE's seam couplings carry it across seams. A reading also counts
+ * gutter texels, which hold the texels across their seams, so a sensor next to a seam
+ * reads across it (and a probe beyond a seam walks over it into the other island). */
 #ifndef MOLDTEX_SHARED_TEXEL_SAMPLING_H
 #define MOLDTEX_SHARED_TEXEL_SAMPLING_H
 
@@ -33,7 +33,7 @@ typedef struct mtx_texel_stencil {
 } mtx_texel_stencil;
 
 MTX_FN void mtx_texel_stencil_of(mtx_surface_tables s, const mtx_walker* w, mtx_u32 width,
-                                 mtx_u32 height, mtx_texel_stencil* st) {
+                                 mtx_u32 height, int reading, mtx_texel_stencil* st) {
   MTX_GLOBAL const float* uv = s.corner_uvs + 6 * w->triangle;
   const float x = (w->bary[0] * uv[0] + w->bary[1] * uv[2] + w->bary[2] * uv[4]) * MTX_CAST(float, width) - 0.5f;
   const float y = (w->bary[0] * uv[1] + w->bary[1] * uv[3] + w->bary[2] * uv[5]) * MTX_CAST(float, height) - 0.5f;
@@ -70,7 +70,10 @@ MTX_FN void mtx_texel_stencil_of(mtx_surface_tables s, const mtx_walker* w, mtx_
     st->weight[k] = 0.0f;
     if (ix < 0 || iy < 0 || ix >= MTX_CAST(int, width) || iy >= MTX_CAST(int, height)) continue;
     const mtx_u32 i = MTX_CAST(mtx_u32, iy) * width + MTX_CAST(mtx_u32, ix);
-    if (s.texel_island[i] != MTX_CAST(int, island)) continue;
+    /* A reading also takes gutter texels: each holds the texel across its seam (filled
+     * after every step), so a sensor next to a seam reads across it. Deposits go to
+     * cells only. */
+    if (s.texel_island[i] != MTX_CAST(int, island) && !(reading && s.classes[i] == MTX_TEXEL_GUTTER)) continue;
     st->cell[k] = i;
     st->weight[k] = wk;
     counted[k] = 1;
