@@ -319,6 +319,7 @@ void fuzz_mesh(Bytes& in) {
         const uint8_t which = in.u8();
         *fields[which % 12] = in.f32();
         p.bias_symmetry = in.u8() % 8;
+        p.bias_spawn = in.u8() % 3;
         p.integrator = in.u8() % 4;
         if (sim) check(moldtex_sim_set_continuous_params(sim, &p));
         break;

@@ -300,6 +300,9 @@ typedef struct moldtex_continuous_params {
    * it) radians per second (integrated exactly over the step). 0 = off. */
   float bias_strength;    /* per second; 0 .. 1e6 */
   uint32_t bias_symmetry; /* n, 1 .. 6 (default 1) */
+  uint32_t bias_spawn;    /* 1: agents (re)spawned by turnover face one of the n bias
+                             directions of their triangle (Fig. 8), where it has one;
+                             0 (default): a uniform heading */
 } moldtex_continuous_params;
 
 typedef enum moldtex_integrator {

@@ -188,6 +188,8 @@ void validate_continuous_params(const moldtex_continuous_params& p) {
   check_range("Activation time", p.activation_time, 0.f, 1e9f, "seconds");
   check_range("Time step", p.time_step, 1e-6f, 1.f, "seconds per step");
   check_range("Bias strength", p.bias_strength, 0.f, 1e6f, "per second; 0 turns the bias off");
+  if (p.bias_spawn > 1)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "bias_spawn must be 0 (uniform headings) or 1 (along the bias)");
   if (p.bias_symmetry < 1 || p.bias_symmetry > 6)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The bias symmetry must be between 1 and 6 (copies of the direction)");
   if (p.integrator > MOLDTEX_INTEGRATOR_BACKWARD)

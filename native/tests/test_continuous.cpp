@@ -508,6 +508,42 @@ TEST(ContinuousModel, BiasAlignsTheTrails) {
   EXPECT_NEAR(on.degrees, 0.0, 10.0);
 }
 
+// Respawns facing the bias (Fig. 8's sources): agents that never turn (omega 0) and feel
+// no bias steering walk straight from where turnover puts them, so their trails show
+// their starting headings. Facing the bias (along x): streaks along x, coherent; uniform
+// headings: streaks every way, incoherent.
+TEST(ContinuousModel, RespawnsFaceTheBias) {
+  static const Mesh plane = make_plane(8, 8, 0, 0, 4, 4, [](double x, double y) { return Vec2{x / 4, y / 4}; });
+  auto s = create_surface(plane);
+  std::vector<float> along_x(size_t(plane.triangle_count()) * 3, 0.f);
+  for (uint32_t t = 0; t < plane.triangle_count(); ++t) along_x[3 * t] = 1.f;
+  Orientation o[2];
+  for (int facing = 0; facing < 2; ++facing) {
+    moldtex_sim_config c = make_config(256, 256, 20000, 4);
+    c.model = MOLDTEX_MODEL_CONTINUOUS;
+    c.backend = MOLDTEX_BACKEND_CPU;
+    auto sim = create_sim(s.get(), c, default_params());
+    ASSERT_TRUE(sim) << LastError();
+    moldtex_continuous_params p = Look();
+    p.turn_rate = 0.f;
+    p.mean_lifetime = 0.2f;
+    p.activation_time = 0.f;
+    p.bias_strength = 0.f;
+    p.bias_spawn = uint32_t(facing);
+    ASSERT_EQ(moldtex_sim_set_continuous_params(sim.get(), &p), MOLDTEX_OK) << LastError();
+    ASSERT_EQ(moldtex_sim_set_bias(sim.get(), along_x.data(), along_x.size()), MOLDTEX_OK);
+    ASSERT_EQ(moldtex_sim_step(sim.get(), 120), MOLDTEX_OK);  // 2 s: ten lifetimes
+    const std::vector<float> rgba = read_rgba(sim.get(), 256, 256);
+    std::vector<double> f(256 * 256);
+    for (size_t i = 0; i < f.size(); ++i) f[i] = rgba[4 * i];
+    o[facing] = TrailOrientation(f, 256);
+    std::printf("respawn %s: coherence %.3f, trails at %.1f degrees\n", facing ? "along the bias" : "any way",
+                o[facing].coherence, o[facing].degrees);
+  }
+  EXPECT_GT(o[1].coherence, 2 * o[0].coherence + 0.1);
+  EXPECT_NEAR(o[1].degrees, 0.0, 10.0);
+}
+
 TEST(ContinuousModel, CheckpointResumesExactly) {
   auto s = create_surface(Torus());
   moldtex_sim_config c = make_config(64, 64, 2000, 5);

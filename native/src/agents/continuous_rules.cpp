@@ -109,6 +109,7 @@ ContinuousStepConstants continuous_constants(const StepSettings& settings, const
   c.bias_on = !settings.bias.empty() && p.bias_strength > 0.f ? 1u : 0u;
   c.bias_rate = p.bias_strength;
   c.bias_symmetry = p.bias_symmetry;
+  c.bias_spawn = !settings.bias.empty() && p.bias_spawn ? 1u : 0u;
   return c;
 }
 

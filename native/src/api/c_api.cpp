@@ -309,6 +309,7 @@ void moldtex_continuous_params_init(moldtex_continuous_params* p) {
   p->integrator = MOLDTEX_INTEGRATOR_AUTO;
   p->bias_strength = 0.f;
   p->bias_symmetry = 1;
+  p->bias_spawn = 0;
 }
 
 void moldtex_species_params_init(moldtex_species_params* p, uint32_t species) {

@@ -55,6 +55,8 @@ typedef struct mtx_continuous_constants {
   mtx_u32 bias_on;        /* a bias field is set and bias_rate > 0 */
   float bias_rate;        /* bias_strength, per second */
   mtx_u32 bias_symmetry;  /* n copies of the bias direction */
+  mtx_u32 bias_spawn;     /* respawns face a bias direction (needs a bias field) */
+  mtx_u32 padding;
 } mtx_continuous_constants;
 
 /* The per-agent clocks of the continuous model. */
@@ -138,6 +140,18 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
     if (life->exposure >= life->threshold) {
       mtx_u64 rng = mtx_rng_init(k->seed, MTX_RNG_TURNOVER, agent, k->step);
       mtx_respawn(alias_prob, alias_index, k->triangle_count, w, &rng);
+      if (k->bias_spawn) { /* face one of the n bias directions, chosen at random */
+        MTX_GLOBAL const float* b = bias + 2 * w->triangle;
+        const float length = sqrt(b[0] * b[0] + b[1] * b[1]);
+        if (length > 0.0f) {
+          const mtx_u32 copy = MTX_CAST(mtx_u32, mtx_rng_float(&rng) * MTX_CAST(float, k->bias_symmetry));
+          const float angle = 6.28318530718f * MTX_CAST(float, copy) / MTX_CAST(float, k->bias_symmetry);
+          mtx_vec2 h;
+          h.x = b[0] / length;
+          h.y = b[1] / length;
+          w->heading = mtx_unit(mtx_rotate(h, cos(angle), sin(angle)));
+        }
+      }
       life->exposure = 0.0f;
       life->threshold = mtx_exponential(&rng);
       life->age = 0.0f;

@@ -99,7 +99,7 @@ void CpuBackend::step_continuous(const StepSettings& settings, uint64_t seed, ui
   const float* field = c.has_fields ? field_.data() : nullptr;
   pool_->parallel_for(agents_.size(), 1024, [&](size_t begin, size_t end) {
     continuous_update_agents(tables, c, pheromone_.data(), field, sums_.data(), alias_,
-                             c.bias_on ? settings.bias.data() : nullptr, agents_, begin, end);
+                             c.bias_on || c.bias_spawn ? settings.bias.data() : nullptr, agents_, begin, end);
   });
   // 2. Per species: the deposits become concentration (amount / cell area), then the PDE
   //    advances by dt; the gutter shows what lies across each seam (for Blender only).

@@ -508,7 +508,7 @@ void OpenClBackend::step_continuous(const StepSettings& settings, uint64_t seed,
   const cl_uint planes = species_count_;
   const cl_uint texels = static_cast<cl_uint>(d.texel_count());
   const cl_uint cells = static_cast<cl_uint>(lap.rows.size());
-  if (c.bias_on && settings.bias != s.bias_uploaded) {  // a new bias field
+  if ((c.bias_on || c.bias_spawn) && settings.bias != s.bias_uploaded) {  // a new bias field
     if (s.bias && s.bias_uploaded.size() != settings.bias.size()) {
       s.r.clReleaseMemObject(s.bias);
       s.bias = nullptr;
@@ -520,7 +520,7 @@ void OpenClBackend::step_continuous(const StepSettings& settings, uint64_t seed,
           "uploading the bias field");
     s.bias_uploaded = settings.bias;
   }
-  if (!s.bias) {  // never read while bias_on == 0
+  if (!s.bias) {  // never read while bias_on == bias_spawn == 0
     s.bias = s.buffer(4, nullptr, device_bytes_);
     s.bias_uploaded.assign(1, 0.f);  // what a 4-byte buffer holds
   }
