@@ -252,10 +252,14 @@ def fresh_sim(obj):
         config = live_module.config_from_settings(settings)
         continuous = (live_module.continuous_params_from_settings(settings, area)
                       if config["model"] == eng.MODEL_CONTINUOUS else None)
-        return eng.Simulation(surface, config,
-                              live_module.params_from_settings(settings, area,
-                                                               config["model"]),
-                              None, continuous)
+        sim = eng.Simulation(surface, config,
+                             live_module.params_from_settings(settings, area,
+                                                              config["model"]),
+                             None, continuous)
+        if continuous is not None:
+            sim.set_bias(live_module.bias_vectors(live_module.bias_direction_in_mesh(obj),
+                                                  sim.triangle_count))
+        return sim
     finally:
         surface.release()
 

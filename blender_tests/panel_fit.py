@@ -116,6 +116,9 @@ class GeometryLayout:
             return  # buttons in a row: values only in this panel (text="" or icons)
         if self.use_property_split:
             row = self.width - (DECORATOR if self.use_property_decorate else 0)
+            if getattr(prop, "is_array", False) and prop.subtype in ('XYZ', 'TRANSLATION',
+                                                                     'DIRECTION', 'EULER'):
+                label = f"{label} X"  # a vector's first row says its axis ("Direction X")
             self._record("prop", label, SPLIT * row - TEXT_PAD)
         elif not expand:
             # Without split a label sits left of its value, half the row each.
@@ -191,7 +194,7 @@ def busy_scene_states():
     settings.bake_use_scene_range = True
     # The continuous model's panels: both pattern scale modes, turnover off and on, a
     # negative sensor angle (its note), several species (their note), a PNG bake (the
-    # clipping note).
+    # clipping note), the bias off and on (its notes).
     settings.model = 'CONTINUOUS'
     cont = settings.continuous
     for mode in ('OBJECT', 'LENGTH'):
@@ -201,6 +204,7 @@ def busy_scene_states():
             cont.sensor_angle = angle
             settings.species_count = 2 if lifetime else 1
             settings.bake_format = 'PNG8' if lifetime else 'EXR_HALF'
+            cont.bias_strength = 4.0 if lifetime else 0.0  # the Bias panel's two notes
             yield f"CONTINUOUS/{mode}/lifetime {lifetime}"
     settings.model = 'MOMAS'
     settings.pattern_scale_mode = 'OBJECT'
@@ -208,3 +212,4 @@ def busy_scene_states():
     settings.bake_format = 'EXR_HALF'
     cont.mean_lifetime = 0.0
     cont.sensor_angle = 0.5
+    cont.bias_strength = 0.0

@@ -44,6 +44,7 @@ CONTINUOUS_NON_DEFAULTS = {
     "sensor_angle": -0.375, "deposit_rate": 2.5, "diffusion_rate": 6.5, "decay_rate": 1.25,
     "mean_lifetime": 0.75, "activation_time": 1.5, "integrator": "BACKWARD",
     "display_range": 2.25, "keep_u": True, "target_u": 123.5, "surface_area": 7.25,
+    "bias_strength": 2.5, "bias_symmetry": 4, "bias_direction": (0.25, -0.5, 0.75),
 }
 # Not stored: shown by get/set from backend_type and the opencl_* properties, and the
 # panel's angle (°) view of vision_angle.
@@ -79,7 +80,9 @@ class PersistenceTests(unittest.TestCase):
                  if p.identifier not in {"rna_type", "name"}]
         self.assertEqual(sorted(names), sorted(CONTINUOUS_NON_DEFAULTS))
         for key, value in CONTINUOUS_NON_DEFAULTS.items():
-            self.assertNotEqual(getattr(cont, key), value, f"continuous.{key} default")
+            got = getattr(cont, key)
+            got = tuple(got) if isinstance(value, tuple) else got  # (a Vector)
+            self.assertNotEqual(got, value, f"continuous.{key} default")
             setattr(cont, key, value)
         # (Keep U on: the deposit rate set last is the one to keep, so its target is
         # set after it, as a user would find it saved.)
@@ -112,6 +115,7 @@ class PersistenceTests(unittest.TestCase):
                 self.assertEqual(got, value, key)
         for key, value in saved_continuous.items():
             got = getattr(obj.moldtex.continuous, key)
+            got = tuple(got) if isinstance(value, tuple) else got  # (a Vector)
             if isinstance(value, float):
                 self.assertAlmostEqual(got, value, places=5, msg=f"continuous.{key}")
             else:

@@ -214,6 +214,9 @@ class ContinuousParams(ctypes.Structure):
         ("activation_time", ctypes.c_float),  # t_a: seconds
         ("time_step", ctypes.c_float),        # dt: seconds per step
         ("integrator", ctypes.c_uint32),      # an INTEGRATOR_* value
+        # directional bias (layton-intrinsic-slime.md §3.3, Fig. 6), with set_bias' vectors
+        ("bias_strength", ctypes.c_float),    # per second, 0 = off
+        ("bias_symmetry", ctypes.c_uint32),   # n, 1 .. 6: n-fold symmetric pull
     ]
 
 
@@ -348,6 +351,7 @@ _SIGNATURES = {
     "moldtex_sim_set_species_params": (_status, [_Sim, ctypes.c_uint32, _P(SpeciesParams)]),
     "moldtex_sim_get_species_params": (_status, [_Sim, ctypes.c_uint32, _P(SpeciesParams)]),
     "moldtex_sim_set_fields": (_status, [_Sim, ctypes.c_void_p, ctypes.c_size_t]),
+    "moldtex_sim_set_bias": (_status, [_Sim, ctypes.c_void_p, ctypes.c_size_t]),
     "moldtex_sim_set_food": (_status, [_Sim, _P(FoodSource), ctypes.c_uint32]),
     "moldtex_sim_get_food": (_status, [_Sim, _P(FoodSource), ctypes.c_uint32,
                                        _P(ctypes.c_uint32)]),
@@ -883,6 +887,7 @@ class Simulation:
                                       ctypes.byref(handle)),
                "Creating the simulation")
         self._handle = handle
+        self.triangle_count = int(surface.info()["triangle_count"])
         self.width = c.width
         self.height = c.height
         self.model = c.model
@@ -971,6 +976,23 @@ class Simulation:
         address, count = _buffer_address(rgba, ("f",), writable=False)
         _check(_lib.moldtex_sim_set_fields(self.handle, ctypes.c_void_p(address), count),
                "Setting the fields")
+
+    def set_bias(self, vectors):
+        """Continuous model's directional bias field: triangle_count*3 floats
+        (array('f') or numpy float32), one 3D vector per triangle in the mesh's own
+        coordinates and triangle order, projected onto its triangle; its length weights
+        bias_strength there (1 = full). None clears it (no bias)."""
+        if vectors is None:
+            _check(_lib.moldtex_sim_set_bias(self.handle, None, 0), "Setting the bias")
+            return
+        address, count = _buffer_address(vectors, ("f",), writable=False)
+        expected = 3 * self.triangle_count
+        if count != expected:
+            raise EngineError(f"The bias needs 3 floats per triangle ({expected} for "
+                              f"{self.triangle_count} triangles), got {count}.",
+                              ERROR_INVALID_ARGUMENT)
+        _check(_lib.moldtex_sim_set_bias(self.handle, ctypes.c_void_p(address), count),
+               "Setting the bias")
 
     def set_food(self, sources):
         """Replaces the food sources: a list of (position (x, y, z), strength, amount)

@@ -17,8 +17,9 @@ import time
 import zlib
 
 from . import engine, image_io
-from .mesh_export import (MeshExportError, export_object, length_in_mesh_units,
-                          read_corner_fields, resolve_uv_map_name, world_to_mesh)
+from .mesh_export import (MeshExportError, export_object, export_scale,
+                          length_in_mesh_units, read_corner_fields, resolve_uv_map_name,
+                          world_to_mesh)
 
 # name -> LiveSim
 _registry = {}
@@ -80,6 +81,9 @@ class LiveSim:
         # Fields image was last compared with them (poll_fields_image).
         self.fields_crc = None
         self.fields_polled = 0.0
+        # (direction in mesh coordinates or None, triangle count) of the bias vectors
+        # last given to the continuous model's simulation (_push_bias).
+        self.bias_key = None
         # Live loop pacing (step_for_time): seconds one step took (running mean), the
         # steps per second of wall time while Start runs (what the panel shows), and
         # the time between the end of one update's stepping and the next one's start
@@ -338,7 +342,51 @@ def continuous_params_from_settings(settings, area):
         "time_step": float(settings.time_step),
         "integrator": INTEGRATORS.get(enum_value(cont, "integrator"),
                                       engine.INTEGRATOR_AUTO),
+        "bias_strength": float(cont.bias_strength),
+        "bias_symmetry": int(cont.bias_symmetry),
     }
+
+
+def bias_direction_in_mesh(obj):
+    """The continuous model's Bias Direction (object axes) in the exported mesh's
+    coordinates (mesh_export: a non-uniform object scale is applied to them, so a
+    direction along the surface scales with it), normalised; None when it is zero or
+    the bias is off (Bias Strength 0)."""
+    cont = obj.moldtex.continuous
+    if not cont.bias_strength > 0.0:
+        return None
+    direction = [float(v) for v in cont.bias_direction]
+    scale = export_scale(obj)
+    if scale is not None:
+        direction = [d * float(k) for d, k in zip(direction, scale)]
+    length = math.sqrt(sum(d * d for d in direction))
+    if not (length > 0.0 and math.isfinite(length)):
+        return None
+    return tuple(d / length for d in direction)
+
+
+def bias_vectors(direction, triangle_count):
+    """moldtex_sim_set_bias' vectors: `direction` for each of the triangles (array('f')
+    of triangle_count * 3), or None for None (no bias)."""
+    if direction is None:
+        return None
+    return array.array("f", direction) * int(triangle_count)
+
+
+def _push_bias(entry, obj, sim=None):
+    """Gives the simulation the bias vectors of obj's settings when they differ from
+    the last ones it got (entry.bias_key). sim: a new simulation, not yet entry's,
+    which always gets them; its key is returned for the caller to store."""
+    fresh = sim is not None
+    sim = sim if fresh else entry.sim
+    direction = bias_direction_in_mesh(obj)
+    key = (direction, sim.triangle_count)
+    if not fresh and key == entry.bias_key:
+        return key
+    sim.set_bias(bias_vectors(direction, sim.triangle_count))
+    if not fresh:
+        entry.bias_key = key
+    return key
 
 
 # ---- U (layton-intrinsic-slime.md Eq. 5) --------------------------------------------
@@ -699,9 +747,11 @@ def _build(entry, obj, mesh, depsgraph=None):
         raise
     finally:
         surface.release()  # the simulation holds its own reference
+    bias_key = None
     try:
         if continuous is not None:
             _note_u_area(sim, settings, surface_info.get("area"))
+            bias_key = _push_bias(entry, obj, sim)
         _push_species(_Holder(sim), settings)
         holder = LiveSim(entry.name)
         holder.sim = sim
@@ -712,6 +762,7 @@ def _build(entry, obj, mesh, depsgraph=None):
     if entry.sim is not None:
         entry.sim.release()
     entry.sim = sim
+    entry.bias_key = bias_key
     entry.fields_crc = _crc(fields)
     entry.create_config = create_config
     entry.config = config
@@ -822,6 +873,7 @@ def _push_settings(entry, obj):
     entry.sim.set_params(params_from_settings(settings, area, model))
     if model == engine.MODEL_CONTINUOUS:
         entry.sim.set_continuous_params(continuous_params_from_settings(settings, area))
+        _push_bias(entry, obj)
     _push_species(entry, settings)
 
 

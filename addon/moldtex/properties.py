@@ -444,6 +444,26 @@ class MoldtexContinuous(bpy.types.PropertyGroup):
                     "no pheromone until it is this old, so reborn agents do not blot "
                     "the pattern",
         update=_u_input_changed)
+    # ---- directional bias (layton-intrinsic-slime.md §3.3, Fig. 6) ----
+    bias_strength: FloatProperty(
+        name="Bias Strength", default=0.0, min=0.0, max=1e6, soft_min=0.0,
+        soft_max=20.0,
+        description="Bias Strength: how fast agents turn toward the bias direction, per "
+                    "second (times the angle to it). 0 = no bias",
+        update=_continuous_changed)
+    bias_symmetry: IntProperty(
+        name="Bias Symmetry", default=1, min=1, max=6,
+        description="Bias Symmetry (n): agents turn toward the nearest of n copies of "
+                    "the direction, 360° / n apart on each face: 1 pulls one way, 2 "
+                    "aligns the trails along the direction both ways, 4 along it and "
+                    "across it",
+        update=_continuous_changed)
+    bias_direction: FloatVectorProperty(
+        name="Bias Direction", subtype='XYZ', size=3, default=(1.0, 0.0, 0.0),
+        description="Bias Direction: the direction agents are pulled toward, in the "
+                    "object's local axes; projected onto each face (faces it is normal "
+                    "to feel no pull)",
+        update=_continuous_changed)
     # ---- simulation ----
     integrator: EnumProperty(
         name="Integrator", items=INTEGRATOR_ITEMS, default='AUTO',

@@ -54,6 +54,10 @@ LABELS = {
     "display_range": "Display",
     "mean_lifetime": "Lifetime",
     "activation_time": "Activation",
+    "bias_strength": "Strength",
+    "bias_symmetry": "Symmetry",
+    "bias_direction": "Toward",  # a vector: Blender draws "Toward X", "Y", "Z"
+    # ("Direction X" is cut at the default width)
     # the Brush panel (scene settings)
     "target": "Paint",
     "agents_per_dab": "Agents",
@@ -396,6 +400,28 @@ class MOLDTEX_PT_continuous_turnover(_ContinuousPanel, bpy.types.Panel):
                      icon='INFO')
 
 
+class MOLDTEX_PT_continuous_bias(_ContinuousPanel, bpy.types.Panel):
+    bl_label = "Bias"
+    bl_idname = "MOLDTEX_PT_continuous_bias"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        cont = context.active_object.moldtex.continuous
+        layout = self.layout
+        column = _split(layout)
+        _prop(column, cont, "bias_strength")
+        sub = column.column(align=True)
+        sub.active = cont.bias_strength > 0.0
+        _prop(sub, cont, "bias_symmetry")
+        _prop(sub, cont, "bias_direction")
+        if cont.bias_strength <= 0.0:
+            _wrapped(layout, "Strength 0: no pull (agents turn only toward pheromone).",
+                     icon='INFO')
+        else:
+            _wrapped(layout, "Direction in the object's axes, along each face.",
+                     icon='INFO')
+
+
 class MOLDTEX_PT_setup(_SubPanel, bpy.types.Panel):
     bl_label = "Simulation"
     bl_idname = "MOLDTEX_PT_setup"
@@ -665,7 +691,7 @@ class MOLDTEX_PT_brush(_SubPanel, bpy.types.Panel):
 
 CLASSES = (MOLDTEX_PT_main, MOLDTEX_PT_agents, MOLDTEX_PT_pheromone,
            MOLDTEX_PT_continuous_agents, MOLDTEX_PT_continuous_pheromone,
-           MOLDTEX_PT_continuous_turnover, MOLDTEX_PT_species, MOLDTEX_PT_brush,
+           MOLDTEX_PT_continuous_turnover, MOLDTEX_PT_continuous_bias, MOLDTEX_PT_species, MOLDTEX_PT_brush,
            MOLDTEX_PT_setup, MOLDTEX_PT_bake)
 # (Resolution, Agents and Steps per Update are on the main panel; the Simulation
 # sub-panel keeps what is changed rarely: seed, backend, threads, image.)
