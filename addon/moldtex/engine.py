@@ -217,6 +217,7 @@ class ContinuousParams(ctypes.Structure):
         # directional bias (layton-intrinsic-slime.md §3.3, Fig. 6), with set_bias' vectors
         ("bias_strength", ctypes.c_float),    # per second, 0 = off
         ("bias_symmetry", ctypes.c_uint32),   # n, 1 .. 6: n-fold symmetric pull
+        ("bias_spawn", ctypes.c_uint32),      # 1: turnover respawns face the bias (Fig. 8)
     ]
 
 

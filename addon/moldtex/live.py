@@ -344,6 +344,7 @@ def continuous_params_from_settings(settings, area):
                                       engine.INTEGRATOR_AUTO),
         "bias_strength": float(cont.bias_strength),
         "bias_symmetry": int(cont.bias_symmetry),
+        "bias_spawn": 1 if cont.bias_spawn else 0,
     }
 
 
@@ -353,7 +354,7 @@ def bias_direction_in_mesh(obj):
     direction along the surface scales with it), normalised; None when it is zero or
     the bias is off (Bias Strength 0)."""
     cont = obj.moldtex.continuous
-    if not cont.bias_strength > 0.0:
+    if not (cont.bias_strength > 0.0 or cont.bias_spawn):
         return None
     direction = [float(v) for v in cont.bias_direction]
     scale = export_scale(obj)

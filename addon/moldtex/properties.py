@@ -458,6 +458,12 @@ class MoldtexContinuous(bpy.types.PropertyGroup):
                     "aligns the trails along the direction both ways, 4 along it and "
                     "across it",
         update=_continuous_changed)
+    bias_spawn: BoolProperty(
+        name="Spawn Along Bias", default=False,
+        description="Spawn Along Bias: agents reborn by turnover start facing one of the "
+                    "bias directions of their face (the paper's sources, Fig. 8), even "
+                    "with Strength 0; off: any heading",
+        update=_continuous_changed)
     bias_direction: FloatVectorProperty(
         name="Bias Direction", subtype='XYZ', size=3, default=(1.0, 0.0, 0.0),
         description="Bias Direction: the direction agents are pulled toward, in the "

@@ -56,6 +56,7 @@ LABELS = {
     "activation_time": "Activation",
     "bias_strength": "Strength",
     "bias_symmetry": "Symmetry",
+    "bias_spawn": "Spawn",
     "bias_direction": "Toward",  # a vector: Blender draws "Toward X", "Y", "Z"
     # ("Direction X" is cut at the default width)
     # the Brush panel (scene settings)
@@ -411,10 +412,11 @@ class MOLDTEX_PT_continuous_bias(_ContinuousPanel, bpy.types.Panel):
         column = _split(layout)
         _prop(column, cont, "bias_strength")
         sub = column.column(align=True)
-        sub.active = cont.bias_strength > 0.0
+        sub.active = cont.bias_strength > 0.0 or cont.bias_spawn
         _prop(sub, cont, "bias_symmetry")
         _prop(sub, cont, "bias_direction")
-        if cont.bias_strength <= 0.0:
+        _prop(column, cont, "bias_spawn")
+        if cont.bias_strength <= 0.0 and not cont.bias_spawn:
             _wrapped(layout, "Strength 0: no pull (agents turn only toward pheromone).",
                      icon='INFO')
         else:
