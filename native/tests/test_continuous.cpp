@@ -626,27 +626,3 @@ MTX_BACKENDS(ContinuousBackends);
 }  // namespace
 }  // namespace mtx
 
-namespace mtx {
-// Writes EXR snapshots for a look (run with --gtest_also_run_disabled_tests).
-TEST(ContinuousModel, DISABLED_WriteSnapshots) {
-  const char* dir = std::getenv("MTX_SNAPSHOT_DIR");
-  if (!dir) GTEST_SKIP();
-  auto s = create_surface(Torus());
-  moldtex_sim_config c = make_config(256, 256, 40000, 1);
-  c.model = MOLDTEX_MODEL_CONTINUOUS;
-  c.backend = MOLDTEX_BACKEND_CPU;
-  auto sim = create_sim(s.get(), c, default_params());
-  moldtex_continuous_params p = Look();
-  if (const char* tau = std::getenv("MTX_TAU")) p.mean_lifetime = std::strtof(tau, nullptr);
-  if (const char* ta = std::getenv("MTX_TA")) p.activation_time = std::strtof(ta, nullptr);
-  moldtex_sim_set_continuous_params(sim.get(), &p);
-  for (int second = 1; second <= 8; second *= 2) {
-    moldtex_sim_step(sim.get(), second == 1 ? 60 : 60 * second / 2);
-    const std::string path = std::string(dir) + "/torus_" + std::to_string(second) + "s.f32";
-    const std::vector<float> rgba = read_rgba(sim.get(), 256, 256);
-    FILE* f = std::fopen(path.c_str(), "wb");
-    for (size_t i = 0; i < rgba.size(); i += 4) std::fwrite(&rgba[i], 4, 1, f);
-    std::fclose(f);
-  }
-}
-}  // namespace mtx
