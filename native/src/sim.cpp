@@ -498,16 +498,10 @@ void Simulation::add_agents(const moldtex_brush& brush, uint32_t count, uint32_t
                                           static_cast<uint16_t>(batch), record.added, pool));
   // Brush agents start as agents in the steady state too; agent k of a batch depends
   // only on (seed, batch, k).
-  for (size_t i = first; i < agents.size(); ++i) {
-    Agents one;
-    one.resize(1);
-    start_agent_lives(settings_.continuous, config_.seed, (uint64_t(batch) << 32) | (record.added + i - first),
-                      one, 0, 1);
-    agents.clock[i] = one.clock[0];
-    agents.age[i] = one.age[0];
-    agents.exposure[i] = one.exposure[0];
-    agents.threshold[i] = one.threshold[0];
-  }
+  for (size_t i = first; i < agents.size(); ++i)
+    start_agent_life(settings_.continuous,
+                     mtx_rng_init(config_.seed, MTX_RNG_TURNOVER, (uint64_t(batch) << 32) | (record.added + i - first), 0),
+                     agents, i);
   backend_->import_agents(agents);
   record.added += count;
   update_u_metric();
@@ -618,8 +612,9 @@ std::vector<float> Simulation::read_field() const {
   return field;
 }
 
-std::vector<float> Simulation::read_display_field() const {
-  std::vector<float> field = read_field();
+std::vector<float> Simulation::read_display_field() const { return display_field(read_field()); }
+
+std::vector<float> Simulation::display_field(std::vector<float> field) const {
   if (!continuous()) return field;
   // The continuous model shows u / U: 1 is the uniform steady state, at any deposit
   // rate, agent count or surface area.
@@ -757,18 +752,13 @@ moldtex_sim_stats Simulation::stats() const {
   s.bytes_in_use = backend_->bytes() + domain_->bytes() + surface_->bytes();
   const size_t texels = domain_->texel_count();
   const uint32_t planes = settings_.species_count;
-  const std::vector<float> field = read_display_field();
+  const std::vector<float> raw = read_field();
   if (continuous()) {
     s.u_metric = settings_.u_metric.empty() ? 0.0 : settings_.u_metric[0];
-    const std::vector<float> raw = read_field();
-    double amount = 0;
-    const TextureDomain& d = *domain_;
-    for (size_t i = 0; i < texels; ++i)
-      if (d.classes[i] == MOLDTEX_TEXEL_INSIDE && d.texel_triangle[i] >= 0)
-        amount += static_cast<double>(raw[i]) * d.triangle_area_scale[d.texel_triangle[i]];
-    amount /= static_cast<double>(d.width) * d.height;
-    s.mean_concentration = cell_area_ > 0 ? amount / cell_area_ : 0.0;
+    // Eq. 1's area-weighted mean over the island texels is the mean concentration.
+    s.mean_concentration = measure(*domain_, raw.data()).coverage;
   }
+  const std::vector<float> field = display_field(raw);
   s.time = time_;
   if (planes == 1) {
     FieldMetrics m = measure(*domain_, field.data());

@@ -52,6 +52,7 @@ class Simulation {
   std::vector<float> read_field() const;
   // What images show: read_field, divided by U per species for the continuous model.
   std::vector<float> read_display_field() const;
+  std::vector<float> display_field(std::vector<float> field) const;
   void read_agents(moldtex_surface_point* out, size_t count) const { backend_->read_agents(out, count); }
   moldtex_sim_stats stats() const;
   std::string backend_name() const {

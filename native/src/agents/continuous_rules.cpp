@@ -113,23 +113,23 @@ ContinuousStepConstants continuous_constants(const StepSettings& settings, const
   return c;
 }
 
+void start_agent_life(const moldtex_continuous_params& p, uint64_t rng, Agents& a, size_t i) {
+  a.clock[i] = (1.f / p.turn_frequency) * mtx_rng_float(&rng);
+  if (p.mean_lifetime > 0.f) {
+    const float elapsed = mtx_exponential(&rng);  // age / tau ~ Exp(1)
+    a.age[i] = elapsed * p.mean_lifetime;
+    a.exposure[i] = elapsed;
+    a.threshold[i] = elapsed + mtx_exponential(&rng);
+  } else {
+    a.age[i] = p.activation_time;
+    a.exposure[i] = 0.f;
+    a.threshold[i] = std::numeric_limits<float>::max();
+  }
+}
+
 void start_agent_lives(const moldtex_continuous_params& p, uint64_t seed, uint64_t stream,
                        Agents& a, size_t begin, size_t end) {
-  const float period = 1.f / p.turn_frequency;
-  for (size_t i = begin; i < end; ++i) {
-    mtx_u64 rng = mtx_rng_init(seed, MTX_RNG_TURNOVER, stream, i);
-    a.clock[i] = period * mtx_rng_float(&rng);
-    if (p.mean_lifetime > 0.f) {
-      const float elapsed = mtx_exponential(&rng);  // age / tau ~ Exp(1)
-      a.age[i] = elapsed * p.mean_lifetime;
-      a.exposure[i] = elapsed;
-      a.threshold[i] = elapsed + mtx_exponential(&rng);
-    } else {
-      a.age[i] = p.activation_time;
-      a.exposure[i] = 0.f;
-      a.threshold[i] = std::numeric_limits<float>::max();
-    }
-  }
+  for (size_t i = begin; i < end; ++i) start_agent_life(p, mtx_rng_init(seed, MTX_RNG_TURNOVER, stream, i), a, i);
 }
 
 void continuous_update_agents(const mtx_surface_tables& tables, const ContinuousStepConstants& c,

@@ -54,6 +54,8 @@ ContinuousStepConstants continuous_constants(const StepSettings& settings, const
 // stream, i).
 void start_agent_lives(const moldtex_continuous_params& p, uint64_t seed, uint64_t stream,
                        Agents& agents, size_t begin, size_t end);
+// The same for agent i alone, from a given random state.
+void start_agent_life(const moldtex_continuous_params& p, uint64_t rng, Agents& agents, size_t i);
 
 void continuous_update_agents(const mtx_surface_tables& tables, const ContinuousStepConstants& c,
                               const float* u, const float* field, int32_t* sums,

@@ -4,6 +4,30 @@
  * builds it once per feature combination in use (-DMTX_FOOD, -DMTX_FIELDS, -DMTX_SPECIES;
  * see momas.h), so the agent kernel carries only the code it runs. */
 
+/* Agent i's walker from the structure-of-arrays buffers (the third barycentric is
+ * 1 - b1 - b2), and back. */
+static inline mtx_walker load_walker(__global const uint* triangle, __global const float* b1,
+                                     __global const float* b2, __global const float* hx,
+                                     __global const float* hy, uint i) {
+  mtx_walker w;
+  w.triangle = triangle[i];
+  w.bary[1] = b1[i];
+  w.bary[2] = b2[i];
+  w.bary[0] = 1.0f - w.bary[1] - w.bary[2];
+  w.heading.x = hx[i];
+  w.heading.y = hy[i];
+  return w;
+}
+
+static inline void store_walker(const mtx_walker* w, __global uint* triangle, __global float* b1,
+                                __global float* b2, __global float* hx, __global float* hy, uint i) {
+  triangle[i] = w->triangle;
+  b1[i] = w->bary[1];
+  b2[i] = w->bary[2];
+  hx[i] = w->heading.x;
+  hy[i] = w->heading.y;
+}
+
 __kernel void momas_agents(__global const mtx_frame* frames, __global const uint* adjacency,
                            __global const float* corner_uvs, __global const uchar* classes,
                            __global const float* pheromone, __global const float* field,
@@ -29,13 +53,7 @@ __kernel void momas_agents(__global const mtx_frame* frames, __global const uint
   s.island = island;
   s.texel_island = 0;
   s.interior_bits = 0;
-  mtx_walker w;
-  w.triangle = triangle[i];
-  w.bary[1] = b1[i];
-  w.bary[2] = b2[i];
-  w.bary[0] = 1.0f - w.bary[1] - w.bary[2];
-  w.heading.x = hx[i];
-  w.heading.y = hy[i];
+  mtx_walker w = load_walker(triangle, b1, b2, hx, hy, i);
   /* Per-agent hunger and species are loaded only by the variants that use them. */
   float h = MTX_FOOD ? hunger[i] : 0.0f;
 #if defined(MTX_SPECIES) && MTX_SPECIES == 1
@@ -45,11 +63,7 @@ __kernel void momas_agents(__global const mtx_frame* frames, __global const uint
 #endif
   mtx_momas_agent_step(s, pheromone, field, marks, &w, &h, sp, (ulong)i, &k);
   if (MTX_FOOD) hunger[i] = h;
-  triangle[i] = w.triangle;
-  b1[i] = w.bary[1];
-  b2[i] = w.bary[2];
-  hx[i] = w.heading.x;
-  hy[i] = w.heading.y;
+  store_walker(&w, triangle, b1, b2, hx, hy, i);
 }
 
 /* pheromone and marks hold `planes` planes of `texels`; plane p gets deposit[p]. */
@@ -254,13 +268,7 @@ __kernel void continuous_agents(__global const mtx_frame* frames, __global const
   s.island = island;
   s.texel_island = texel_island;
   s.interior_bits = interior_bits;
-  mtx_walker w;
-  w.triangle = triangle[i];
-  w.bary[1] = b1[i];
-  w.bary[2] = b2[i];
-  w.bary[0] = 1.0f - w.bary[1] - w.bary[2];
-  w.heading.x = hx[i];
-  w.heading.y = hy[i];
+  mtx_walker w = load_walker(triangle, b1, b2, hx, hy, i);
   const float4 l = lives[i];
   mtx_agent_life life;
   life.clock = l.x;
@@ -273,11 +281,7 @@ __kernel void continuous_agents(__global const mtx_frame* frames, __global const
   const uint sp = species[i];
 #endif
   mtx_continuous_agent_step(s, u, field, sums, alias_prob, alias_index, bias, &w, &life, sp, (ulong)i, &k);
-  triangle[i] = w.triangle;
-  b1[i] = w.bary[1];
-  b2[i] = w.bary[2];
-  hx[i] = w.heading.x;
-  hy[i] = w.heading.y;
+  store_walker(&w, triangle, b1, b2, hx, hy, i);
   lives[i] = (float4)(life.clock, life.age, life.exposure, life.threshold);
 }
 

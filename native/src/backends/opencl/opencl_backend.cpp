@@ -546,10 +546,11 @@ void OpenClBackend::diffuse_continuous(const moldtex_continuous_params& p) {
   const bool backward = use_backward_euler(lap, p.diffusion_rate, p.time_step, p.integrator);
   const size_t texels = domain_->texel_count();
   if (backward) {
-    // Conjugate gradients run on the host (the same solver as the CPU backend).
+    // Conjugate gradients run on the host (the same solver as the CPU backend, on one
+    // thread: it uses no pool, so none is started for it every step).
     std::vector<float> u(texels * species_count_);
     read_pheromone(u.data());
-    ThreadPool pool(0);
+    ThreadPool pool(1);
     for (uint32_t k = 0; k < species_count_; ++k)
       advance_diffusion_decay(lap, u.data() + k * texels, pde_scratch_, p.diffusion_rate, p.decay_rate,
                               p.time_step, MOLDTEX_INTEGRATOR_BACKWARD, pool);
