@@ -425,21 +425,23 @@ void Simulation::reset() {
   batches_.clear();  // brush agents and stashes go with the old agents
   step_count_ = 0;
   time_ = 0;
-  update_u_metric();
+  count_agents(agents);
 }
 
 void Simulation::start_lives(Agents& agents, size_t begin, uint64_t stream) {
   start_agent_lives(settings_.continuous, config_.seed, stream, agents, begin, agents.size());
 }
 
+void Simulation::count_agents(const Agents& live) {
+  species_agents_ = agents_per_species(live, settings_.species_count);
+  update_u_metric();
+}
+
 void Simulation::update_u_metric() {
   settings_.u_metric.assign(settings_.species_count, 0.0);
   if (!continuous()) return;
-  Agents agents;
-  backend_->export_agents(agents);
-  const std::vector<double> n = agents_per_species(agents, settings_.species_count);
-  for (uint32_t k = 0; k < settings_.species_count; ++k)
-    settings_.u_metric[k] = uniform_steady_state(settings_.continuous, n[k], cell_area_);
+  for (uint32_t k = 0; k < settings_.species_count && k < species_agents_.size(); ++k)
+    settings_.u_metric[k] = uniform_steady_state(settings_.continuous, species_agents_[k], cell_area_);
 }
 
 void Simulation::set_continuous_params(const moldtex_continuous_params& p) {
@@ -504,7 +506,7 @@ void Simulation::add_agents(const moldtex_brush& brush, uint32_t count, uint32_t
                      agents, i);
   backend_->import_agents(agents);
   record.added += count;
-  update_u_metric();
+  count_agents(agents);
 }
 
 uint32_t Simulation::erase_agents(const moldtex_brush& brush, uint32_t batch) {
@@ -536,7 +538,7 @@ uint32_t Simulation::erase_agents(const moldtex_brush& brush, uint32_t batch) {
     record.erased.resize(stashed);  // the agents are still live
     throw;
   }
-  update_u_metric();
+  count_agents(kept);
   return static_cast<uint32_t>(removed);
 }
 
@@ -559,9 +561,9 @@ void Simulation::undo_agents(uint32_t batch) {
       if (agents.batch[i] != batch) next.copy_from(k++, agents, i);
     for (size_t i = 0; i < restore; ++i) next.copy_from(k++, it->second.erased, i);
     backend_->import_agents(next);
+    count_agents(next);
   }
   if (it != batches_.end()) batches_.erase(it);
-  update_u_metric();
 }
 
 void Simulation::set_food(const moldtex_food_source* sources, uint32_t count) {
@@ -740,7 +742,7 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
   food_ = c.food;
   step_count_ = c.step_count;
   time_ = c.time;
-  update_u_metric();
+  count_agents(c.state.agents);
   return c.metrics;
 }
 

@@ -74,8 +74,11 @@ class Simulation {
   std::atomic<bool> busy{false};
 
  private:
-  // U of every species from the live agents (continuous model), into settings_.
+  // U of every species from the live agents per species (continuous model), into
+  // settings_; count_agents takes the agents' species first (after every change of the
+  // live agents, which passes through here, so parameter changes need no read-back).
   void update_u_metric();
+  void count_agents(const Agents& live);
   // Continuous model: steady-state clocks for agents [begin, end) (see start_agent_lives).
   void start_lives(Agents& agents, size_t begin, uint64_t stream);
 
@@ -100,6 +103,7 @@ class Simulation {
   std::map<uint32_t, BrushBatch> batches_;
   std::string why_not_opencl_;  // why Auto chose the CPU
   uint64_t step_count_ = 0;
+  std::vector<double> species_agents_;  // live agents per species
   double time_ = 0;       // simulated seconds since create or reset
   double cell_area_ = 0;  // 3D area of the island texels (the PDE's cells): U's A
 };
