@@ -92,6 +92,10 @@ void check_pheromone(moldtex_sim sim, uint32_t width, uint32_t height) {
   moldtex_sim_config_init(&c);
   if (check(moldtex_sim_get_config(sim, &c)) != MOLDTEX_OK) bug("get_config failed");
   const bool continuous = c.model == MOLDTEX_MODEL_CONTINUOUS;
+  static const bool trace = std::getenv("MOLDTEX_FUZZ_TRACE") != nullptr;
+  if (trace)
+    for (size_t i = 0; i < rgba.size(); ++i)
+      if (!(rgba[i] >= 0.f && std::isfinite(rgba[i]))) std::fprintf(stderr, "  texel %zu channel %zu: %g\n", i / 4, i % 4, rgba[i]);
   for (float v : rgba)
     if (!(v >= 0.f && (continuous ? std::isfinite(v) : v <= 1.f)))
       bug(continuous ? "a concentration that is negative or not finite" : "a pheromone value outside [0, 1]");
@@ -140,7 +144,14 @@ void fuzz_mesh(Bytes& in) {
   static const bool trace = std::getenv("MOLDTEX_FUZZ_TRACE") != nullptr;
   if (trace) std::fprintf(stderr, "surface: area %g, UV area %g\n", info.area, info.uv_area);
   // MOLDTEX_FUZZ_TRACE=1 prints each operation (to see what a slow or crashing input does).
-  if (trace) std::fprintf(stderr, "mesh: %u vertices, %u triangles, flags %u\n", nv, nt, flags);
+  if (trace) {
+    std::fprintf(stderr, "mesh: %u vertices, %u triangles, flags %u\n", nv, nt, flags);
+    for (uint32_t v = 0; v < nv; ++v)
+      std::fprintf(stderr, "  v%u (%.9g %.9g %.9g)\n", v, positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
+    for (uint32_t t = 0; t < nt; ++t)
+      std::fprintf(stderr, "  t%u (%u %u %u)\n", t, triangles[3 * t], triangles[3 * t + 1], triangles[3 * t + 2]);
+    for (uint32_t u = 0; u < uv_count; ++u) std::fprintf(stderr, "  uv%u (%.9g %.9g)\n", u, uvs[2 * u], uvs[2 * u + 1]);
+  }
   for (int n = 0; n < 24 && !in.empty(); ++n) {
     const uint8_t op = in.u8() % kOpCount;
     if (trace) std::fprintf(stderr, "op %u at byte %zu\n", op, in.at);
@@ -212,8 +223,8 @@ void fuzz_mesh(Bytes& in) {
         moldtex_sim_params_init(&p);
         p.thread_count = 1;
         if (trace)
-          std::fprintf(stderr, "sim: %u x %u, %u agents, %u species, shape %u, radius %g\n", c.width, c.height,
-                       c.agent_count, c.species_count, c.seed_shape, c.seed_radius);
+          std::fprintf(stderr, "sim: %u x %u, %u agents, %u species, shape %u, radius %g, model %u\n", c.width,
+                       c.height, c.agent_count, c.species_count, c.seed_shape, c.seed_radius, c.model);
         if (check(moldtex_sim_create(surface, &c, &p, &sim)) == MOLDTEX_OK) {
           width = c.width;
           height = c.height;
@@ -303,6 +314,7 @@ void fuzz_mesh(Bytes& in) {
         p.substeps = in.u8() % 70;
         p.sensor_size = in.u8() % 6;
         p.thread_count = 1;
+        if (trace) std::fprintf(stderr, "params: field %u = %g, substeps %u\n", which % 10, *fields[which % 10], p.substeps);
         if (sim) check(moldtex_sim_set_params(sim, &p));
         moldtex_species_params sp;
         moldtex_species_params_init(&sp, which % 4);

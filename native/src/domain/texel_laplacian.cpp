@@ -271,7 +271,10 @@ uint32_t backward_step(const TexelLaplacian& lap, float* u, double h, double dec
   if (sys.solver.info() != Eigen::Success)
     fail(MOLDTEX_ERROR_INTERNAL, "Backward Euler: conjugate gradients did not converge in " +
                                      std::to_string(sys.solver.iterations()) + " iterations");
-  for (size_t r = 0; r < n; ++r) u[lap.rows[r]] = static_cast<float>(solution[r] * decay);
+  // The exact solution of this M-matrix system is non-negative; conjugate gradients stop
+  // within a tolerance and may leave tiny negative values where u is near zero (seen on a
+  // fuzzed sliver mesh: -1e-14). A concentration is never negative, so clamp them.
+  for (size_t r = 0; r < n; ++r) u[lap.rows[r]] = static_cast<float>(std::max(0.0, solution[r]) * decay);
   return static_cast<uint32_t>(sys.solver.iterations());
 }
 
