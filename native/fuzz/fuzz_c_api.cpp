@@ -103,7 +103,8 @@ void check_pheromone(moldtex_sim sim, uint32_t width, uint32_t height) {
 
 enum Op : uint8_t {
   kRayCast, kClosestPoint, kTrace, kPaint, kCreateSim, kStep, kAddAgents, kEraseAgents, kUndo,
-  kSetFood, kSetFields, kCheckpoint, kRasterize, kSetParams, kReset, kSetContinuous, kSetBias, kOpCount
+  kSetFood, kSetFields, kCheckpoint, kRasterize, kSetParams, kReset, kSetContinuous, kSetBias, kSetMap,
+  kOpCount
 };
 
 void fuzz_mesh(Bytes& in) {
@@ -349,6 +350,24 @@ void fuzz_mesh(Bytes& in) {
       case kReset:
         if (sim && check(moldtex_sim_reset(sim)) == MOLDTEX_OK) check_pheromone(sim, width, height);
         break;
+      case kSetMap: {
+        // A parameter map or stimulus: two values in a checkerboard of 4-texel squares, or
+        // cleared, or one value short; then read back.
+        const uint32_t kind = in.u8() % (MOLDTEX_MAP_COUNT + 1);  // COUNT is not a map
+        const float a = in.f32(), b = in.f32();
+        const uint8_t how = in.u8() % 3;  // 0: clear, 1: right size, 2: one short
+        if (!sim) break;
+        std::vector<float> map(size_t(width) * height - (how == 2 ? 1 : 0));
+        for (size_t i = 0; i < map.size(); ++i) map[i] = ((i % width) / 4 + (i / width) / 4) % 2 ? a : b;
+        if (check(moldtex_sim_set_map(sim, kind, how == 0 ? nullptr : map.data(), map.size())) == MOLDTEX_OK) {
+          std::vector<float> back(size_t(width) * height);
+          uint32_t set = 0;
+          if (check(moldtex_sim_get_map(sim, kind, back.data(), back.size(), &set)) != MOLDTEX_OK ||
+              set != (how == 0 ? 0u : 1u))
+            bug("a map just set did not read back");
+        }
+        break;
+      }
       default:
         break;
     }

@@ -14,7 +14,8 @@ u16 = lambda v: struct.pack("<H", v)
 f32 = lambda *v: struct.pack("<%df" % len(v), *v)
 
 # Operation codes (enum Op in fuzz_c_api.cpp).
-RAY, CLOSEST, TRACE, PAINT, CREATE, STEP, ADD, ERASE, UNDO, FOOD, FIELDS, CKPT, RASTER, PARAMS, RESET = range(15)
+(RAY, CLOSEST, TRACE, PAINT, CREATE, STEP, ADD, ERASE, UNDO, FOOD, FIELDS, CKPT, RASTER, PARAMS, RESET,
+ CONTINUOUS, BIAS, MAP) = range(18)
 
 
 def point(tri=0, bary=(1 / 3, 1 / 3, 1 / 3)):
@@ -35,9 +36,13 @@ def quad_mesh(indexed=True, float_positions=True, float_uvs=True, uv_shift=0.0):
     return data
 
 
-def create(width=16, height=16, agents=60, species=1, shape=0, radius=0.3):
+def create(width=16, height=16, agents=60, species=1, shape=0, radius=0.3, model=0):
     return (u8(CREATE) + u8(width - 8) + u8(height - 8) + u16(agents - 1) + u8(3) + u8(species - 1) +
-            u8(shape) + point() + f32(radius) + u16(8))
+            u8(shape) + point() + f32(radius) + u16(8) + u8(model))
+
+
+def set_map(kind, a, b, how=1):
+    return u8(MAP) + u8(kind) + f32(a, b) + u8(how)
 
 
 seeds = {
@@ -53,6 +58,11 @@ seeds = {
     "quad_udim": quad_mesh(uv_shift=5.0) + create() + u8(STEP) + u8(2) + u8(PAINT) + u8(63) + u8(0) + brush(),
     "byte_mesh": u8(0) + u8(5) + u8(3) + u8(0) + bytes([0, 0, 0, 4, 0, 0, 4, 4, 0, 0, 4, 0, 2, 2, 4]) +
                  bytes([0, 1, 2, 0, 2, 3, 1, 4, 2]) + bytes(range(18)) + create(agents=50) + u8(STEP) + u8(3),
+    # The continuous model under parameter maps: move rate, a sink with a spawn map, and
+    # both stimuli, then steps and a checkpoint round trip.
+    "quad_continuous_maps": quad_mesh() + create(agents=200, model=1) + set_map(0, 0.5, 2.0) +
+                            set_map(5, 0.0, 1.0) + set_map(7, 1.0, 0.0) + set_map(8, -1.0, 2.0) +
+                            set_map(9, 0.5, -0.5) + u8(STEP) + u8(3) + u8(CKPT) + u8(STEP) + u8(2),
     "checkpoint_intact": u8(1) + u8(0) + u8(0),
     "checkpoint_patched": u8(1) + u8(2) + u16(300) + u8(2) + bytes([0xff, 0xff, 0x7f]) +
                           u16(900) + u8(1) + bytes([0x80]) + u8(0),

@@ -326,6 +326,42 @@ MOLDTEX_API moldtex_status moldtex_sim_get_continuous_params(moldtex_sim sim,
 MOLDTEX_API moldtex_status moldtex_sim_set_bias(moldtex_sim sim, const float* vectors,
                                                 size_t float_count);
 
+/* Parameter maps and stimuli of the continuous model (layton-intrinsic-slime.md §3.3,
+ * Fig. 7, 8): per texel values in the order of moldtex_sim_read_rgba (width * height
+ * floats, one per texel; gutter texels are ignored and take the texel across their seam).
+ * Agents read a map at the texel they stand on. The multipliers (MOVE_RATE ..
+ * SPAWN) are in 0 .. 1000 and scale their parameter where the agent is:
+ *   MEAN_LIFETIME  0 = a sink: an agent there decays at once (even with no turnover
+ *                  elsewhere, mean_lifetime 0), and is reborn by the spawn map
+ *   SPAWN          where turnover re-spawns agents: density ~ 3D area * weight (a source)
+ * The stimuli are signed, within +-1e6, in units of U (Eq. 5):
+ *   READ_STIMULUS  sensed on top of the trails by every species (1 = as strong as the
+ *                  uniform steady state); never diffuses or decays
+ *   WRITE_STIMULUS adds (or, negative, removes) pheromone at value * r_dec * U per second
+ *                  in every species' plane, which then diffuses and decays with the rest
+ *                  (alone it would hold u / U = value)
+ * NULL clears a map. Maps are kept across moldtex_sim_reset and in checkpoints; the
+ * MoMaS model ignores all but READ_STIMULUS. */
+typedef enum moldtex_map {
+  MOLDTEX_MAP_MOVE_RATE = 0,
+  MOLDTEX_MAP_TURN_RATE = 1,
+  MOLDTEX_MAP_SENSOR_DISTANCE = 2,
+  MOLDTEX_MAP_SENSOR_ANGLE = 3,
+  MOLDTEX_MAP_DEPOSIT_RATE = 4,
+  MOLDTEX_MAP_MEAN_LIFETIME = 5,
+  MOLDTEX_MAP_ACTIVATION_TIME = 6,
+  MOLDTEX_MAP_SPAWN = 7,
+  MOLDTEX_MAP_READ_STIMULUS = 8,
+  MOLDTEX_MAP_WRITE_STIMULUS = 9,
+  MOLDTEX_MAP_COUNT = 10
+} moldtex_map;
+MOLDTEX_API moldtex_status moldtex_sim_set_map(moldtex_sim sim, uint32_t map, const float* values,
+                                               size_t count);
+/* Copies map `map` into values (width * height floats); *is_set = 0 (and values
+ * untouched) when the map is not set. */
+MOLDTEX_API moldtex_status moldtex_sim_get_map(moldtex_sim sim, uint32_t map, float* values, size_t count,
+                                               uint32_t* is_set);
+
 /* Behaviour of one species (momas-paper.md §2.5). Same meaning, units and hard ranges as
  * the fields of moldtex_sim_params with the same names. An agent of species s senses
  *   sum_k attraction[k] * P_k + fields

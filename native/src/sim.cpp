@@ -279,6 +279,8 @@ Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim
     backend_ = std::make_unique<CpuBackend>(surface_, domain_, config.agent_count,
                                             config.species_count, params.thread_count);
   why_not_opencl_ = why_not;
+  maps_ = std::make_shared<ParameterMaps>();
+  settings_.maps = maps_;
   if (config.fields_rgba) set_fields(config.fields_rgba);
   reset();
 }
@@ -345,11 +347,10 @@ void Simulation::set_fields(const float* rgba) {
       fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
            "This simulation spawns from its spawn map: paint a spawn region instead of clearing the fields");
     fields_rgba_.clear();
-    field_plane_.clear();
+    fields_only_plane_.clear();
     spawn_weights_.clear();
     free_weights_.clear();
-    settings_.has_fields = false;
-    backend_->set_field(field_plane_);
+    update_field_plane();
     return;
   }
   for (size_t i = 0; i < texels; ++i) {
@@ -392,11 +393,39 @@ void Simulation::set_fields(const float* rgba) {
          "The spawn map is empty (or lies entirely under obstacles): paint a spawn region "
          "(red channel) on the mesh");
   fields_rgba_.assign(rgba, rgba + 4 * texels);
-  field_plane_ = any ? std::move(plane) : std::vector<float>{};
+  fields_only_plane_ = any ? std::move(plane) : std::vector<float>{};
   spawn_weights_ = std::move(spawn);
   free_weights_ = std::move(free);
-  settings_.has_fields = any;
+  update_field_plane();
+}
+
+void Simulation::update_field_plane() {
+  const std::vector<float>& read = maps_->given[MOLDTEX_MAP_READ_STIMULUS];
+  if (read.empty()) {
+    field_plane_ = fields_only_plane_;
+  } else {
+    // The stimulus is sensed as the trails are, relative to U (MoMaS: to a full texel).
+    field_plane_ = read;
+    for (size_t i = 0; i < fields_only_plane_.size(); ++i)
+      field_plane_[i] = fields_only_plane_[i] < MTX_OBSTACLE_THRESHOLD ? fields_only_plane_[i]
+                                                                       : fields_only_plane_[i] + read[i];
+  }
+  settings_.has_fields = !field_plane_.empty();
   backend_->set_field(field_plane_);
+}
+
+void Simulation::set_map(uint32_t kind, const float* values) {
+  set_parameter_map(*maps_, kind, values, *surface_, *domain_);
+  if (kind == MOLDTEX_MAP_READ_STIMULUS) update_field_plane();
+  // Clocks start in the local steady state (§3.3): restart them for a new lifetime or
+  // activation map.
+  if ((kind == MOLDTEX_MAP_MEAN_LIFETIME || kind == MOLDTEX_MAP_ACTIVATION_TIME) && continuous()) {
+    Agents agents;
+    backend_->export_agents(agents);
+    // Before the first step: the clocks a reset would give under these maps.
+    start_lives(agents, 0, step_count_ == 0 ? 0 : 0x20000 + step_count_);
+    backend_->import_agents(agents);
+  }
 }
 
 void Simulation::reset() {
@@ -429,7 +458,23 @@ void Simulation::reset() {
 }
 
 void Simulation::start_lives(Agents& agents, size_t begin, uint64_t stream) {
-  start_agent_lives(settings_.continuous, config_.seed, stream, agents, begin, agents.size());
+  const std::vector<float>& lifetime = maps_->given[MOLDTEX_MAP_MEAN_LIFETIME];
+  const std::vector<float>& activation = maps_->given[MOLDTEX_MAP_ACTIVATION_TIME];
+  if (lifetime.empty() && activation.empty()) {
+    start_agent_lives(settings_.continuous, config_.seed, stream, agents, begin, agents.size());
+    return;
+  }
+  // Each agent's clocks start in the steady state of where it stands (§3.3): its local
+  // mean lifetime and activation time.
+  const Surface& s = *surface_;
+  for (size_t i = begin; i < agents.size(); ++i) {
+    const Walker w = agents.load(i);
+    const uint32_t texel = mtx_walker_texel(s.corner_uvs.data(), &w, domain_->width, domain_->height);
+    moldtex_continuous_params p = settings_.continuous;
+    if (!lifetime.empty() && lifetime[texel] > 0.f) p.mean_lifetime *= lifetime[texel];
+    if (!activation.empty()) p.activation_time *= activation[texel];
+    start_agent_life(p, mtx_rng_init(config_.seed, MTX_RNG_TURNOVER, stream, i), agents, i);
+  }
 }
 
 void Simulation::count_agents(const Agents& live) {
@@ -455,7 +500,7 @@ void Simulation::set_continuous_params(const moldtex_continuous_params& p) {
       old.turn_frequency != p.turn_frequency) {
     Agents agents;
     backend_->export_agents(agents);
-    start_lives(agents, 0, 0x10000 + step_count_);
+    start_lives(agents, 0, step_count_ == 0 ? 0 : 0x10000 + step_count_);  // step 0: as a reset
     backend_->import_agents(agents);
   }
   update_u_metric();
@@ -676,6 +721,11 @@ void Simulation::save_checkpoint(const std::string& path, const std::vector<Metr
   c.fields_rgba = fields_rgba_;
   c.food = food_;
   c.bias = bias_3d_;
+  for (uint32_t k = 0; k < MOLDTEX_MAP_COUNT; ++k)
+    if (!maps_->given[k].empty()) {
+      c.map_kinds.push_back(k);
+      c.maps.insert(c.maps.end(), maps_->given[k].begin(), maps_->given[k].end());
+    }
   c.surface_fingerprint = surface_->fingerprint;
   c.step_count = step_count_;
   c.metrics = metrics;
@@ -706,8 +756,18 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
       c.state.pheromone.size() != domain_->texel_count() * planes ||
       c.species.size() != MTX_MAX_SPECIES ||
       (!c.fields_rgba.empty() && c.fields_rgba.size() != domain_->texel_count() * 4) ||
-      (!c.bias.empty() && c.bias.size() != static_cast<size_t>(surface_->triangle_count()) * 3))
+      (!c.bias.empty() && c.bias.size() != static_cast<size_t>(surface_->triangle_count()) * 3) ||
+      c.map_kinds.size() > MOLDTEX_MAP_COUNT || c.maps.size() != c.map_kinds.size() * domain_->texel_count())
     fail(MOLDTEX_ERROR_IO, "The checkpoint " + path + " is damaged");
+  // The maps: validated into a new set, taken below once nothing can refuse any more.
+  auto maps = std::make_shared<ParameterMaps>();
+  for (size_t j = 0; j < c.map_kinds.size(); ++j) {
+    try {
+      set_parameter_map(*maps, c.map_kinds[j], c.maps.data() + j * domain_->texel_count(), *surface_, *domain_);
+    } catch (const Error& e) {
+      fail(MOLDTEX_ERROR_IO, "The checkpoint " + path + " is damaged: " + e.what());
+    }
+  }
   validate_checkpoint_values(c, path, surface_->triangle_count(), planes);
   c.params.thread_count = settings_.params.thread_count;  // a machine setting, not part of the state
   validate_params(c.params);
@@ -733,6 +793,10 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
     throw;
   }
   config_ = saved;
+  maps->version = maps_->version + 1;
+  maps_ = maps;
+  settings_.maps = maps_;
+  update_field_plane();
   c.state.agents.batch.assign(c.state.agents.size(), 0);  // brush batches are not saved
   backend_->import_state(c.state);
   batches_.clear();

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "agents/parameter_maps.h"
 #include "backends/backend.h"
 #include "domain/texture_domain.h"
 #include "io/checkpoint.h"
@@ -40,6 +41,10 @@ class Simulation {
   // The continuous model's bias vectors (3 per triangle, see moldtex_sim_set_bias), or
   // nullptr to clear; validated here.
   void set_bias(const float* vectors);
+  // Parameter map or stimulus `kind` (moldtex_map), width * height values or nullptr to
+  // clear; validated here. map() gives it as kept (empty = not set).
+  void set_map(uint32_t kind, const float* values);
+  const std::vector<float>& map(uint32_t kind) const { return maps_->given[kind]; }
   const moldtex_continuous_params& continuous_params() const { return settings_.continuous; }
   bool continuous() const { return config_.model == MOLDTEX_MODEL_CONTINUOUS; }
   const moldtex_sim_config& config() const { return config_; }
@@ -81,6 +86,9 @@ class Simulation {
   void count_agents(const Agents& live);
   // Continuous model: steady-state clocks for agents [begin, end) (see start_agent_lives).
   void start_lives(Agents& agents, size_t begin, uint64_t stream);
+  // The field plane the agents sense: the fields' obstacles and attractors plus the read
+  // stimulus; given to the backend.
+  void update_field_plane();
 
   std::shared_ptr<const Surface> surface_;
   std::shared_ptr<const TextureDomain> domain_;
@@ -88,10 +96,11 @@ class Simulation {
   StepSettings settings_;      // params (behaviour = species 0's) and every species
   // Static fields as given (width * height * 4, empty = none), the field plane the agents
   // sense, and the spawn weight of each texel (3D area * R, 0 at obstacles).
-  std::vector<float> fields_rgba_, field_plane_;
+  std::vector<float> fields_rgba_, field_plane_, fields_only_plane_;
   std::vector<double> spawn_weights_, free_weights_;
   std::vector<moldtex_food_source> food_;  // with the amounts left
   std::vector<float> bias_3d_;             // as given (checkpoints), empty = none
+  std::shared_ptr<ParameterMaps> maps_;    // also settings_.maps
   std::unique_ptr<Backend> backend_;
   // What each brush batch did, for undo: how many agents it added (the placement index
   // of its next agent) and the agents it erased, with their whole state.

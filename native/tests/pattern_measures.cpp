@@ -96,11 +96,16 @@ double CharacteristicLength(const TexelGeometry& g, const std::vector<double>& f
 }
 
 double GradientLength(const TexelGeometry& g, const std::vector<double>& f) {
+  return GradientLength(g, f, [](uint32_t, uint32_t) { return true; });
+}
+
+double GradientLength(const TexelGeometry& g, const std::vector<double>& f,
+                      const std::function<bool(uint32_t x, uint32_t y)>& in) {
   double slope = 0, weight = 0, mean = 0, area = 0;
   for (uint32_t y = 0; y < g.height; ++y)
     for (uint32_t x = 0; x < g.width; ++x) {
       const size_t i = size_t(y) * g.width + x;
-      if (!g.inside(i)) continue;
+      if (!g.inside(i) || !in(x, y)) continue;
       mean += g.area[i] * f[i];
       area += g.area[i];
       for (int axis = 0; axis < 2; ++axis) {

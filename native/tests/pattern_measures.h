@@ -40,5 +40,8 @@ double CharacteristicLength(const TexelGeometry& g, const std::vector<double>& f
 // correlation length set by the few largest structures. For a pattern of trails it is
 // proportional to the spacing of the trails (fewer trail edges per area: longer).
 double GradientLength(const TexelGeometry& g, const std::vector<double>& f);
+// The same over the texels where in(x, y) (pairs whose first texel is in).
+double GradientLength(const TexelGeometry& g, const std::vector<double>& f,
+                      const std::function<bool(uint32_t x, uint32_t y)>& in);
 
 }  // namespace mtx

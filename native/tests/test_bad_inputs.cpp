@@ -34,7 +34,7 @@ bool Contains(const std::string& text, const std::string& word) { return text.fi
 // Where each array of a checkpoint starts (its first element, after its uint64 count),
 // following io/checkpoint.cpp's file order: magic, config, params, the continuous
 // model's params, simulated time, fingerprint, step, then metrics, species, fields,
-// food, bias, the agent arrays (with the continuous model's clocks) and the pheromone.
+// food, bias, parameter maps (kinds, values), the agent arrays (with the continuous model's clocks) and the pheromone.
 struct CheckpointLayout {
   size_t metrics = 0, triangle = 0, b1 = 0, b2 = 0, hx = 0, hy = 0, species = 0, hunger = 0,
          clock = 0, age = 0, exposure = 0, threshold = 0, pheromone = 0;
@@ -58,6 +58,8 @@ CheckpointLayout Layout(const std::vector<char>& bytes) {
   array(4, nullptr, nullptr);  // fields
   array(sizeof(moldtex_food_source), nullptr, nullptr);
   array(4, nullptr, nullptr);  // bias (continuous model), empty here
+  array(4, nullptr, nullptr);  // kinds of the parameter maps set, none here
+  array(4, nullptr, nullptr);  // their values
   array(4, &l.triangle, &l.agents);
   array(4, &l.b1, nullptr);
   array(4, &l.b2, nullptr);

@@ -5,21 +5,22 @@
 #include <limits>
 #include <numbers>
 
+#include "agents/parameter_maps.h"
 #include "common/rng.h"
 
 namespace moldtex {
 
-AliasTable build_area_alias_table(const Surface& s) {
-  const uint32_t n = s.triangle_count();
+AliasTable build_alias_table(const std::vector<double>& weights) {
+  const uint32_t n = static_cast<uint32_t>(weights.size());
   AliasTable t;
   t.prob.assign(n, 0.f);
   t.alias.resize(n);
   double total = 0;
-  for (uint32_t i = 0; i < n; ++i) total += s.degenerate[i] ? 0.0 : s.areas[i];
+  for (double w : weights) total += w;
   std::vector<double> scaled(n);
   std::vector<uint32_t> small, large;
   for (uint32_t i = 0; i < n; ++i) {
-    scaled[i] = total > 0 ? (s.degenerate[i] ? 0.0 : s.areas[i]) * n / total : 1.0;
+    scaled[i] = total > 0 ? weights[i] * n / total : 1.0;
     t.alias[i] = i;
     (scaled[i] < 1.0 ? small : large).push_back(i);
   }
@@ -34,8 +35,8 @@ AliasTable build_area_alias_table(const Surface& s) {
       small.push_back(g);
     }
   }
-  // Leftovers are 1 up to rounding; a degenerate triangle left here keeps probability 0
-  // only if it has a non-degenerate alias, so give it the last large one.
+  // Leftovers are 1 up to rounding; one of weight 0 left here keeps probability 0 only
+  // if it has an alias of some weight, so give it the last large one.
   for (uint32_t g : large) t.prob[g] = 1.f;
   for (uint32_t l : small) {
     if (scaled[l] > 0.5 || large.empty()) {
@@ -48,15 +49,30 @@ AliasTable build_area_alias_table(const Surface& s) {
   return t;
 }
 
+AliasTable build_area_alias_table(const Surface& s) {
+  std::vector<double> w(s.triangle_count());
+  for (uint32_t i = 0; i < s.triangle_count(); ++i) w[i] = s.degenerate[i] ? 0.0 : s.areas[i];
+  return build_alias_table(w);
+}
+
 double uniform_steady_state(const moldtex_continuous_params& p, double agents, double area) {
   if (!(p.decay_rate > 0.f)) return std::numeric_limits<double>::infinity();
   const double alive = p.mean_lifetime > 0.f ? std::exp(-double(p.activation_time) / p.mean_lifetime) : 1.0;
   return agents * p.deposit_rate / (p.decay_rate * area) * alive;
 }
 
-int32_t deposit_units(size_t agents) {
-  const size_t most = 1u << 24, bound = 2147483647u / std::max<size_t>(agents, 1);
-  return static_cast<int32_t>(std::max<size_t>(1, std::min(most, bound)));
+int32_t deposit_units(size_t agents, float max_factor) {
+  const double most = double(1u << 24);
+  const double bound = std::floor(2147483647.0 / (double(std::max<size_t>(agents, 1)) * std::max(1.f, max_factor)));
+  return static_cast<int32_t>(std::max(1.0, std::min(most, bound)));
+}
+
+float write_stimulus_amount(const moldtex_continuous_params& p, double u_metric) {
+  const double k = double(p.decay_rate) * p.time_step;
+  const double spread = k > 1e-6 ? std::expm1(k) / k : 1.0 + k / 2;
+  // value * r_dec * U per second (alone: u / U -> value); without a finite U, value per second.
+  const double per_second = std::isfinite(u_metric) && u_metric > 0 ? p.decay_rate * u_metric : 1.0;
+  return static_cast<float>(per_second * p.time_step * spread);
 }
 
 float deposit_unit_amount(const moldtex_continuous_params& p, int32_t units) {
@@ -110,6 +126,12 @@ ContinuousStepConstants continuous_constants(const StepSettings& settings, const
   c.bias_rate = p.bias_strength;
   c.bias_symmetry = p.bias_symmetry;
   c.bias_spawn = !settings.bias.empty() && p.bias_spawn ? 1u : 0u;
+  for (int k = 0; k < MTX_AGENT_MAPS; ++k) c.map_plane[k] = -1;
+  if (settings.maps) {
+    for (int k = 0; k < MTX_AGENT_MAPS; ++k) c.map_plane[k] = settings.maps->plane_of[k];
+    c.maps_on = settings.maps->any_agent_map() ? 1u : 0u;
+    c.deposit_units = deposit_units(agents, settings.maps->deposit_max);
+  }
   return c;
 }
 
@@ -134,13 +156,13 @@ void start_agent_lives(const moldtex_continuous_params& p, uint64_t seed, uint64
 
 void continuous_update_agents(const mtx_surface_tables& tables, const ContinuousStepConstants& c,
                               const float* u, const float* field, int32_t* sums,
-                              const AliasTable& alias, const float* bias, Agents& agents, size_t begin,
-                              size_t end) {
+                              const AliasTable& alias, const float* bias, const float* maps,
+                              const float* spawn_max, Agents& agents, size_t begin, size_t end) {
   for (size_t i = begin; i < end; ++i) {
     Walker w = agents.load(i);
     mtx_agent_life life{agents.clock[i], agents.age[i], agents.exposure[i], agents.threshold[i]};
-    mtx_continuous_agent_step(tables, u, field, sums, alias.prob.data(), alias.alias.data(), bias, &w, &life,
-                              agents.species[i], i, &c);
+    mtx_continuous_agent_step(tables, u, field, sums, alias.prob.data(), alias.alias.data(), bias, maps,
+                              spawn_max, &w, &life, agents.species[i], i, &c);
     agents.store(i, w);
     agents.clock[i] = life.clock;
     agents.age[i] = life.age;

@@ -23,14 +23,17 @@ struct AliasTable {
   std::vector<uint32_t> alias;
 };
 AliasTable build_area_alias_table(const Surface& surface);
+// The same over any non-negative weights (all zero: uniform).
+AliasTable build_alias_table(const std::vector<double>& weights);
 
 // U of layton-intrinsic-slime.md Eq. 5 for `agents` agents on `area`: N r_dep / (r_dec A)
 // * exp(-t_a / tau) (tau = 0: no turnover, the factor is 1); +inf when r_dec = 0.
 double uniform_steady_state(const moldtex_continuous_params& p, double agents, double area);
 
 // Fixed-point units of one agent's deposit in a step: 2^24, or fewer so that all
-// `agents` agents depositing into one texel stay below 2^31 (texel_sampling.h).
-int32_t deposit_units(size_t agents);
+// `agents` agents depositing into one texel stay below 2^31 (texel_sampling.h), each
+// deposit scaled by up to max_factor (a deposit-rate map's largest value).
+int32_t deposit_units(size_t agents, float max_factor = 1.f);
 
 // The amount of one fixed-point deposit unit: r_dep dt / units, times
 // (e^k - 1) / k, k = r_dec dt. Deposits enter before the step's decay e^-k, but in truth
@@ -38,6 +41,11 @@ int32_t deposit_units(size_t agents);
 // makes the total exact for any dt (the steady state is U, not U k e^-k / (1 - e^-k),
 // which is 5% low at 1/60 s with the default decay).
 float deposit_unit_amount(const moldtex_continuous_params& p, int32_t units);
+
+// What a write stimulus of 1 adds to a concentration in one step: r_dec * U * dt, times
+// the same (e^k - 1) / k as deposits, so alone it holds u = U (u_metric: the plane's U; 1
+// per second where U is not finite).
+float write_stimulus_amount(const moldtex_continuous_params& p, double u_metric);
 
 // Live agents per species (agent species tags), for U.
 std::vector<double> agents_per_species(const Agents& agents, uint32_t species_count);
@@ -59,7 +67,7 @@ void start_agent_life(const moldtex_continuous_params& p, uint64_t rng, Agents& 
 
 void continuous_update_agents(const mtx_surface_tables& tables, const ContinuousStepConstants& c,
                               const float* u, const float* field, int32_t* sums,
-                              const AliasTable& alias, const float* bias, Agents& agents, size_t begin,
-                              size_t end);
+                              const AliasTable& alias, const float* bias, const float* maps,
+                              const float* spawn_max, Agents& agents, size_t begin, size_t end);
 
 }  // namespace moldtex

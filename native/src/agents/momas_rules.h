@@ -2,6 +2,8 @@
 // compiled here as C++ and in the OpenCL backend as OpenCL C.
 #pragma once
 #include <cstdint>
+#include <memory>
+#include <vector>
 
 #include "agents/agents.h"
 #include "domain/texture_domain.h"
@@ -13,6 +15,8 @@ namespace moldtex {
 using MomasStepConstants = mtx_momas_constants;
 
 // What a backend needs for one step: the shared parameters and each species' behaviour.
+struct ParameterMaps;  // agents/parameter_maps.h
+
 struct StepSettings {
   moldtex_sim_params params{};
   moldtex_species_params species[MTX_MAX_SPECIES]{};
@@ -28,6 +32,8 @@ struct StepSettings {
   std::vector<double> u_metric;
   // Directional bias: 2 per triangle in its local frame (empty = none).
   std::vector<float> bias;
+  // Parameter maps and stimuli of the continuous model (never null in a simulation).
+  std::shared_ptr<const ParameterMaps> maps;
 };
 
 MomasStepConstants momas_constants(const StepSettings& settings, const TextureDomain& d,

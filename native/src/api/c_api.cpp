@@ -19,6 +19,7 @@
 #include "bake/bake.h"
 #include "brush/brush.h"
 #include "domain/corner_raster.h"
+#include "agents/parameter_maps.h"
 #include "sim.h"
 #include "spatial/spatial.h"
 #include "surface/surface.h"
@@ -396,6 +397,30 @@ moldtex_status moldtex_sim_set_bias(moldtex_sim sim, const float* vectors, size_
                           std::to_string(float_count));
     }
     s.set_bias(vectors);
+  });
+}
+
+moldtex_status moldtex_sim_set_map(moldtex_sim sim, uint32_t map, const float* values, size_t count) {
+  return guarded([&] {
+    moldtex::Simulation& s = use(sim);
+    moldtex::validate_map(map, values, count, s.domain().texel_count());
+    s.set_map(map, values);
+  });
+}
+
+moldtex_status moldtex_sim_get_map(moldtex_sim sim, uint32_t map, float* values, size_t count,
+                                   uint32_t* is_set) {
+  return guarded([&] {
+    moldtex::Simulation& s = use(sim);
+    moldtex::validate_map(map, nullptr, 0, 0);
+    if (!is_set) moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "is_set is NULL");
+    const std::vector<float>& m = s.map(map);
+    *is_set = m.empty() ? 0u : 1u;
+    if (m.empty()) return;
+    if (!values || count != m.size())
+      moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The map needs a buffer of width * height = " +
+                                                        std::to_string(m.size()) + " floats");
+    std::copy(m.begin(), m.end(), values);
   });
 }
 

@@ -20,7 +20,7 @@ namespace {
 // appended to the parameters. Version 5: length_unit appended to the parameters.
 // Version 6: the continuous model (config.model, its parameters, simulated time, the
 // agents' clocks).
-constexpr char kMagic[8] = {'M', 'T', 'X', 'C', 'K', 'P', 'T', '6'};
+constexpr char kMagic[8] = {'M', 'T', 'X', 'C', 'K', 'P', 'T', '7'};
 
 struct Writer {
   std::vector<char> bytes;
@@ -165,6 +165,8 @@ void save_checkpoint(const std::string& path, const Checkpoint& c) {
   w.array(c.fields_rgba);
   w.array(c.food);
   w.array(c.bias);
+  w.array(c.map_kinds);
+  w.array(c.maps);
   for_each_array(c.state, [&](const auto& v) { w.array(v); });
   write_file_atomically(path, w.bytes.data(), w.bytes.size());
 }
@@ -191,6 +193,8 @@ Checkpoint load_checkpoint(const std::string& path) {
   r.array(c.fields_rgba);
   r.array(c.food);
   r.array(c.bias);
+  r.array(c.map_kinds);
+  r.array(c.maps);
   for_each_array(c.state, [&](auto& v) { r.array(v); });
   return c;
 }

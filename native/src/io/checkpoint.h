@@ -32,6 +32,8 @@ struct Checkpoint {
   std::vector<float> fields_rgba;               // width * height * 4, or empty
   std::vector<moldtex_food_source> food;        // with the amounts left
   std::vector<float> bias;                      // triangle_count * 3, or empty (version 6)
+  std::vector<uint32_t> map_kinds;              // moldtex_map of each map set (version 7)
+  std::vector<float> maps;                      // width * height per entry of map_kinds
   SimState state;
 };
 

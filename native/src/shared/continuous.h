@@ -27,6 +27,22 @@ MTX_BEGIN_NAMESPACE
  * into no more than this many. */
 #define MTX_MAX_DEPOSIT_PIECES 64
 
+/* Parameter maps the agents read (layton-intrinsic-slime.md §3.3): per texel multipliers
+ * of a parameter, looked up at the agent's texel; the order of moldtex_map's first
+ * values. A plane index of -1 means no map (a multiplier of 1). */
+#define MTX_MAP_MOVE 0
+#define MTX_MAP_TURN 1
+#define MTX_MAP_SENSOR_DISTANCE 2
+#define MTX_MAP_SENSOR_ANGLE 3
+#define MTX_MAP_DEPOSIT 4
+#define MTX_MAP_LIFETIME 5
+#define MTX_MAP_ACTIVATION 6
+#define MTX_MAP_SPAWN 7
+#define MTX_AGENT_MAPS 8
+/* A respawn under a spawn map draws a triangle by area times its sampled weight, then
+ * points in it until one is accepted against the triangle's largest weight. */
+#define MTX_MAX_SPAWN_TRIES 16
+
 /* Per-step constants of the continuous model, derived on the host. 64-bit fields first
  * so C++ and OpenCL C agree on the layout. */
 typedef struct mtx_continuous_constants {
@@ -56,6 +72,8 @@ typedef struct mtx_continuous_constants {
   float bias_rate;        /* bias_strength, per second */
   mtx_u32 bias_symmetry;  /* n copies of the bias direction */
   mtx_u32 bias_spawn;     /* respawns face a bias direction (needs a bias field) */
+  mtx_u32 maps_on;        /* some plane of map_plane is >= 0 */
+  mtx_i32 map_plane[MTX_AGENT_MAPS]; /* plane of each agent map in `maps`, -1 = none */
   mtx_u32 padding;
 } mtx_continuous_constants;
 
@@ -84,6 +102,35 @@ MTX_FN void mtx_respawn(MTX_GLOBAL const float* alias_prob, MTX_GLOBAL const mtx
   const float angle = 6.28318530718f * mtx_rng_float(rng);
   w->heading.x = cos(angle);
   w->heading.y = sin(angle);
+}
+
+/* The multiplier of agent map `which` at texel `texel` (1 without that map). */
+MTX_FN float mtx_map_value(MTX_GLOBAL const float* maps, const mtx_continuous_constants* k, int which,
+                           mtx_u32 texel) {
+  const mtx_i32 plane = k->map_plane[which];
+  return plane < 0 ? 1.0f : maps[MTX_CAST(mtx_u64, plane) * (k->width * k->height) + texel];
+}
+
+/* A respawn under a spawn map: the alias table weighs triangles by area times their mean
+ * spawn weight; within the drawn triangle a point is kept with probability weight / the
+ * triangle's largest weight (spawn_max), else another point of the same triangle is
+ * drawn, at most MTX_MAX_SPAWN_TRIES times (then the last point is kept). */
+MTX_FN void mtx_respawn_weighted(mtx_surface_tables s, MTX_GLOBAL const float* alias_prob,
+                                 MTX_GLOBAL const mtx_u32* alias_index, MTX_GLOBAL const float* maps,
+                                 MTX_GLOBAL const float* spawn_max, const mtx_continuous_constants* k,
+                                 mtx_walker* w, mtx_u64* rng) {
+  mtx_respawn(alias_prob, alias_index, k->triangle_count, w, rng);
+  if (k->map_plane[MTX_MAP_SPAWN] < 0) return;
+  const float top = spawn_max[w->triangle];
+  if (!(top > 0.0f)) return;
+  for (int tries = 1; tries < MTX_MAX_SPAWN_TRIES; ++tries) {
+    const float here = mtx_map_value(maps, k, MTX_MAP_SPAWN, mtx_walker_texel(s.corner_uvs, w, k->width, k->height));
+    if (mtx_rng_float(rng) * top <= here) return;
+    const float a = sqrt(mtx_rng_float(rng)), b = mtx_rng_float(rng);
+    w->bary[0] = 1.0f - a;
+    w->bary[1] = a * (1.0f - b);
+    w->bary[2] = a * b;
+  }
 }
 
 /* -ln X for X uniform in (0, 1]. */
@@ -117,10 +164,10 @@ MTX_FN float mtx_continuous_sense(mtx_surface_tables s, MTX_GLOBAL const float* 
 
 MTX_FN float mtx_continuous_probe(mtx_surface_tables s, MTX_GLOBAL const float* u,
                                   MTX_GLOBAL const float* field, const mtx_walker* from, float c,
-                                  float sn, mtx_u32 species, const mtx_continuous_constants* k) {
+                                  float sn, float length, mtx_u32 species, const mtx_continuous_constants* k) {
   mtx_walker probe = *from;
   probe.heading = mtx_rotate(probe.heading, c, sn);
-  mtx_walk(s.frames, s.adjacency, &probe, k->sensor_length, 0, 0);
+  mtx_walk(s.frames, s.adjacency, &probe, length, 0, 0);
   return mtx_continuous_sense(s, u, field, &probe, species, k);
 }
 
@@ -130,16 +177,28 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
                                       MTX_GLOBAL const float* field, MTX_GLOBAL mtx_i32* sums,
                                       MTX_GLOBAL const float* alias_prob,
                                       MTX_GLOBAL const mtx_u32* alias_index,
-                                      MTX_GLOBAL const float* bias, mtx_walker* w,
+                                      MTX_GLOBAL const float* bias, MTX_GLOBAL const float* maps,
+                                      MTX_GLOBAL const float* spawn_max, mtx_walker* w,
                                       mtx_agent_life* life, mtx_u32 species, mtx_u64 agent,
                                       const mtx_continuous_constants* k) {
   /* Turnover (§3.2): exposure grows by dt / tau; past the threshold the agent decays and
-   * a new one starts at a uniform point of the surface, age 0, a fresh threshold. */
-  if (k->exposure_step > 0.0f) {
-    life->exposure += k->exposure_step;
-    if (life->exposure >= life->threshold) {
+   * a new one starts at a uniform point of the surface (or one drawn by the spawn map),
+   * age 0, a fresh threshold. A lifetime map scales tau where the agent is (§3.3); where
+   * it is 0 the agent decays at once (a sink), even without turnover elsewhere. */
+  float exposure_step = k->exposure_step;
+  int sink = 0;
+  if (k->maps_on && k->map_plane[MTX_MAP_LIFETIME] >= 0) {
+    const float m = mtx_map_value(maps, k, MTX_MAP_LIFETIME, mtx_walker_texel(s.corner_uvs, w, k->width, k->height));
+    if (m > 0.0f)
+      exposure_step /= m;
+    else
+      sink = 1;
+  }
+  if (exposure_step > 0.0f || sink) {
+    life->exposure += exposure_step;
+    if (sink || life->exposure >= life->threshold) {
       mtx_u64 rng = mtx_rng_init(k->seed, MTX_RNG_TURNOVER, agent, k->step);
-      mtx_respawn(alias_prob, alias_index, k->triangle_count, w, &rng);
+      mtx_respawn_weighted(s, alias_prob, alias_index, maps, spawn_max, k, w, &rng);
       if (k->bias_spawn) { /* face one of the n bias directions, chosen at random */
         MTX_GLOBAL const float* b = bias + 2 * w->triangle;
         const float length = sqrt(b[0] * b[0] + b[1] * b[1]);
@@ -161,6 +220,27 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
   const float born = life->age; /* age at the start of this step */
   life->age += k->dt;
 
+  /* The other parameter maps, where the agent is now (§3.3). */
+  float move_length = k->move_length, sensor_length = k->sensor_length;
+  float sensor_cos = k->sensor_cos, sensor_sin = k->sensor_sin, turn_impulse = k->turn_impulse;
+  float activation_time = k->activation_time;
+  mtx_i32 deposit_units = k->deposit_units;
+  if (k->maps_on) {
+    const mtx_u32 texel = mtx_walker_texel(s.corner_uvs, w, k->width, k->height);
+    move_length *= mtx_map_value(maps, k, MTX_MAP_MOVE, texel);
+    sensor_length *= mtx_map_value(maps, k, MTX_MAP_SENSOR_DISTANCE, texel);
+    turn_impulse *= mtx_map_value(maps, k, MTX_MAP_TURN, texel);
+    activation_time *= mtx_map_value(maps, k, MTX_MAP_ACTIVATION, texel);
+    if (k->map_plane[MTX_MAP_SENSOR_ANGLE] >= 0) {
+      const float angle = atan2(k->sensor_sin, k->sensor_cos) * mtx_map_value(maps, k, MTX_MAP_SENSOR_ANGLE, texel);
+      sensor_cos = cos(angle);
+      sensor_sin = sin(angle);
+    }
+    /* deposit_units leaves room for the map's largest value (continuous_rules.cpp). */
+    if (k->map_plane[MTX_MAP_DEPOSIT] >= 0)
+      deposit_units = MTX_CAST(mtx_i32, MTX_CAST(float, deposit_units) * mtx_map_value(maps, k, MTX_MAP_DEPOSIT, texel) + 0.5f);
+  }
+
   /* Turn decisions at f_i: each one senses and turns by the impulse omega / f_i (Jones'
    * rule: straight while the front is strongest, a random side when both sides beat
    * the front, else toward the stronger side; all equal: straight). */
@@ -169,9 +249,9 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
     mtx_u64 rng = mtx_rng_init(k->seed, MTX_RNG_DECIDE, agent, k->step);
     for (int d = 0; d < MTX_MAX_DECISIONS_PER_STEP && life->clock >= k->decision_period; ++d) {
       life->clock -= k->decision_period;
-      const float left = mtx_continuous_probe(s, u, field, w, k->sensor_cos, k->sensor_sin, species, k);
-      const float front = mtx_continuous_probe(s, u, field, w, 1.0f, 0.0f, species, k);
-      const float right = mtx_continuous_probe(s, u, field, w, k->sensor_cos, -k->sensor_sin, species, k);
+      const float left = mtx_continuous_probe(s, u, field, w, sensor_cos, sensor_sin, sensor_length, species, k);
+      const float front = mtx_continuous_probe(s, u, field, w, 1.0f, 0.0f, sensor_length, species, k);
+      const float right = mtx_continuous_probe(s, u, field, w, sensor_cos, -sensor_sin, sensor_length, species, k);
       const float coin = mtx_rng_float(&rng);
       float side = 0.0f;
       if (front > left && front > right)
@@ -183,7 +263,7 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
       else if (right > left)
         side = -1.0f;
       if (side != 0.0f) {
-        const float turn = side * k->turn_impulse;
+        const float turn = side * turn_impulse;
         w->heading = mtx_unit(mtx_rotate(w->heading, cos(turn), sin(turn)));
       }
     }
@@ -211,16 +291,16 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
    * r_dep / v per unit length, whatever dt or the piece count (Eq. 4). A piece that
    * would enter an obstacle from free ground is undone and the agent turns back. */
   MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * w->triangle;
-  const float texels_moved = k->move_length * fmax(tpu[0], tpu[1]);
+  const float texels_moved = move_length * fmax(tpu[0], tpu[1]);
   int pieces = MTX_CAST(int, ceil(texels_moved / k->max_piece));
   pieces = pieces < 1 ? 1 : (pieces > MTX_MAX_DEPOSIT_PIECES ? MTX_MAX_DEPOSIT_PIECES : pieces);
-  const float piece = k->move_length / MTX_CAST(float, pieces);
+  const float piece = move_length / MTX_CAST(float, pieces);
   const float piece_time = k->dt / MTX_CAST(float, pieces);
   /* Piece i covers ages born + [i, i + 1) dt / pieces: it deposits when its middle is
    * past the activation time, so activation starts within the step, not a step late. */
-  const int deposits = k->deposit_on && life->age >= k->activation_time;
+  const int deposits = k->deposit_on && deposit_units > 0 && life->age >= activation_time;
   MTX_GLOBAL mtx_i32* own = sums + species * (k->width * k->height);
-  const mtx_i32 share = k->deposit_units / pieces, extra = k->deposit_units - share * pieces;
+  const mtx_i32 share = deposit_units / pieces, extra = deposit_units - share * pieces;
   for (int i = 0; i < pieces; ++i) {
     const mtx_walker before = *w;
     mtx_walk(s.frames, s.adjacency, w, piece, 0, 0);
@@ -236,7 +316,7 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
         continue;
       }
     }
-    if (!deposits || born + (MTX_CAST(float, i) + 0.5f) * piece_time < k->activation_time) continue;
+    if (!deposits || born + (MTX_CAST(float, i) + 0.5f) * piece_time < activation_time) continue;
     mtx_texel_stencil st;
     mtx_texel_stencil_of(s, w, k->width, k->height, 0, &st);
     /* Piece i's whole share: the pieces' shares add up to exactly deposit_units. */

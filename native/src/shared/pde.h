@@ -74,6 +74,13 @@ MTX_FN float mtx_coarse_cell(MTX_GLOBAL const mtx_u32* rows, MTX_GLOBAL const mt
   return (ui + (h * total - drawn) / area[i]) * decay;
 }
 
+/* A write stimulus (moldtex_sim_set_map): value * amount added to concentration u,
+ * never below 0 (a negative stimulus removes what is there). */
+MTX_FN float mtx_write_stimulus(float u, float value, float amount) {
+  const float v = u + value * amount;
+  return v > 0.0f ? v : 0.0f;
+}
+
 MTX_END_NAMESPACE
 
 #endif

@@ -4,6 +4,8 @@
 #include <cstring>
 
 #include "agents/momas_rules.h"
+#include "agents/parameter_maps.h"
+#include "shared/pde.h"
 
 namespace moldtex {
 
@@ -93,13 +95,16 @@ void CpuBackend::step_continuous(const StepSettings& settings, uint64_t seed, ui
   const ContinuousStepConstants c =
       continuous_constants(settings, d, settings.u_metric, surface_->triangle_count(), agents_.size(), seed,
                            step_index);
+  const ParameterMaps& maps = *settings.maps;
   // 1. Agents read the concentration as it was at the start of the step and add their
   //    deposits into integer sums (exact in any order).
   const mtx_surface_tables tables = surface_tables(*surface_, d);
   const float* field = c.has_fields ? field_.data() : nullptr;
+  const AliasTable& alias = maps.spawn_max.empty() ? alias_ : maps.spawn_alias;
   pool_->parallel_for(agents_.size(), 1024, [&](size_t begin, size_t end) {
-    continuous_update_agents(tables, c, pheromone_.data(), field, sums_.data(), alias_,
-                             c.bias_on || c.bias_spawn ? settings.bias.data() : nullptr, agents_, begin, end);
+    continuous_update_agents(tables, c, pheromone_.data(), field, sums_.data(), alias,
+                             c.bias_on || c.bias_spawn ? settings.bias.data() : nullptr, maps.agent_planes.data(),
+                             maps.spawn_max.data(), agents_, begin, end);
   });
   // 2. Per species: the deposits become concentration (amount / cell area), then the PDE
   //    advances by dt; the gutter shows what lies across each seam (for Blender only).
@@ -116,6 +121,15 @@ void CpuBackend::step_continuous(const StepSettings& settings, uint64_t seed, ui
         sums[i] = 0;
       }
     });
+    if (!maps.write.empty()) {
+      const float rate = write_stimulus_amount(p, k < settings.u_metric.size() ? settings.u_metric[k] : 0.0);
+      pool_->parallel_for(lap.rows.size(), 4096, [&](size_t begin, size_t end) {
+        for (size_t r = begin; r < end; ++r) {
+          const uint32_t i = lap.rows[r];
+          plane[i] = mtx_write_stimulus(plane[i], maps.write[i], rate);
+        }
+      });
+    }
     advance_diffusion_decay(lap, plane, pde_scratch_, p.diffusion_rate, p.decay_rate, p.time_step,
                             p.integrator, *pool_);
     fill_gutter(d, plane, *pool_);

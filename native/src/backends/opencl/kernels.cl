@@ -251,7 +251,8 @@ __kernel void continuous_agents(__global const mtx_frame* frames, __global const
                                 __global const int* texel_triangle, __global const uint* island,
                                 __global const int* texel_island, __global const uint* interior_bits,
                                 __global const float* alias_prob, __global const uint* alias_index,
-                                __global const float* bias, const mtx_continuous_constants k,
+                                __global const float* bias, __global const float* maps,
+                                __global const float* spawn_max, const mtx_continuous_constants k,
                                 const uint count) {
   const uint i = get_global_id(0);
   if (i >= count) return;
@@ -280,7 +281,8 @@ __kernel void continuous_agents(__global const mtx_frame* frames, __global const
 #else
   const uint sp = species[i];
 #endif
-  mtx_continuous_agent_step(s, u, field, sums, alias_prob, alias_index, bias, &w, &life, sp, (ulong)i, &k);
+  mtx_continuous_agent_step(s, u, field, sums, alias_prob, alias_index, bias, maps, spawn_max, &w, &life, sp,
+                            (ulong)i, &k);
   store_walker(&w, triangle, b1, b2, hx, hy, i);
   lives[i] = (float4)(life.clock, life.age, life.exposure, life.threshold);
 }
@@ -301,4 +303,15 @@ __kernel void deposits_to_concentration(__global float* u, __global int* sums,
     u[p * texels + i] += mtx_deposit_concentration(q, amount, area[i]);
     sums[p * texels + i] = 0;
   }
+}
+
+/* The write stimulus (moldtex_sim_set_map) of every cell into every plane: plane p gains
+ * write[i] * amount.sN (its r_dec U dt (e^k - 1) / k), never going below 0. */
+__kernel void write_stimulus(__global float* u, __global const uint* rows, __global const float* write,
+                             const float4 amount, const uint count, const uint texels, const uint planes) {
+  const uint r = get_global_id(0);
+  if (r >= count) return;
+  const uint i = rows[r];
+  const float a[4] = {amount.x, amount.y, amount.z, amount.w};
+  for (uint p = 0; p < planes; ++p) u[p * texels + i] = mtx_write_stimulus(u[p * texels + i], write[i], a[p]);
 }

@@ -7,6 +7,7 @@
 
 #include "agents/agents.h"
 #include "agents/continuous_rules.h"
+#include "agents/parameter_maps.h"
 #include "agents/momas_rules.h"
 #include "common/error.h"
 
@@ -67,7 +68,7 @@ struct OpenClBackend::State {
   // conversion and the PDE's forward-Euler sub-step.
   cl_kernel continuous_kernels[2] = {};
   cl_kernel convert_kernel = nullptr, pde_kernel = nullptr, fine_start_kernel = nullptr,
-            fine_diffuse_kernel = nullptr, coarse_diffuse_kernel = nullptr;
+            fine_diffuse_kernel = nullptr, coarse_diffuse_kernel = nullptr, write_kernel = nullptr;
   cl_kernel deposit_kernel = nullptr, gutter_kernel = nullptr, diffuse_kernel = nullptr;
   // Surface units (see domain/surface_diffusion.h).
   cl_kernel surface_kernel = nullptr, seam_kernel = nullptr, fine_kernel = nullptr,
@@ -89,6 +90,13 @@ struct OpenClBackend::State {
   // Continuous model tables (made at its first step).
   cl_mem bias = nullptr;  // the continuous model's bias field (2 per triangle)
   std::vector<float> bias_uploaded;
+  // Parameter maps (agent planes, spawn weights and alias table, write stimulus), as of
+  // maps_version; 4-byte placeholders where a map is not set.
+  cl_mem map_planes = nullptr, spawn_max = nullptr, spawn_prob = nullptr, spawn_index = nullptr,
+         write = nullptr;
+  const void* maps_source = nullptr;
+  uint64_t maps_version = 0;
+  size_t maps_bytes = 0;
   cl_mem texel_island = nullptr, interior_bits = nullptr, sums = nullptr, alias_prob = nullptr, alias_index = nullptr, rows = nullptr,
          row_start = nullptr, col = nullptr, weight = nullptr, area = nullptr, reverse = nullptr;
   // Local time stepping: the plan's lists (remade when r_dif dt changes) and the fine
@@ -103,14 +111,16 @@ struct OpenClBackend::State {
                      food, eaters, triangle, b1, b2, hx, hy, species, hunger, lives, pheromone,
                      scratch, marks, field, texels_per_unit, texel_triangle, island, seam_texel,
                      seam_neighbour, bias, texel_island, interior_bits, sums, alias_prob, alias_index, rows, row_start, col, weight,
-                     area, reverse, is_fine, fine_rows, fine_cur, fine_next, fine_flux})
+                     area, reverse, is_fine, fine_rows, fine_cur, fine_next, fine_flux, map_planes,
+                     spawn_max, spawn_prob, spawn_index, write})
       if (m) r.clReleaseMemObject(m);
     release_plan();
     for (cl_kernel k : agent_kernels)
       if (k) r.clReleaseKernel(k);
     for (cl_kernel k : continuous_kernels)
       if (k) r.clReleaseKernel(k);
-    for (cl_kernel k : {convert_kernel, pde_kernel, fine_start_kernel, fine_diffuse_kernel, coarse_diffuse_kernel})
+    for (cl_kernel k : {convert_kernel, pde_kernel, fine_start_kernel, fine_diffuse_kernel, coarse_diffuse_kernel,
+                        write_kernel})
       if (k) r.clReleaseKernel(k);
     for (cl_kernel k : {deposit_kernel, gutter_kernel, diffuse_kernel, surface_kernel, seam_kernel,
                         fine_kernel, scatter_kernel})
@@ -493,6 +503,8 @@ void OpenClBackend::prepare_continuous() {
   check(err, "creating the diffusion kernel");
   s.coarse_diffuse_kernel = s.r.clCreateKernel(s.programs[0], "pde_coarse_diffuse", &err);
   check(err, "creating the diffusion kernel");
+  s.write_kernel = s.r.clCreateKernel(s.programs[0], "write_stimulus", &err);
+  check(err, "creating the write stimulus kernel");
   laplacian_ = std::move(lap);
 }
 
@@ -524,15 +536,43 @@ void OpenClBackend::step_continuous(const StepSettings& settings, uint64_t seed,
     s.bias = s.buffer(4, nullptr, device_bytes_);
     s.bias_uploaded.assign(1, 0.f);  // what a 4-byte buffer holds
   }
+  const ParameterMaps& maps = *settings.maps;
+  if (s.maps_source != &maps || s.maps_version != maps.version || !s.map_planes) {
+    // New maps: replace every map buffer (maps change rarely; a placeholder where unset).
+    device_bytes_ -= s.maps_bytes;
+    s.maps_bytes = 0;
+    auto replace = [&](cl_mem& m, const void* data, size_t bytes) {
+      if (m) s.r.clReleaseMemObject(m);
+      m = nullptr;
+      m = s.buffer(bytes, bytes ? data : nullptr, s.maps_bytes);
+    };
+    replace(s.map_planes, maps.agent_planes.data(), maps.agent_planes.size() * 4);
+    replace(s.spawn_max, maps.spawn_max.data(), maps.spawn_max.size() * 4);
+    replace(s.spawn_prob, maps.spawn_alias.prob.data(), maps.spawn_alias.prob.size() * 4);
+    replace(s.spawn_index, maps.spawn_alias.alias.data(), maps.spawn_alias.alias.size() * 4);
+    replace(s.write, maps.write.data(), maps.write.size() * 4);
+    device_bytes_ += s.maps_bytes;
+    s.maps_source = &maps;
+    s.maps_version = maps.version;
+  }
+  const bool spawn_map = !maps.spawn_max.empty();
   cl_kernel k = continuous_kernel(c.has_fields != 0);
   s.args(k, s.frames, s.adjacency, s.corner_uvs, s.classes, s.pheromone, s.field, s.sums, s.triangle,
          s.b1, s.b2, s.hx, s.hy, s.species, s.lives, s.texels_per_unit, s.texel_triangle, s.island,
-         s.texel_island, s.interior_bits, s.alias_prob, s.alias_index, s.bias, c,
+         s.texel_island, s.interior_bits, spawn_map ? s.spawn_prob : s.alias_prob,
+         spawn_map ? s.spawn_index : s.alias_index, s.bias, s.map_planes, s.spawn_max, c,
          static_cast<cl_uint>(agent_count_));
   s.run(k, agent_count_);
   const float amount = deposit_unit_amount(p, c.deposit_units);
   s.args(s.convert_kernel, s.pheromone, s.sums, s.rows, s.area, amount, cells, texels, planes);
   s.run(s.convert_kernel, cells);
+  if (!maps.write.empty()) {
+    cl_float4 a{};
+    for (cl_uint q = 0; q < planes && q < 4; ++q)
+      a.s[q] = write_stimulus_amount(p, q < settings.u_metric.size() ? settings.u_metric[q] : 0.0);
+    s.args(s.write_kernel, s.pheromone, s.rows, s.write, a, cells, texels, planes);
+    s.run(s.write_kernel, cells);
+  }
   diffuse_continuous(p);
   const cl_uint gutter = static_cast<cl_uint>(d.gutter_texel.size());
   s.args(s.gutter_kernel, s.pheromone, s.gutter_texel, s.gutter_source, gutter, texels, planes);

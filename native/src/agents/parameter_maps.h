@@ -1,0 +1,49 @@
+// Parameter maps and stimuli of the continuous model (layton-intrinsic-slime.md §3.3,
+// moldtex_sim_set_map): per texel values as the caller gave them, and what the backends
+// read from them each step (agent planes, the spawn alias table, the write stimulus).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "agents/continuous_rules.h"
+#include "domain/texture_domain.h"
+#include "moldtex.h"
+#include "surface/surface.h"
+
+namespace moldtex {
+
+struct ParameterMaps {
+  // As given (width * height each), empty = not set.
+  std::array<std::vector<float>, MOLDTEX_MAP_COUNT> given;
+
+  // ---- derived by update_parameter_maps ----
+  // The agent maps that are set (MTX_MAP_*), one width * height plane each, gutter texels
+  // holding the texel across their seam; plane_of[m] is map m's plane or -1.
+  std::vector<float> agent_planes;
+  int32_t plane_of[MTX_AGENT_MAPS] = {-1, -1, -1, -1, -1, -1, -1, -1};
+  float deposit_max = 1.f;  // the deposit map's largest value (1 without one)
+  // With a spawn map: per triangle its largest sampled weight, and an alias table by
+  // area times its mean sampled weight.
+  std::vector<float> spawn_max;
+  AliasTable spawn_alias;
+  // Write stimulus per texel (empty = none): r_dec * U per second per unit.
+  std::vector<float> write;
+  // Bumped by every change, so a backend uploads only what changed.
+  uint64_t version = 0;
+
+  bool any_agent_map() const { return !agent_planes.empty(); }
+};
+
+// Checks values for map `kind` (count floats for width * height texels); throws with a
+// message naming the first bad texel.
+void validate_map(uint32_t kind, const float* values, size_t count, size_t texels);
+
+// Sets map `kind` (nullptr clears it) and rederives what the backends read.
+void set_parameter_map(ParameterMaps& maps, uint32_t kind, const float* values, const Surface& surface,
+                       const TextureDomain& domain);
+
+// The name of map `kind` for messages ("move rate", ...).
+const char* map_name(uint32_t kind);
+
+}  // namespace moldtex
