@@ -327,10 +327,14 @@ MOLDTEX_API moldtex_status moldtex_sim_set_bias(moldtex_sim sim, const float* ve
                                                 size_t float_count);
 
 /* Parameter maps and stimuli of the continuous model (layton-intrinsic-slime.md §3.3,
- * Fig. 7, 8): per texel values in the order of moldtex_sim_read_rgba (width * height
- * floats, one per texel; gutter texels are ignored and take the texel across their seam).
- * Agents read a map at the texel they stand on. The multipliers (MOVE_RATE ..
- * SPAWN) are in 0 .. 1000 and scale their parameter where the agent is:
+ * Eq. 6/7, Fig. 7, 8): per texel values in the order of moldtex_sim_read_rgba (width *
+ * height floats, one per texel; gutter texels are ignored and take the texel across their
+ * seam). Agents read a map at the texel they stand on. The multipliers (MOVE_RATE ..
+ * SPAWN, DIFFUSION_RATE, DECAY_RATE) are in 0 .. 1000 and scale their parameter where
+ * the agent (or the cell) is:
+ *   DIFFUSION_RATE r_dif per cell: the face between two cells conducts with the mean of
+ *                  their values (0 on both sides: a wall the pheromone cannot cross)
+ *   DECAY_RATE     r_dec per cell (U and the stimuli's unit keep the global r_dec)
  *   MEAN_LIFETIME  0 = a sink: an agent there decays at once (even with no turnover
  *                  elsewhere, mean_lifetime 0), and is reborn by the spawn map
  *   SPAWN          where turnover re-spawns agents: density ~ 3D area * weight (a source)
@@ -353,7 +357,9 @@ typedef enum moldtex_map {
   MOLDTEX_MAP_SPAWN = 7,
   MOLDTEX_MAP_READ_STIMULUS = 8,
   MOLDTEX_MAP_WRITE_STIMULUS = 9,
-  MOLDTEX_MAP_COUNT = 10
+  MOLDTEX_MAP_DIFFUSION_RATE = 10,
+  MOLDTEX_MAP_DECAY_RATE = 11,
+  MOLDTEX_MAP_COUNT = 12
 } moldtex_map;
 MOLDTEX_API moldtex_status moldtex_sim_set_map(moldtex_sim sim, uint32_t map, const float* values,
                                                size_t count);

@@ -5,12 +5,12 @@
 // advance (an exact count, a steady state, or a uniform run of the same parameters).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <string>
-#include <array>
 #include <functional>
+#include <string>
 
 #include "pattern_measures.h"
 #include "test_backends.h"
@@ -52,7 +52,8 @@ struct MapRun {
 };
 
 MapRun Start(uint32_t agents, uint64_t seed, const moldtex_continuous_params& p,
-          const std::vector<std::pair<uint32_t, MapOf>>& maps, Backend backend = Backend::Cpu, uint32_t threads = 0) {
+             const std::vector<std::pair<uint32_t, MapOf>>& maps, Backend backend = Backend::Cpu,
+             uint32_t threads = 0) {
   MapRun r;
   r.surface = create_surface(Plane());
   EXPECT_TRUE(r.surface) << LastError();
@@ -99,6 +100,17 @@ const TexelGeometry& Geometry() {
   return g;
 }
 
+// The CPU, and OpenCL where a device is usable (or required: MOLDTEX_REQUIRE_OPENCL).
+std::vector<Backend> Backends() {
+  std::vector<Backend> b = {Backend::Cpu};
+  moldtex_sim_config probe = make_config(8, 8, 1, 1);
+  std::string why;
+  if (PinBackend(Backend::OpenCl, probe, &why) || OpenClRequiredByEnv()) b.push_back(Backend::OpenCl);
+  return b;
+}
+
+const char* Name(Backend b) { return b == Backend::Cpu ? "CPU" : "OpenCL"; }
+
 // Plane x of texel column tx.
 double PlaneX(uint32_t tx) { return (tx + 0.5) * 2.0 / kSize; }
 
@@ -109,15 +121,14 @@ double PlaneX(uint32_t tx) { return (tx + 0.5) * 2.0 / kSize; }
 TEST(ParameterMaps, MapsOfOneChangeNothing) {
   const auto one = [](double, double) { return 1.f; };
   const std::vector<double> plain = Simulate(6000, 3, Look(), {}, 0.5);
-  const std::vector<double> mapped =
-      Simulate(6000, 3, Look(),
-               {{MOLDTEX_MAP_MOVE_RATE, one},
-                {MOLDTEX_MAP_TURN_RATE, one},
-                {MOLDTEX_MAP_SENSOR_DISTANCE, one},
-                {MOLDTEX_MAP_DEPOSIT_RATE, one},
-                {MOLDTEX_MAP_MEAN_LIFETIME, one},
-                {MOLDTEX_MAP_ACTIVATION_TIME, one}},
-               0.5);
+  const std::vector<double> mapped = Simulate(6000, 3, Look(),
+                                              {{MOLDTEX_MAP_MOVE_RATE, one},
+                                               {MOLDTEX_MAP_TURN_RATE, one},
+                                               {MOLDTEX_MAP_SENSOR_DISTANCE, one},
+                                               {MOLDTEX_MAP_DEPOSIT_RATE, one},
+                                               {MOLDTEX_MAP_MEAN_LIFETIME, one},
+                                               {MOLDTEX_MAP_ACTIVATION_TIME, one}},
+                                              0.5);
   ASSERT_EQ(plain.size(), mapped.size());
   size_t differ = 0;
   for (size_t i = 0; i < plain.size(); ++i) differ += plain[i] != mapped[i];
@@ -136,9 +147,9 @@ TEST(ParameterMaps, SinksKillAtOnceAndSpawnMapsPlaceTheReborn) {
   auto strip = [](double x, double) { return x < 0.3 ? 1.f : x > 1.7 ? 3.f : 0.f; };
   const uint32_t agents = 20000;
   MapRun r = Start(agents, 5, p,
-                {{MOLDTEX_MAP_MOVE_RATE, [](double, double) { return 0.f; }},
-                 {MOLDTEX_MAP_MEAN_LIFETIME, [&](double x, double y) { return in_sink(x, y) ? 0.f : 1.f; }},
-                 {MOLDTEX_MAP_SPAWN, strip}});
+                   {{MOLDTEX_MAP_MOVE_RATE, [](double, double) { return 0.f; }},
+                    {MOLDTEX_MAP_MEAN_LIFETIME, [&](double x, double y) { return in_sink(x, y) ? 0.f : 1.f; }},
+                    {MOLDTEX_MAP_SPAWN, strip}});
   ASSERT_TRUE(r.sim);
   const std::vector<float> lifetime = MapImage([&](double x, double y) { return in_sink(x, y) ? 0.f : 1.f; });
   const std::vector<float> spawn = MapImage(strip);
@@ -148,8 +159,8 @@ TEST(ParameterMaps, SinksKillAtOnceAndSpawnMapsPlaceTheReborn) {
     std::array<size_t, 4> n{};
     for (const moldtex_surface_point& a : read_agents(r.sim.get(), agents)) {
       const Vec2 uv = evaluate_uv(r.surface.get(), a);
-      const size_t t = size_t(std::min(kSize - 1, uint32_t(uv[1] * kSize))) * kSize +
-                       std::min(kSize - 1, uint32_t(uv[0] * kSize));
+      const size_t t =
+          size_t(std::min(kSize - 1, uint32_t(uv[1] * kSize))) * kSize + std::min(kSize - 1, uint32_t(uv[0] * kSize));
       ++n[lifetime[t] == 0.f ? 0 : spawn[t] == 1.f ? 1 : spawn[t] == 3.f ? 2 : 3];
     }
     return n;
@@ -175,8 +186,8 @@ TEST(ParameterMaps, SinksKillAtOnceAndSpawnMapsPlaceTheReborn) {
 TEST(ParameterMaps, WriteStimulusAloneHoldsItsValueTimesU) {
   const moldtex_continuous_params p = Look();
   MapRun r = Start(4000, 7, p,
-                {{MOLDTEX_MAP_DEPOSIT_RATE, [](double, double) { return 0.f; }},
-                 {MOLDTEX_MAP_WRITE_STIMULUS, [](double x, double) { return x < 1.0 ? 0.5f : -0.5f; }}});
+                   {{MOLDTEX_MAP_DEPOSIT_RATE, [](double, double) { return 0.f; }},
+                    {MOLDTEX_MAP_WRITE_STIMULUS, [](double x, double) { return x < 1.0 ? 0.5f : -0.5f; }}});
   ASSERT_TRUE(r.sim);
   ASSERT_EQ(moldtex_sim_step(r.sim.get(), 120), MOLDTEX_OK) << LastError();
   const std::vector<double> shown = Shown(r.sim.get());
@@ -191,6 +202,60 @@ TEST(ParameterMaps, WriteStimulusAloneHoldsItsValueTimesU) {
     }
   EXPECT_LT(worst_left, 1e-4);
   EXPECT_EQ(worst_right, 0.0);
+}
+
+// A diffusion-rate map of 0 in a band 4 texels wide is a wall (faces between two cells
+// of the band conduct with the mean of 0 and 0): pheromone written on the left never
+// reaches the right, exactly. Without the band it spreads over (the check's control).
+TEST(ParameterMaps, DiffusionMapOfZeroIsAWall) {
+  moldtex_continuous_params p = Look();
+  p.diffusion_rate = 0.02f;  // ten times the default: spreads across in 2 s
+  for (Backend backend : Backends()) {
+    auto right_of_band = [&](const std::vector<std::pair<uint32_t, MapOf>>& extra) {
+      std::vector<std::pair<uint32_t, MapOf>> maps = {
+          {MOLDTEX_MAP_DEPOSIT_RATE, [](double, double) { return 0.f; }},
+          {MOLDTEX_MAP_WRITE_STIMULUS, [](double x, double) { return x < 0.9 ? 1.f : 0.f; }}};
+      maps.insert(maps.end(), extra.begin(), extra.end());
+      const std::vector<double> shown = Simulate(2000, 29, p, maps, 2.0, backend);
+      return Mean(Geometry(), shown, [](uint32_t x, uint32_t) { return PlaneX(x) > 1.05 && PlaneX(x) < 1.3; });
+    };
+    const double open = right_of_band({});
+    const double walled = right_of_band(
+        {{MOLDTEX_MAP_DIFFUSION_RATE, [](double x, double) { return std::fabs(x - 1.0) < 4.0 / kSize ? 0.f : 1.f; }}});
+    std::printf("  %s: u / U right of the band: %.3g open, %.3g walled\n", Name(backend), open, walled);
+    EXPECT_GT(open, 1e-3);
+    EXPECT_EQ(walled, 0.0);
+  }
+}
+
+// A decay-rate map of m: each cell decays at m r_dec. With a write stimulus s alone and
+// no diffusion, a cell's steady state is known exactly: each step adds
+// a = s U (e^k - 1) (k = r_dec dt) and decays by e^(-k m), so u = a / (e^(k m) - 1):
+// s U where m = 1, s U / (e^k + 1) = 0.4738 s U where m = 2 (float rounding: 1e-4).
+TEST(ParameterMaps, DecayMapSetsEachCellsDecay) {
+  moldtex_continuous_params p = Look();
+  p.diffusion_rate = 0.f;
+  for (Backend backend : Backends()) {
+    const std::vector<double> shown =
+        Simulate(2000, 31, p,
+                 {{MOLDTEX_MAP_DEPOSIT_RATE, [](double, double) { return 0.f; }},
+                  {MOLDTEX_MAP_WRITE_STIMULUS, [](double, double) { return 0.8f; }},
+                  {MOLDTEX_MAP_DECAY_RATE, [](double x, double) { return x < 1.0 ? 1.f : 2.f; }}},
+                 3.0, backend);
+    const double k = double(p.decay_rate) * p.time_step;
+    const double want_right = 0.8 * std::expm1(k) / std::expm1(2 * k);
+    double worst_left = 0, worst_right = 0;
+    for (uint32_t y = 0; y < kSize; ++y)
+      for (uint32_t x = 0; x < kSize; ++x) {
+        const double v = shown[size_t(y) * kSize + x];
+        (PlaneX(x) < 1.0 ? worst_left : worst_right) =
+            std::max(PlaneX(x) < 1.0 ? worst_left : worst_right, std::fabs(v - (PlaneX(x) < 1.0 ? 0.8 : want_right)));
+      }
+    std::printf("  %s: right half: want %.5f U; worst errors %.2g (left), %.2g (right)\n", Name(backend), want_right,
+                worst_left, worst_right);
+    EXPECT_LT(worst_left, 1e-4);
+    EXPECT_LT(worst_right, 1e-4);
+  }
 }
 
 // A deposit map of 2 everywhere doubles the steady state: mean u = 2 U (Eq. 5 with twice
@@ -221,9 +286,9 @@ TEST(ParameterMaps, ReadStimulusDrawsTheNetworkIntoItsShape) {
   std::vector<double> plain, stim;
   for (uint64_t seed : {11, 12}) {
     const std::vector<double> a = Simulate(10000, seed, Look(), {}, 3.0);
-    const std::vector<double> b = Simulate(
-        10000, seed, Look(), {{MOLDTEX_MAP_READ_STIMULUS, [&](double x, double y) { return stroke(x, y) ? 2.f : 0.f; }}},
-        3.0);
+    const std::vector<double> b =
+        Simulate(10000, seed, Look(),
+                 {{MOLDTEX_MAP_READ_STIMULUS, [&](double x, double y) { return stroke(x, y) ? 2.f : 0.f; }}}, 3.0);
     plain.insert(plain.end(), a.begin(), a.end());
     stim.insert(stim.end(), b.begin(), b.end());
   }
@@ -248,10 +313,11 @@ TEST(ParameterMaps, ReadStimulusDrawsTheNetworkIntoItsShape) {
     for (size_t i = 0; i < f.size(); ++i) above[i] = f[i] > 1.0;
     return Mean(g2, above, in);
   };
-  std::printf("  strokes covered: %.3f with the stimulus, %.3f without; u / U there %.2f vs %.2f; "
-              "coverage around %.3f vs %.3f\n",
-              coverage(stim, on), coverage(plain, on), Mean(g2, stim, on), Mean(g2, plain, on), coverage(stim, far),
-              coverage(plain, far));
+  std::printf(
+      "  strokes covered: %.3f with the stimulus, %.3f without; u / U there %.2f vs %.2f; "
+      "coverage around %.3f vs %.3f\n",
+      coverage(stim, on), coverage(plain, on), Mean(g2, stim, on), Mean(g2, plain, on), coverage(stim, far),
+      coverage(plain, far));
   // The H is traced: most of it above U (measured 82%; the strokes' ends and joints are
   // rounded off by the trails' width), where without the stimulus trails cover it only
   // as much as they cross it by chance (measured 40%).
@@ -357,8 +423,8 @@ TEST(ParameterMaps, BadMapsAreRefusedWithAMessage) {
   EXPECT_EQ(moldtex_sim_step(r.sim.get(), 2), MOLDTEX_OK);
 }
 
-// The OpenCL backend reads the same maps: under a move-rate, lifetime/spawn and write
-// map, its pattern has the CPU's mean and gradient length within 5% (the backends agree
+// The OpenCL backend reads the same maps: under move-rate, lifetime/spawn, write,
+// diffusion and decay maps, its pattern has the CPU's mean and gradient length within 5% (the backends agree
 // to about 1% without maps, test_continuous).
 TEST(ParameterMaps, OpenClAgreesWithTheCpu) {
   moldtex_sim_config probe = make_config(8, 8, 1, 1);
@@ -371,7 +437,9 @@ TEST(ParameterMaps, OpenClAgreesWithTheCpu) {
       {MOLDTEX_MAP_MOVE_RATE, [](double x, double) { return x < 1.0 ? 1.f : 1.5f; }},
       {MOLDTEX_MAP_MEAN_LIFETIME, [](double x, double y) { return std::hypot(x - 1, y - 1) < 0.2 ? 0.f : 1.f; }},
       {MOLDTEX_MAP_SPAWN, [](double x, double) { return x < 0.5 ? 1.f : 0.2f; }},
-      {MOLDTEX_MAP_WRITE_STIMULUS, [](double x, double) { return x > 1.6 ? 0.5f : 0.f; }}};
+      {MOLDTEX_MAP_WRITE_STIMULUS, [](double x, double) { return x > 1.6 ? 0.5f : 0.f; }},
+      {MOLDTEX_MAP_DIFFUSION_RATE, [](double, double y) { return float(0.5 + y); }},
+      {MOLDTEX_MAP_DECAY_RATE, [](double x, double y) { return std::hypot(x - 0.5, y - 1.5) < 0.3 ? 3.f : 1.f; }}};
   const std::vector<double> cpu = Simulate(10000, 23, Look(), maps, 2.0, Backend::Cpu);
   const std::vector<double> gpu = Simulate(10000, 23, Look(), maps, 2.0, Backend::OpenCl);
   const TexelGeometry& g = Geometry();

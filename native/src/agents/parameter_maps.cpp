@@ -36,6 +36,38 @@ uint32_t texel_at(const Surface& s, uint32_t t, const float bary[3], uint32_t wi
 
 }  // namespace
 
+std::vector<float> decay_corrections(const std::vector<float>& decay_map, double r_dec_dt) {
+  std::vector<float> f(decay_map.size());
+  for (size_t i = 0; i < f.size(); ++i) f[i] = static_cast<float>(std::exp(-r_dec_dt * (double(decay_map[i]) - 1.0)));
+  return f;
+}
+
+const TexelLaplacian& laplacian_for(const ParameterMaps& maps, const TexelLaplacian& base, MappedLaplacian& cache) {
+  if (maps.diffusion.empty()) return base;
+  if (!cache.lap || cache.source != &maps || cache.version != maps.version) {
+    cache.lap = std::make_unique<TexelLaplacian>(with_diffusion_map(base, maps.diffusion));
+    cache.source = &maps;
+    cache.version = maps.version;
+  }
+  return *cache.lap;
+}
+
+const std::vector<float>& decay_for(const ParameterMaps& maps, double r_dec_dt, MappedLaplacian& cache) {
+  if (maps.decay.empty()) {
+    cache.decay.clear();
+    cache.decay_source = nullptr;
+    return cache.decay;
+  }
+  if (cache.decay.empty() || cache.decay_source != &maps || cache.decay_version != maps.version ||
+      cache.decay_key != r_dec_dt) {
+    cache.decay = decay_corrections(maps.decay, r_dec_dt);
+    cache.decay_source = &maps;
+    cache.decay_version = maps.version;
+    cache.decay_key = r_dec_dt;
+  }
+  return cache.decay;
+}
+
 const char* map_name(uint32_t kind) {
   switch (kind) {
     case MOLDTEX_MAP_MOVE_RATE: return "move rate";
@@ -48,6 +80,8 @@ const char* map_name(uint32_t kind) {
     case MOLDTEX_MAP_SPAWN: return "spawn weight";
     case MOLDTEX_MAP_READ_STIMULUS: return "read stimulus";
     case MOLDTEX_MAP_WRITE_STIMULUS: return "write stimulus";
+    case MOLDTEX_MAP_DIFFUSION_RATE: return "diffusion rate";
+    case MOLDTEX_MAP_DECAY_RATE: return "decay rate";
     default: return "unknown";
   }
 }
@@ -125,6 +159,8 @@ void set_parameter_map(ParameterMaps& m, uint32_t kind, const float* values, con
   const std::vector<float>& dep = m.given[MOLDTEX_MAP_DEPOSIT_RATE];
   m.deposit_max = dep.empty() ? 1.f : std::max(1.f, *std::max_element(dep.begin(), dep.end()));
   m.write = m.given[MOLDTEX_MAP_WRITE_STIMULUS];
+  m.diffusion = m.given[MOLDTEX_MAP_DIFFUSION_RATE];
+  m.decay = m.given[MOLDTEX_MAP_DECAY_RATE];
 }
 
 }  // namespace moldtex

@@ -4,9 +4,11 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "agents/continuous_rules.h"
+#include "domain/texel_laplacian.h"
 #include "domain/texture_domain.h"
 #include "moldtex.h"
 #include "surface/surface.h"
@@ -29,6 +31,8 @@ struct ParameterMaps {
   AliasTable spawn_alias;
   // Write stimulus per texel (empty = none): r_dec * U per second per unit.
   std::vector<float> write;
+  // Per texel multipliers of r_dif and r_dec (empty = none).
+  std::vector<float> diffusion, decay;
   // Bumped by every change, so a backend uploads only what changed.
   uint64_t version = 0;
 
@@ -42,6 +46,26 @@ void validate_map(uint32_t kind, const float* values, size_t count, size_t texel
 // Sets map `kind` (nullptr clears it) and rederives what the backends read.
 void set_parameter_map(ParameterMaps& maps, uint32_t kind, const float* values, const Surface& surface,
                        const TextureDomain& domain);
+
+// Per texel factors that turn a step's global decay e^(-r_dec dt) into the decay map's
+// e^(-r_dec m_i dt): e^(-r_dec dt (m_i - 1)).
+std::vector<float> decay_corrections(const std::vector<float>& decay_map, double r_dec_dt);
+
+// The operator for the maps: `base`, or a copy with the diffusion map's conductances
+// (made when the maps change; `cache` keeps it, keyed by the maps' version).
+struct MappedLaplacian {
+  std::unique_ptr<TexelLaplacian> lap;
+  const void* source = nullptr;
+  uint64_t version = 0;
+  // Decay corrections for `decay_key` (r_dec dt) and the maps' version.
+  std::vector<float> decay;
+  double decay_key = -1;
+  uint64_t decay_version = 0;
+  const void* decay_source = nullptr;
+};
+const TexelLaplacian& laplacian_for(const ParameterMaps& maps, const TexelLaplacian& base, MappedLaplacian& cache);
+// The decay corrections for these maps and r_dec dt (empty without a decay map).
+const std::vector<float>& decay_for(const ParameterMaps& maps, double r_dec_dt, MappedLaplacian& cache);
 
 // The name of map `kind` for messages ("move rate", ...).
 const char* map_name(uint32_t kind);

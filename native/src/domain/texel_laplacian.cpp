@@ -416,6 +416,33 @@ TexelLaplacian build_texel_laplacian(const Surface& s, const TextureDomain& d, T
   return lap;
 }
 
+TexelLaplacian with_diffusion_map(const TexelLaplacian& base, const std::vector<float>& factor) {
+  TexelLaplacian lap;
+  lap.rows = base.rows;
+  lap.start = base.start;
+  lap.col = base.col;
+  lap.area = base.area;
+  lap.reverse = base.reverse;
+  lap.total_area = base.total_area;
+  lap.weight.resize(base.weight.size());
+  lap.rate.resize(base.rows.size());
+  for (size_t r = 0; r < base.rows.size(); ++r) {
+    const float fi = factor[base.rows[r]];
+    double rate = 0;
+    for (uint32_t k = base.start[r]; k < base.start[r + 1]; ++k) {
+      // The same float expression on both sides of a face: symmetric to the bit.
+      const float fj = factor[base.col[k]];
+      lap.weight[k] = base.weight[k] * (0.5f * (std::min(fi, fj) + std::max(fi, fj)));
+      rate += lap.weight[k];
+    }
+    lap.rate[r] = static_cast<float>(rate / lap.area[lap.rows[r]]);
+    lap.max_rate = std::max(lap.max_rate, rate / lap.area[lap.rows[r]]);
+  }
+  lap.sorted_rate = lap.rate;
+  std::sort(lap.sorted_rate.begin(), lap.sorted_rate.end());
+  return lap;
+}
+
 namespace {
 uint32_t substeps_for(double rate, double rdt) {
   const double x = rate * rdt / kForwardLimit;

@@ -66,6 +66,11 @@ struct TexelLaplacian {
 TexelLaplacian build_texel_laplacian(const Surface& surface, const TextureDomain& domain,
                                      ThreadPool& pool);
 
+// The operator with a diffusion-rate map (Eq. 6's per-element R_dif): each face's
+// conductance times the mean of its two cells' factors (per texel, >= 0); still
+// symmetric, so still conservative. Rates and caches are made anew.
+TexelLaplacian with_diffusion_map(const TexelLaplacian& base, const std::vector<float>& factor);
+
 struct PdeStepInfo {
   uint32_t substeps = 0;    // forward Euler sub-steps taken (0 if backward)
   uint32_t iterations = 0;  // conjugate-gradient iterations (0 if forward)

@@ -109,7 +109,8 @@ void CpuBackend::step_continuous(const StepSettings& settings, uint64_t seed, ui
   // 2. Per species: the deposits become concentration (amount / cell area), then the PDE
   //    advances by dt; the gutter shows what lies across each seam (for Blender only).
   const float amount = deposit_unit_amount(p, c.deposit_units);
-  const TexelLaplacian& lap = *laplacian_;
+  const TexelLaplacian& lap = laplacian_for(maps, *laplacian_, mapped_);
+  const std::vector<float>& decay = decay_for(maps, double(p.decay_rate) * p.time_step, mapped_);
   for (uint32_t k = 0; k < species_count_; ++k) {
     float* plane = pheromone_.data() + k * texels;
     int32_t* sums = sums_.data() + k * texels;
@@ -132,6 +133,10 @@ void CpuBackend::step_continuous(const StepSettings& settings, uint64_t seed, ui
     }
     advance_diffusion_decay(lap, plane, pde_scratch_, p.diffusion_rate, p.decay_rate, p.time_step,
                             p.integrator, *pool_);
+    if (!decay.empty())  // the decay map: each cell's own e^(-r_dec m dt)
+      pool_->parallel_for(lap.rows.size(), 4096, [&](size_t begin, size_t end) {
+        for (size_t r = begin; r < end; ++r) plane[lap.rows[r]] *= decay[lap.rows[r]];
+      });
     fill_gutter(d, plane, *pool_);
   }
 }

@@ -7,6 +7,7 @@
 #include "agents/agents.h"
 #include "backends/backend.h"
 #include "agents/continuous_rules.h"
+#include "agents/parameter_maps.h"
 #include "domain/surface_diffusion.h"
 #include "domain/texel_laplacian.h"
 #include "domain/texture_domain.h"
@@ -49,6 +50,7 @@ class CpuBackend final : public Backend {
   // Continuous model (built at its first step): the PDE's operator, the fixed-point
   // deposit sums (one plane per species) and the respawn table.
   std::unique_ptr<TexelLaplacian> laplacian_;
+  MappedLaplacian mapped_;  // with diffusion and decay maps
   std::vector<int32_t> sums_;
   AliasTable alias_;
   std::vector<float> pde_scratch_;

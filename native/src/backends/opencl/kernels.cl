@@ -315,3 +315,12 @@ __kernel void write_stimulus(__global float* u, __global const uint* rows, __glo
   const float a[4] = {amount.x, amount.y, amount.z, amount.w};
   for (uint p = 0; p < planes; ++p) u[p * texels + i] = mtx_write_stimulus(u[p * texels + i], write[i], a[p]);
 }
+
+/* The decay map: every plane's cell i times factor[i]. */
+__kernel void scale_cells(__global float* u, __global const uint* rows, __global const float* factor,
+                          const uint count, const uint texels, const uint planes) {
+  const uint r = get_global_id(0);
+  if (r >= count) return;
+  const uint i = rows[r];
+  for (uint p = 0; p < planes; ++p) u[p * texels + i] *= factor[i];
+}

@@ -68,7 +68,8 @@ struct OpenClBackend::State {
   // conversion and the PDE's forward-Euler sub-step.
   cl_kernel continuous_kernels[2] = {};
   cl_kernel convert_kernel = nullptr, pde_kernel = nullptr, fine_start_kernel = nullptr,
-            fine_diffuse_kernel = nullptr, coarse_diffuse_kernel = nullptr, write_kernel = nullptr;
+            fine_diffuse_kernel = nullptr, coarse_diffuse_kernel = nullptr, write_kernel = nullptr,
+            scale_kernel = nullptr;
   cl_kernel deposit_kernel = nullptr, gutter_kernel = nullptr, diffuse_kernel = nullptr;
   // Surface units (see domain/surface_diffusion.h).
   cl_kernel surface_kernel = nullptr, seam_kernel = nullptr, fine_kernel = nullptr,
@@ -93,7 +94,7 @@ struct OpenClBackend::State {
   // Parameter maps (agent planes, spawn weights and alias table, write stimulus), as of
   // maps_version; 4-byte placeholders where a map is not set.
   cl_mem map_planes = nullptr, spawn_max = nullptr, spawn_prob = nullptr, spawn_index = nullptr,
-         write = nullptr;
+         write = nullptr, decay = nullptr;
   const void* maps_source = nullptr;
   uint64_t maps_version = 0;
   size_t maps_bytes = 0;
@@ -112,7 +113,7 @@ struct OpenClBackend::State {
                      scratch, marks, field, texels_per_unit, texel_triangle, island, seam_texel,
                      seam_neighbour, bias, texel_island, interior_bits, sums, alias_prob, alias_index, rows, row_start, col, weight,
                      area, reverse, is_fine, fine_rows, fine_cur, fine_next, fine_flux, map_planes,
-                     spawn_max, spawn_prob, spawn_index, write})
+                     spawn_max, spawn_prob, spawn_index, write, decay})
       if (m) r.clReleaseMemObject(m);
     release_plan();
     for (cl_kernel k : agent_kernels)
@@ -120,7 +121,7 @@ struct OpenClBackend::State {
     for (cl_kernel k : continuous_kernels)
       if (k) r.clReleaseKernel(k);
     for (cl_kernel k : {convert_kernel, pde_kernel, fine_start_kernel, fine_diffuse_kernel, coarse_diffuse_kernel,
-                        write_kernel})
+                        write_kernel, scale_kernel})
       if (k) r.clReleaseKernel(k);
     for (cl_kernel k : {deposit_kernel, gutter_kernel, diffuse_kernel, surface_kernel, seam_kernel,
                         fine_kernel, scatter_kernel})
@@ -505,6 +506,8 @@ void OpenClBackend::prepare_continuous() {
   check(err, "creating the diffusion kernel");
   s.write_kernel = s.r.clCreateKernel(s.programs[0], "write_stimulus", &err);
   check(err, "creating the write stimulus kernel");
+  s.scale_kernel = s.r.clCreateKernel(s.programs[0], "scale_cells", &err);
+  check(err, "creating the decay map kernel");
   laplacian_ = std::move(lap);
 }
 
@@ -573,15 +576,49 @@ void OpenClBackend::step_continuous(const StepSettings& settings, uint64_t seed,
     s.args(s.write_kernel, s.pheromone, s.rows, s.write, a, cells, texels, planes);
     s.run(s.write_kernel, cells);
   }
-  diffuse_continuous(p);
+  diffuse_continuous(p, maps);
   const cl_uint gutter = static_cast<cl_uint>(d.gutter_texel.size());
   s.args(s.gutter_kernel, s.pheromone, s.gutter_texel, s.gutter_source, gutter, texels, planes);
   s.run(s.gutter_kernel, gutter);
 }
 
-void OpenClBackend::diffuse_continuous(const moldtex_continuous_params& p) {
+void OpenClBackend::diffuse_continuous(const moldtex_continuous_params& p, const ParameterMaps& maps) {
   State& s = *state_;
-  const TexelLaplacian& lap = *laplacian_;
+  const TexelLaplacian& lap = laplacian_for(maps, *laplacian_, mapped_);
+  const void* weights_source = maps.diffusion.empty() ? nullptr : &maps;
+  if (weights_source != weights_source_ || (weights_source && weights_version_ != maps.version)) {
+    // Another diffusion map (or none): its conductances, and the local stepping lists anew.
+    check(s.r.clEnqueueWriteBuffer(s.queue, s.weight, CL_TRUE, 0, lap.weight.size() * 4, lap.weight.data(), 0,
+                                   nullptr, nullptr),
+          "uploading the conductances");
+    s.local_rdt = -1;
+    weights_source_ = weights_source;
+    weights_version_ = maps.version;
+  }
+  const std::vector<float>& decay_map = decay_for(maps, double(p.decay_rate) * p.time_step, mapped_);
+  if (!decay_map.empty() &&
+      (decay_source_ != &maps || decay_version_ != maps.version || decay_key_ != double(p.decay_rate) * p.time_step)) {
+    if (s.decay) s.r.clReleaseMemObject(s.decay);
+    s.decay = nullptr;
+    size_t bytes = 0;
+    s.decay = s.buffer(decay_map.size() * 4, decay_map.data(), bytes);
+    decay_source_ = &maps;
+    decay_version_ = maps.version;
+    decay_key_ = double(p.decay_rate) * p.time_step;
+  }
+  integrate(p, lap);
+  if (!decay_map.empty()) {  // the decay map: each cell's own e^(-r_dec m dt)
+    const cl_uint cells = static_cast<cl_uint>(lap.rows.size());
+    s.args(s.scale_kernel, s.pheromone, s.rows, s.decay, cells, static_cast<cl_uint>(domain_->texel_count()),
+           static_cast<cl_uint>(species_count_));
+    s.run(s.scale_kernel, cells);
+  }
+}
+
+// One step of diffusion and the global decay on the device (host conjugate gradients
+// for backward Euler).
+void OpenClBackend::integrate(const moldtex_continuous_params& p, const TexelLaplacian& lap) {
+  State& s = *state_;
   const uint32_t n = forward_substeps(lap, p.diffusion_rate, p.time_step);
   const bool backward = use_backward_euler(lap, p.diffusion_rate, p.time_step, p.integrator);
   const size_t texels = domain_->texel_count();

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "agents/agents.h"
+#include "agents/parameter_maps.h"
 #include "backends/backend.h"
 #include "backends/opencl/devices.h"
 #include "domain/surface_diffusion.h"
@@ -53,7 +54,8 @@ class OpenClBackend final : public Backend {
   cl_kernel continuous_kernel(bool fields);
   void prepare_continuous();
   // The PDE's step: forward-Euler sub-steps on the device, or backward Euler on the host.
-  void diffuse_continuous(const moldtex_continuous_params& params);
+  void diffuse_continuous(const moldtex_continuous_params& params, const ParameterMaps& maps);
+  void integrate(const moldtex_continuous_params& params, const TexelLaplacian& lap);
 
   struct State;
   std::shared_ptr<const Surface> surface_;
@@ -69,6 +71,13 @@ class OpenClBackend final : public Backend {
   DiffusionPlan plan_;  // the one on the device
   // Continuous model: the PDE's operator (host copy: backward Euler solves on the host).
   std::unique_ptr<TexelLaplacian> laplacian_;
+  MappedLaplacian mapped_;  // with diffusion and decay maps
+  // What the device's weight and decay buffers hold: (maps, version, r_dec dt) or none.
+  const void* weights_source_ = nullptr;
+  uint64_t weights_version_ = 0;
+  const void* decay_source_ = nullptr;
+  uint64_t decay_version_ = 0;
+  double decay_key_ = -1;
   std::vector<float> pde_scratch_;
 };
 
