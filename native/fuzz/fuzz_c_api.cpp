@@ -376,7 +376,11 @@ void fuzz_mesh(Bytes& in) {
     moldtex_sim_stats st;
     moldtex_sim_stats_init(&st);
     check(moldtex_sim_get_stats(sim, &st));
-    if (!std::isfinite(st.coverage) || !std::isfinite(st.presence)) bug("non-finite statistics");
+    if (!std::isfinite(st.coverage) || !std::isfinite(st.presence)) {
+      std::fprintf(stderr, "coverage %g, presence %g, U %g, mean %g\n", st.coverage, st.presence, st.u_metric,
+                   st.mean_concentration);
+      bug("non-finite statistics");
+    }
   }
   moldtex_sim_release(sim);
   moldtex_surface_release(surface);

@@ -1,6 +1,7 @@
 #include "sim.h"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <sstream>
 #include <unistd.h>
@@ -669,8 +670,12 @@ std::vector<float> Simulation::display_field(std::vector<float> field) const {
   for (uint32_t k = 0; k < settings_.species_count; ++k) {
     const double u = k < settings_.u_metric.size() ? settings_.u_metric[k] : 0.0;
     if (!(std::isfinite(u) && u > 0)) continue;
-    const float scale = static_cast<float>(1.0 / u);
-    for (size_t i = 0; i < texels; ++i) field[k * texels + i] *= scale;
+    // In double, clamped: with a U near the float minimum (a deposit rate of 1e-38) the
+    // ratio would overflow a float.
+    const double scale = 1.0 / u;
+    for (size_t i = 0; i < texels; ++i)
+      field[k * texels + i] = static_cast<float>(std::min(double(field[k * texels + i]) * scale,
+                                                          double(std::numeric_limits<float>::max())));
   }
   return field;
 }

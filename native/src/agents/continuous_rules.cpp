@@ -100,7 +100,8 @@ ContinuousStepConstants continuous_constants(const StepSettings& settings, const
     for (uint32_t k = 0; k < settings.species_count; ++k)
       c.attraction[MTX_MAX_SPECIES * s + k] = settings.species[s].attraction[k];
     const double u = s < u_per_species.size() ? u_per_species[s] : 0.0;
-    c.sense_scale[s] = std::isfinite(u) && u > 0 ? static_cast<float>(1.0 / u) : 1.f;
+    // 1 / U, kept within floats (a U of 1e-39 would give inf, and 0 * inf = NaN).
+    c.sense_scale[s] = std::isfinite(u) && u > 0 ? static_cast<float>(std::min(1.0 / u, 1e30)) : 1.f;
   }
   const float angle = p.sensor_angle * std::numbers::pi_v<float> / 180.f;
   c.move_length = p.move_rate * p.time_step;
