@@ -15,6 +15,12 @@ f32 = lambda *v: struct.pack("<%df" % len(v), *v)
 
 # Operation codes (enum Op in fuzz_c_api.cpp).
 RAY, CLOSEST, TRACE, PAINT, CREATE, STEP, ADD, ERASE, UNDO, FOOD, FIELDS, CKPT, RASTER, PARAMS, RESET = range(15)
+SURFACE_MAP = 17  # after SET_CONTINUOUS (15), SET_BIAS (16)
+
+
+def surface_map(which, pattern=(1.0, 0.0, 0.25, 0.0), scalar=1.0, mask=0b0101):
+    """One map tool (0 geodesic, 1 Laplace, 2 diffusion, 3 gradient; +4: count one short)."""
+    return u8(SURFACE_MAP) + u8(which) + f32(*pattern) + f32(scalar) + u8(mask)
 
 
 def point(tri=0, bary=(1 / 3, 1 / 3, 1 / 3)):
@@ -53,6 +59,8 @@ seeds = {
     "quad_udim": quad_mesh(uv_shift=5.0) + create() + u8(STEP) + u8(2) + u8(PAINT) + u8(63) + u8(0) + brush(),
     "byte_mesh": u8(0) + u8(5) + u8(3) + u8(0) + bytes([0, 0, 0, 4, 0, 0, 4, 4, 0, 0, 4, 0, 2, 2, 4]) +
                  bytes([0, 1, 2, 0, 2, 3, 1, 4, 2]) + bytes(range(18)) + create(agents=50) + u8(STEP) + u8(3),
+    "quad_maps": quad_mesh() + surface_map(0) + surface_map(1) + surface_map(2, scalar=0.05) +
+                 surface_map(3) + surface_map(4),
     "checkpoint_intact": u8(1) + u8(0) + u8(0),
     "checkpoint_patched": u8(1) + u8(2) + u16(300) + u8(2) + bytes([0xff, 0xff, 0x7f]) +
                           u16(900) + u8(1) + bytes([0x80]) + u8(0),
