@@ -59,6 +59,9 @@ LABELS = {
     "bias_spawn": "Spawn",
     "bias_direction": "Toward",  # a vector: Blender draws "Toward X", "Y", "Z"
     "bias_source": "Source",
+    # the Map Tools panel (Object.moldtex_map_tools)
+    "time_factor": "Smooth",
+    "gradient_normalize": "Unit",
     "bias_attribute": "Attribute",
     # ("Direction X" is cut at the default width)
     # the Brush panel (scene settings)
