@@ -143,7 +143,12 @@ class PanelTests(unittest.TestCase):
                                  "hunger_rate", "food_radius",
                                  # the Brush panel (scene settings; obstacle target)
                                  "target", "erase", "radius", "strength", "falloff",
-                                 "show_fields"})
+                                 "show_fields",
+                                 # the Map Tools panel (Object.moldtex_map_tools)
+                                 "time_factor", "distance_group", "distance_attribute",
+                                 "blend_group", "blur_radius", "blur_group",
+                                 "gradient_direction", "gradient_normalize",
+                                 "gradient_attribute"})
         self.assertIn(("prop_search", "uv_map"), log)
         self.assertIn(("menu", "MOLDTEX_MT_presets"), log)
         buttons = [name for kind, name in log if kind == "operator"]

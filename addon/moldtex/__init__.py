@@ -17,6 +17,7 @@ Layout (engine never imports bpy; UI never calls ctypes):
   material.py     node setup
   handlers.py     load / depsgraph / undo / save handlers
   ui.py           sidebar panel
+  maps/           surface map tools: geodesic distance, Laplace blend, blur, gradient
 """
 
 bl_info = {
@@ -34,16 +35,17 @@ if "live" in locals():
     import importlib
     # Re-enabling after a reload: free what the old module held, then reload all.
     live.free_all()
-    for _module in (engine, mesh_export, live, properties, image_io, material, bake,
-                    presets, operators, brush, brush_ops, handlers, ui, cli):
+    for _module in (engine, mesh_export, maps.settings, maps.mesh_values, maps.tools, maps,
+                    live, properties, image_io, material, bake, presets, operators, brush,
+                    brush_ops, handlers, ui, cli):
         importlib.reload(_module)
 
 import bpy  # noqa: E402
 
-from . import engine, mesh_export, live, properties, image_io, material  # noqa: E402
+from . import engine, mesh_export, maps, live, properties, image_io, material  # noqa: E402
 from . import bake, presets, operators, brush, brush_ops, handlers, ui, cli  # noqa: E402
 
-_MODULES = (properties, brush, presets, operators, brush_ops, ui, handlers)
+_MODULES = (properties, brush, presets, operators, brush_ops, maps, ui, handlers)
 _cli_commands = []  # handles of bpy.utils.register_cli_command (Blender 4.2+)
 
 

@@ -390,6 +390,17 @@ _SIGNATURES = {
     "moldtex_sim_erase_agents": (_status, [_Sim, _P(Brush), ctypes.c_uint32,
                                            _P(ctypes.c_uint32)]),
     "moldtex_sim_undo_agents": (_status, [_Sim, ctypes.c_uint32]),
+    # surface map tools (Layton et al. §6)
+    "moldtex_surface_geodesic_distance": (_status, [_Surface, ctypes.c_void_p, ctypes.c_size_t,
+                                                    ctypes.c_float, ctypes.c_void_p,
+                                                    ctypes.c_size_t]),
+    "moldtex_surface_laplace_interpolate": (_status, [_Surface, ctypes.c_void_p, ctypes.c_void_p,
+                                                      ctypes.c_size_t, ctypes.c_void_p,
+                                                      ctypes.c_size_t]),
+    "moldtex_surface_diffuse_map": (_status, [_Surface, ctypes.c_void_p, ctypes.c_size_t,
+                                              ctypes.c_float, ctypes.c_void_p, ctypes.c_size_t]),
+    "moldtex_surface_map_gradient": (_status, [_Surface, ctypes.c_void_p, ctypes.c_size_t,
+                                               ctypes.c_void_p, ctypes.c_size_t]),
 }
 
 SEED_RANDOM = 0     # moldtex_seed_shape
@@ -835,6 +846,62 @@ class Surface:
                                           ctypes.byref(changed)),
                "Painting")
         return changed.value
+
+    # ---- surface map tools (Layton et al. §6): per-vertex maps over the FE mesh ----
+
+    def _vertex_map_call(self, values, extra_count):
+        """(input address, input count, output array('f'), output address, count)."""
+        address, count = _buffer_address(values, ("f",), writable=False)
+        out = array.array("f", bytes(4 * max(count, extra_count, 1)))
+        out_address, out_count = _buffer_address(out, ("f",), writable=True)
+        return address, count, out, out_address, out_count
+
+    def geodesic_distance(self, source_weights, time_factor=1.0):
+        """Heat-method geodesic distance (mesh units) from the vertices whose weight is
+        > 0.5 (source_weights: array('f')/numpy float32, one per vertex). Returns
+        array('f') per vertex: 0 at the sources, -1 where no source is reachable."""
+        address, count, out, out_address, out_count = self._vertex_map_call(source_weights, 0)
+        _check(_lib.moldtex_surface_geodesic_distance(self.handle, ctypes.c_void_p(address),
+                                                      count, float(time_factor),
+                                                      ctypes.c_void_p(out_address), out_count),
+               "Measuring geodesic distance")
+        return out
+
+    def laplace_interpolate(self, values, fixed):
+        """Harmonic blend: values where fixed (array('B')/numpy uint8, one per vertex,
+        nonzero = fixed) is set, Laplacian 0 elsewhere. Returns array('f') per vertex."""
+        address, count, out, out_address, out_count = self._vertex_map_call(values, 0)
+        fixed_address, fixed_count = _buffer_address(fixed, ("B",), writable=False)
+        if fixed_count != count:
+            raise EngineError(f"The fixed mask needs one entry per value ({count}), got "
+                              f"{fixed_count}.", ERROR_INVALID_ARGUMENT)
+        _check(_lib.moldtex_surface_laplace_interpolate(self.handle, ctypes.c_void_p(address),
+                                                        ctypes.c_void_p(fixed_address), count,
+                                                        ctypes.c_void_p(out_address), out_count),
+               "Laplace interpolation")
+        return out
+
+    def diffuse_map(self, values, time):
+        """Short-time diffusion (M + time L) x = M values, time in mesh units² (a blur of
+        radius r, the Gaussian's standard deviation, is time = r² / 2). array('f')."""
+        address, count, out, out_address, out_count = self._vertex_map_call(values, 0)
+        _check(_lib.moldtex_surface_diffuse_map(self.handle, ctypes.c_void_p(address), count,
+                                                float(time), ctypes.c_void_p(out_address),
+                                                out_count),
+               "Diffusing a map")
+        return out
+
+    def map_gradient(self, values):
+        """Per-triangle gradient of the per-vertex map: array('f') of triangle_count * 3
+        (set_bias' layout)."""
+        triangles = self.info()["triangle_count"]
+        address, count, out, out_address, out_count = self._vertex_map_call(values, 3 * triangles)
+        del out[3 * triangles:]
+        out_address, out_count = _buffer_address(out, ("f",), writable=True)
+        _check(_lib.moldtex_surface_map_gradient(self.handle, ctypes.c_void_p(address), count,
+                                                 ctypes.c_void_p(out_address), out_count),
+               "Taking a map's gradient")
+        return out
 
     def release(self):
         if self._handle is not None and _lib is not None:

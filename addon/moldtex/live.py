@@ -17,6 +17,7 @@ import time
 import zlib
 
 from . import engine, image_io
+from .maps import mesh_values
 from .mesh_export import (MeshExportError, export_object, export_scale,
                           length_in_mesh_units, read_corner_fields, resolve_uv_map_name,
                           world_to_mesh)
@@ -374,17 +375,34 @@ def bias_vectors(direction, triangle_count):
     return array.array("f", direction) * int(triangle_count)
 
 
-def _push_bias(entry, obj, sim=None):
+def bias_from_settings(obj, triangle_count, depsgraph=None):
+    """(key, vectors) of the bias obj's settings ask for: the Bias Direction on every
+    triangle, or with Bias Source Attribute each face's vector of that Face attribute
+    (maps/mesh_values.py); vectors None = no bias. Raises engine.EngineError."""
+    cont = obj.moldtex.continuous
+    if getattr(cont, "bias_source", 'DIRECTION') == 'ATTRIBUTE':
+        if not (cont.bias_strength > 0.0 or cont.bias_spawn):
+            return (None, triangle_count), None
+        try:
+            vectors = mesh_values.bias_vectors_from_attribute(obj, depsgraph, cont.bias_attribute,
+                                                              triangle_count)
+        except MeshExportError as error:
+            raise engine.EngineError(str(error), engine.ERROR_INVALID_ARGUMENT) from None
+        return (("ATTRIBUTE", zlib.crc32(vectors.tobytes())), triangle_count), vectors
+    direction = bias_direction_in_mesh(obj)
+    return (direction, triangle_count), bias_vectors(direction, triangle_count)
+
+
+def _push_bias(entry, obj, sim=None, depsgraph=None):
     """Gives the simulation the bias vectors of obj's settings when they differ from
     the last ones it got (entry.bias_key). sim: a new simulation, not yet entry's,
     which always gets them; its key is returned for the caller to store."""
     fresh = sim is not None
     sim = sim if fresh else entry.sim
-    direction = bias_direction_in_mesh(obj)
-    key = (direction, sim.triangle_count)
+    key, vectors = bias_from_settings(obj, sim.triangle_count, depsgraph)
     if not fresh and key == entry.bias_key:
         return key
-    sim.set_bias(bias_vectors(direction, sim.triangle_count))
+    sim.set_bias(vectors)
     if not fresh:
         entry.bias_key = key
     return key
@@ -752,7 +770,7 @@ def _build(entry, obj, mesh, depsgraph=None):
     try:
         if continuous is not None:
             _note_u_area(sim, settings, surface_info.get("area"))
-            bias_key = _push_bias(entry, obj, sim)
+            bias_key = _push_bias(entry, obj, sim, depsgraph)
         _push_species(_Holder(sim), settings)
         holder = LiveSim(entry.name)
         holder.sim = sim
@@ -853,6 +871,9 @@ def ensure(obj, depsgraph, rebuild=False):
         entry = LiveSim(obj.name)
     if entry.sim is not None and not rebuild and mesh.signature == entry.signature:
         entry.dirty = False
+        if (sim_model(entry) == engine.MODEL_CONTINUOUS
+                and getattr(settings.continuous, "bias_source", "") == 'ATTRIBUTE'):
+            _push_bias(entry, obj, depsgraph=depsgraph)  # the attribute may have changed
         return entry
     restarted = entry.sim is not None and not rebuild
     if uv_map != settings.uv_map:

@@ -470,6 +470,20 @@ class MoldtexContinuous(bpy.types.PropertyGroup):
                     "object's local axes; projected onto each face (faces it is normal "
                     "to feel no pull)",
         update=_continuous_changed)
+    bias_source: EnumProperty(
+        name="Bias Source", default='DIRECTION',
+        items=(('DIRECTION', "Direction", "One direction for the whole object (Bias "
+                "Direction)"),
+               ('ATTRIBUTE', "Attribute", "A vector per face from a Face vector attribute "
+                "(Map Tools ▸ Gradient to Bias writes one); its length weights the "
+                "strength")),
+        description="Bias Source: where the bias directions come from",
+        update=_continuous_changed)
+    bias_attribute: StringProperty(
+        name="Bias Attribute", default="moldtex_bias",
+        description="Bias Attribute: Face vector attribute holding each face's bias "
+                    "vector in the object's local axes (length 1 = full strength)",
+        update=_continuous_changed)
     # ---- simulation ----
     integrator: EnumProperty(
         name="Integrator", items=INTEGRATOR_ITEMS, default='AUTO',

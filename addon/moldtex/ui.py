@@ -58,6 +58,11 @@ LABELS = {
     "bias_symmetry": "Symmetry",
     "bias_spawn": "Spawn",
     "bias_direction": "Toward",  # a vector: Blender draws "Toward X", "Y", "Z"
+    "bias_source": "Source",
+    # the Map Tools panel (Object.moldtex_map_tools)
+    "time_factor": "Smooth",
+    "gradient_normalize": "Unit",
+    "bias_attribute": "Attribute",
     # ("Direction X" is cut at the default width)
     # the Brush panel (scene settings)
     "target": "Paint",
@@ -414,14 +419,59 @@ class MOLDTEX_PT_continuous_bias(_ContinuousPanel, bpy.types.Panel):
         sub = column.column(align=True)
         sub.active = cont.bias_strength > 0.0 or cont.bias_spawn
         _prop(sub, cont, "bias_symmetry")
-        _prop(sub, cont, "bias_direction")
+        _prop(sub, cont, "bias_source")
+        if cont.bias_source == 'ATTRIBUTE':
+            sub.prop_search(cont, "bias_attribute", context.active_object.data, "attributes",
+                            text=LABELS["bias_attribute"])
+        else:
+            _prop(sub, cont, "bias_direction")
         _prop(column, cont, "bias_spawn")
         if cont.bias_strength <= 0.0 and not cont.bias_spawn:
             _wrapped(layout, "Strength 0: no pull (agents turn only toward pheromone).",
                      icon='INFO')
+        elif cont.bias_source == 'ATTRIBUTE':
+            _wrapped(layout, "Each face's vector (object axes) from the attribute; "
+                             "Map Tools ▸ Gradient to Bias writes one.", icon='INFO')
         else:
             _wrapped(layout, "Direction in the object's axes, along each face.",
                      icon='INFO')
+
+
+class MOLDTEX_PT_map_tools(_SubPanel, bpy.types.Panel):
+    """Surface map tools (maps/tools.py): inputs from Object.moldtex_map_tools."""
+    bl_label = "Map Tools"
+    bl_idname = "MOLDTEX_PT_map_tools"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        obj = context.active_object
+        tools = getattr(obj, "moldtex_map_tools", None)
+        if tools is None:
+            return
+        layout = self.layout
+        groups, attributes = (obj, "vertex_groups"), (obj.data, "attributes")
+
+        def section(title, operator, rows):
+            box = layout.box()
+            box.label(text=title)
+            column = _split(box)
+            for name, search in rows:
+                if search is None:
+                    _prop(column, tools, name)
+                else:
+                    column.prop_search(tools, name, search[0], search[1])
+            box.operator(operator)
+
+        section("Distance from a group", "moldtex.map_distance",
+                (("distance_source", groups), ("time_factor", None),
+                 ("distance_group", None), ("distance_attribute", None)))
+        section("Blend between groups", "moldtex.map_blend",
+                (("blend_low", groups), ("blend_high", groups), ("blend_group", None)))
+        section("Blur a group", "moldtex.map_blur",
+                (("blur_source", groups), ("blur_radius", None), ("blur_group", None)))
+        section("Gradient as bias", "moldtex.map_gradient_bias",
+                (("gradient_source", groups), ("gradient_direction", None),
+                 ("gradient_normalize", None), ("gradient_attribute", None)))
 
 
 class MOLDTEX_PT_setup(_SubPanel, bpy.types.Panel):
@@ -694,7 +744,7 @@ class MOLDTEX_PT_brush(_SubPanel, bpy.types.Panel):
 CLASSES = (MOLDTEX_PT_main, MOLDTEX_PT_agents, MOLDTEX_PT_pheromone,
            MOLDTEX_PT_continuous_agents, MOLDTEX_PT_continuous_pheromone,
            MOLDTEX_PT_continuous_turnover, MOLDTEX_PT_continuous_bias, MOLDTEX_PT_species, MOLDTEX_PT_brush,
-           MOLDTEX_PT_setup, MOLDTEX_PT_bake)
+           MOLDTEX_PT_map_tools, MOLDTEX_PT_setup, MOLDTEX_PT_bake)
 # (Resolution, Agents and Steps per Update are on the main panel; the Simulation
 # sub-panel keeps what is changed rarely: seed, backend, threads, image.)
 

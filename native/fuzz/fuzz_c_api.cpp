@@ -104,7 +104,7 @@ void check_pheromone(moldtex_sim sim, uint32_t width, uint32_t height) {
 enum Op : uint8_t {
   kRayCast, kClosestPoint, kTrace, kPaint, kCreateSim, kStep, kAddAgents, kEraseAgents, kUndo,
   kSetFood, kSetFields, kCheckpoint, kRasterize, kSetParams, kReset, kSetContinuous, kSetBias, kSetMap,
-  kOpCount
+  kSurfaceMap, kOpCount
 };
 
 void fuzz_mesh(Bytes& in) {
@@ -345,6 +345,38 @@ void fuzz_mesh(Bytes& in) {
         std::vector<float> bias(size_t(info.triangle_count) * 3 - (how == 2 && info.triangle_count ? 1 : 0));
         for (size_t i = 0; i < bias.size(); ++i) bias[i] = pattern[i % 6];
         check(moldtex_sim_set_bias(sim, how == 0 ? nullptr : bias.data(), bias.size()));
+        break;
+      }
+      case kSurfaceMap: {
+        // One of the four map tools (issue 12) on values from the bytes: a repeating
+        // pattern of 4 floats (NaN and huge ones get refused), a fixed mask from a byte,
+        // a count that is sometimes one short. Accepted calls must give finite outputs.
+        const uint8_t which = in.u8();
+        float pattern[4];
+        for (float& v : pattern) v = in.f32();
+        const float scalar = in.f32();
+        const uint8_t mask_bits = in.u8();
+        const size_t n = info.vertex_count - ((which & 4) && info.vertex_count ? 1 : 0);
+        std::vector<float> values(n);
+        std::vector<uint8_t> fixed(n);
+        for (size_t i = 0; i < n; ++i) {
+          values[i] = pattern[i % 4];
+          fixed[i] = (mask_bits >> (i % 8)) & 1;
+        }
+        std::vector<float> out(std::max<size_t>(info.vertex_count, 3 * size_t(info.triangle_count)), 0.f);
+        moldtex_status st = MOLDTEX_OK;
+        switch (which % 4) {
+          case 0: st = check(moldtex_surface_geodesic_distance(surface, values.data(), n, scalar, out.data(), out.size())); break;
+          case 1: st = check(moldtex_surface_laplace_interpolate(surface, values.data(), fixed.data(), n, out.data(), out.size())); break;
+          case 2: st = check(moldtex_surface_diffuse_map(surface, values.data(), n, scalar, out.data(), out.size())); break;
+          default: st = check(moldtex_surface_map_gradient(surface, values.data(), n, out.data(), out.size())); break;
+        }
+        if (st == MOLDTEX_OK)
+          for (float v : out)
+            if (!std::isfinite(v)) bug("a surface map tool gave a non-finite value");
+        if (st == MOLDTEX_OK && which % 4 == 0)
+          for (size_t i = 0; i < info.vertex_count; ++i)
+            if (out[i] < 0.f && out[i] != -1.f) bug("a negative geodesic distance other than -1 (unreachable)");
         break;
       }
       case kReset:

@@ -15,7 +15,12 @@ f32 = lambda *v: struct.pack("<%df" % len(v), *v)
 
 # Operation codes (enum Op in fuzz_c_api.cpp).
 (RAY, CLOSEST, TRACE, PAINT, CREATE, STEP, ADD, ERASE, UNDO, FOOD, FIELDS, CKPT, RASTER, PARAMS, RESET,
- CONTINUOUS, BIAS, MAP) = range(18)
+ CONTINUOUS, BIAS, MAP, SURFACE_MAP) = range(19)
+
+
+def surface_map(which, pattern=(1.0, 0.0, 0.25, 0.0), scalar=1.0, mask=0b0101):
+    """One map tool (0 geodesic, 1 Laplace, 2 diffusion, 3 gradient; +4: count one short)."""
+    return u8(SURFACE_MAP) + u8(which) + f32(*pattern) + f32(scalar) + u8(mask)
 
 
 def point(tri=0, bary=(1 / 3, 1 / 3, 1 / 3)):
@@ -63,6 +68,8 @@ seeds = {
     "quad_continuous_maps": quad_mesh() + create(agents=200, model=1) + set_map(0, 0.5, 2.0) +
                             set_map(5, 0.0, 1.0) + set_map(7, 1.0, 0.0) + set_map(8, -1.0, 2.0) +
                             set_map(9, 0.5, -0.5) + u8(STEP) + u8(3) + u8(CKPT) + u8(STEP) + u8(2),
+    "quad_maps": quad_mesh() + surface_map(0) + surface_map(1) + surface_map(2, scalar=0.05) +
+                 surface_map(3) + surface_map(4),
     "checkpoint_intact": u8(1) + u8(0) + u8(0),
     "checkpoint_patched": u8(1) + u8(2) + u16(300) + u8(2) + bytes([0xff, 0xff, 0x7f]) +
                           u16(900) + u8(1) + bytes([0x80]) + u8(0),

@@ -811,3 +811,127 @@ moldtex_status moldtex_sim_undo_agents(moldtex_sim sim, uint32_t batch) {
 }
 
 }  // extern "C"
+
+// ---- surface map tools (Layton et al. §6) -------------------------------------------------
+// Kept in one block at the end of the file (its own includes too) so that it merges
+// cleanly with edits to the simulation calls above.
+#include <cfloat>
+
+#include "maps/heat_geodesic.h"
+#include "maps/laplace_interpolation.h"
+#include "maps/map_diffusion.h"
+#include "maps/surface_fe.h"
+
+namespace {
+
+constexpr double kMaxMapValue = 1e15;
+
+const moldtex::Surface& map_surface(moldtex_surface surface) {
+  require(surface != nullptr, "The surface handle is NULL");
+  return *surface->surface;
+}
+
+// The per-vertex input array: non-NULL, exactly vertex_count entries, each finite and
+// within +-1e15 (what `what` names in messages).
+std::vector<double> read_vertex_values(const moldtex::Surface& s, const float* values, size_t count,
+                                       const char* what) {
+  if (values == nullptr) moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT, std::string("The ") + what + " array is NULL");
+  if (count != s.vertex_count())
+    moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+                  std::string("The ") + what + " array must have one value per vertex (" +
+                      std::to_string(s.vertex_count()) + "), got " + std::to_string(count));
+  std::vector<double> out(count);
+  for (size_t i = 0; i < count; ++i) {
+    if (!std::isfinite(values[i]) || std::fabs(values[i]) > kMaxMapValue)
+      moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+                    std::string("The ") + what + " of vertex " + std::to_string(i) +
+                        " is not a finite number within +-1e15");
+    out[i] = values[i];
+  }
+  return out;
+}
+
+void require_output(const float* out, size_t out_count, size_t need, const char* what) {
+  if (out == nullptr) moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT, std::string("The output ") + what + " array is NULL");
+  if (out_count < need)
+    moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+                  std::string("The output ") + what + " array is too small: it needs " + std::to_string(need) +
+                      " floats, got " + std::to_string(out_count));
+}
+
+// Copies doubles to the caller's floats, refusing values a float cannot hold.
+void write_floats(const std::vector<double>& in, float* out) {
+  for (double v : in)
+    if (!std::isfinite(v) || std::fabs(v) > FLT_MAX)
+      moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+                    "A result does not fit in a float: scale the input values down (or remove sliver "
+                    "triangles from the mesh)");
+  for (size_t i = 0; i < in.size(); ++i) out[i] = static_cast<float>(in[i]);
+}
+
+}  // namespace
+
+extern "C" {
+
+moldtex_status moldtex_surface_geodesic_distance(moldtex_surface surface, const float* source_weights,
+                                                 size_t vertex_count, float time_factor, float* out_distance,
+                                                 size_t out_count) {
+  return guarded([&] {
+    const moldtex::Surface& s = map_surface(surface);
+    const std::vector<double> w = read_vertex_values(s, source_weights, vertex_count, "source weight");
+    require_output(out_distance, out_count, s.vertex_count(), "distance");
+    require(std::isfinite(time_factor) && time_factor > 0.f && time_factor <= 1e6f,
+            "The heat time factor must be a finite number in (0, 1e6] (1 is the usual choice)");
+    std::vector<uint8_t> source(w.size());
+    bool any = false;
+    for (size_t i = 0; i < w.size(); ++i) any |= (source[i] = w[i] > 0.5) != 0;
+    require(any, "No source vertex: the distance is measured from the vertices whose weight is above 0.5");
+    const moldtex::maps::SurfaceFE fe = moldtex::maps::build_surface_fe(s);
+    write_floats(moldtex::maps::heat_geodesic_distance(s, fe, source, time_factor), out_distance);
+  });
+}
+
+moldtex_status moldtex_surface_laplace_interpolate(moldtex_surface surface, const float* values,
+                                                   const uint8_t* fixed, size_t count, float* out,
+                                                   size_t out_count) {
+  return guarded([&] {
+    const moldtex::Surface& s = map_surface(surface);
+    const std::vector<double> v = read_vertex_values(s, values, count, "value");
+    require(fixed != nullptr, "The fixed-vertex mask is NULL");
+    require_output(out, out_count, s.vertex_count(), "value");
+    std::vector<uint8_t> mask(fixed, fixed + count);
+    bool any = false;
+    for (uint8_t& m : mask) any |= (m = m != 0) != 0;
+    require(any, "No fixed vertex: Laplace interpolation blends between the values of fixed vertices");
+    const moldtex::maps::SurfaceFE fe = moldtex::maps::build_surface_fe(s);
+    write_floats(moldtex::maps::laplace_interpolate(fe, v, mask), out);
+  });
+}
+
+moldtex_status moldtex_surface_diffuse_map(moldtex_surface surface, const float* values, size_t count,
+                                           float time, float* out, size_t out_count) {
+  return guarded([&] {
+    const moldtex::Surface& s = map_surface(surface);
+    const std::vector<double> v = read_vertex_values(s, values, count, "value");
+    require_output(out, out_count, s.vertex_count(), "value");
+    require(std::isfinite(time) && time >= 0.f,
+            "The diffusion time must be a finite number >= 0 (mesh units squared)");
+    const moldtex::maps::SurfaceFE fe = moldtex::maps::build_surface_fe(s);
+    write_floats(moldtex::maps::diffuse_map(fe, v, time), out);
+  });
+}
+
+moldtex_status moldtex_surface_map_gradient(moldtex_surface surface, const float* values, size_t count,
+                                            float* out_vectors, size_t out_float_count) {
+  return guarded([&] {
+    const moldtex::Surface& s = map_surface(surface);
+    const std::vector<double> v = read_vertex_values(s, values, count, "value");
+    require_output(out_vectors, out_float_count, 3ull * s.triangle_count(), "gradient");
+    const moldtex::maps::SurfaceFE fe = moldtex::maps::build_surface_fe(s);
+    std::vector<double> g(3ull * s.triangle_count());
+    moldtex::maps::fe_gradient(fe, s, v.data(), g.data());
+    write_floats(g, out_vectors);
+  });
+}
+
+}  // extern "C"
