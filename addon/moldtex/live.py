@@ -953,7 +953,8 @@ def _push_maps(entry, obj, quiet=False):
                 entry.dirty = True
                 return
         values = map_sampling.sample(obj, changed, sim.width, sim.height, mesh, None,
-                                     depsgraph, classes=sim.read_texel_classes())
+                                     depsgraph, classes=sim.read_texel_classes(),
+                                     unchosen_off=True)
         for kind in changed:
             sim.set_map(kind, values[kind])
             entry.map_keys[kind] = wanted[kind]

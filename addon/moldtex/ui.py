@@ -462,9 +462,13 @@ def _draw_map(layout, obj, spec, slot):
     source = _split(box)
     if slot.source == 'IMAGE':
         source.prop(slot, "image", text="Image")
+        missing = slot.image is None
     else:
         source.prop_search(slot, "attribute", obj, "vertex_groups", text="Group",
                            icon='GROUP_VERTEX', **_SUGGESTIONS)
+        missing = not slot.attribute
+    if missing:
+        _wrapped(box, "Off until one is picked; Reset refuses it.", icon='ERROR')
     if spec.role == 'MULTIPLIER':
         row = box.row(align=True)
         row.prop(slot, "at0")

@@ -30,11 +30,15 @@ def _image_key(image):
 
 
 def slot_key(spec, slot):
-    """What the values of one slot depend on (hashable); None for a map that is off."""
+    """What the values of one slot depend on (hashable); None for a map that is off, or
+    on but with no group or image chosen yet (a live simulation runs without it while
+    the user picks one; Reset, a bake and the command line refuse it: sample())."""
     if not slot.enabled:
         return None
     source = slot.source or 'ATTRIBUTE'  # "" for a value this version does not know
     where = slot.attribute if source == 'ATTRIBUTE' else _image_key(slot.image)
+    if not where:
+        return None
     if spec.role == MULTIPLIER:
         transform = (float(slot.at0), float(slot.at1))
     else:
@@ -166,15 +170,18 @@ def _check_spawn(spec, slot, values, classes):
 
 
 def sample(obj, kinds, width, height, mesh=None, surface=None, depsgraph=None,
-           classes=None):
+           classes=None, unchosen_off=False):
     """{kind: array('f') of width*height core values, or None (off)} for the maps
     `kinds` (engine.MAP_*) of obj's settings. mesh / surface / depsgraph: as
     live.fields_from_settings takes them (made here when needed). classes: the
-    simulation's texel classes, if known (the spawn check then looks inside only)."""
+    simulation's texel classes, if known (the spawn check then looks inside only).
+    A map that is on with no group or image chosen raises, or with unchosen_off (a
+    live simulation while the user picks one) counts as off."""
     from .settings import slots
     chosen = [(spec, slot) for spec, slot in slots(obj.moldtex) if spec.kind in kinds]
     result = {spec.kind: None for spec, _slot in chosen}
-    on = [(spec, slot) for spec, slot in chosen if slot.enabled]
+    on = [(spec, slot) for spec, slot in chosen if slot.enabled
+          and not (unchosen_off and slot_key(spec, slot) is None)]
     attribute = [(spec, slot) for spec, slot in on if slot.source != 'IMAGE']
     raw = {}
     if attribute:
