@@ -174,6 +174,27 @@ class MapLiveTests(unittest.TestCase):
         other.attribute = "Left"
         self.assertEqual(entry.maps_error, "")
 
+    def test_undo_brings_back_the_maps_it_restores(self):
+        engine = h.engine()
+        obj = maps_plane()
+        name = obj.name
+        set_map(obj, "deposit_rate", "Right", at1=3.0)
+        entry = h.run(obj, 2)
+        bpy.ops.ed.undo_push(message="deposit x 3")
+        obj.moldtex.maps.deposit_rate.at1 = 5.0
+        obj.moldtex.maps.move_rate.enabled = True  # (no group yet: off)
+        bpy.ops.ed.undo_push(message="deposit x 5")
+        self.assertAlmostEqual(max(entry.sim.get_map(engine.MAP_DEPOSIT_RATE)), 5.0,
+                               places=5)
+        bpy.ops.ed.undo()
+        obj = h.activate(bpy.data.objects[name])  # a new wrapper after undo
+        self.assertEqual(obj.moldtex.maps.deposit_rate.at1, 3.0)
+        self.assertEqual(bpy.ops.moldtex.step(steps=1), {'FINISHED'})
+        entry = h.live().get(name)
+        # The step sent the restored map again (its settings differ from the last sent).
+        self.assertAlmostEqual(max(entry.sim.get_map(engine.MAP_DEPOSIT_RATE)), 3.0,
+                               places=5)
+
     def test_maps_are_for_the_continuous_model_only(self):
         engine = h.engine()
         obj = maps_plane()
