@@ -206,6 +206,18 @@ def busy_scene_states():
             settings.bake_format = 'PNG8' if lifetime else 'EXR_HALF'
             cont.bias_strength = 4.0 if lifetime else 0.0  # the Bias panel's two notes
             yield f"CONTINUOUS/{mode}/lifetime {lifetime}"
+    # The Maps panel with every map on: groups and images, and one with nothing picked
+    # (its note).
+    slots = [getattr(settings.maps, p.identifier) for p in settings.maps.bl_rna.properties
+             if p.identifier not in {"rna_type", "name"}]
+    for index, slot in enumerate(slots):
+        slot.enabled = True
+        slot.source = 'IMAGE' if index % 2 else 'ATTRIBUTE'
+        slot.attribute = "Group" if index else ""
+    yield "CONTINUOUS/maps"
+    for slot in slots:
+        slot.enabled = False
+        slot.attribute = ""
     settings.model = 'MOMAS'
     settings.pattern_scale_mode = 'OBJECT'
     settings.species_count = 1

@@ -51,8 +51,9 @@ CONTINUOUS_NON_DEFAULTS = {
 # panel's angle (°) view of vision_angle.
 DERIVED = {"backend", "vision_angle_ui"}
 # A collection and pointers: test_species.py and test_food.py check that they survive;
-# the continuous group is checked here (CONTINUOUS_NON_DEFAULTS).
-NOT_SCALAR = {"species", "fields_image", "food_collection", "continuous"}
+# the continuous group is checked here (CONTINUOUS_NON_DEFAULTS); the parameter maps
+# by test_maps.py.
+NOT_SCALAR = {"species", "fields_image", "food_collection", "continuous", "maps"}
 
 
 class PersistenceTests(unittest.TestCase):

@@ -17,7 +17,9 @@ Layout (engine never imports bpy; UI never calls ctypes):
   material.py     node setup
   handlers.py     load / depsgraph / undo / save handlers
   ui.py           sidebar panel
-  maps/           surface map tools: geodesic distance, Laplace blend, blur, gradient
+  maps/           parameter maps and stimuli of the continuous model (settings, sampling,
+                  Show operator; registered before properties) and the surface map
+                  tools (geodesic distance, Laplace blend, blur, gradient)
 """
 
 bl_info = {
@@ -35,17 +37,20 @@ if "live" in locals():
     import importlib
     # Re-enabling after a reload: free what the old module held, then reload all.
     live.free_all()
-    for _module in (engine, mesh_export, maps.settings, maps.mesh_values, maps.tools, maps,
-                    live, properties, image_io, material, bake, presets, operators, brush,
+    for _module in (engine, mesh_export, maps.spec, maps.settings, maps.sampling, maps.operators,
+                    maps.tool_settings, maps.mesh_values, maps.tools, maps):
+        importlib.reload(_module)
+    for _module in (live, properties, image_io, material, bake, presets, operators, brush,
                     brush_ops, handlers, ui, cli):
         importlib.reload(_module)
 
 import bpy  # noqa: E402
 
-from . import engine, mesh_export, maps, live, properties, image_io, material  # noqa: E402
+from . import maps  # noqa: E402  (before live and properties, which use it)
+from . import engine, mesh_export, live, properties, image_io, material  # noqa: E402
 from . import bake, presets, operators, brush, brush_ops, handlers, ui, cli  # noqa: E402
 
-_MODULES = (properties, brush, presets, operators, brush_ops, maps, ui, handlers)
+_MODULES = (maps, properties, brush, presets, operators, brush_ops, ui, handlers)
 _cli_commands = []  # handles of bpy.utils.register_cli_command (Blender 4.2+)
 
 

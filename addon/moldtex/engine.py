@@ -353,6 +353,10 @@ _SIGNATURES = {
     "moldtex_sim_get_species_params": (_status, [_Sim, ctypes.c_uint32, _P(SpeciesParams)]),
     "moldtex_sim_set_fields": (_status, [_Sim, ctypes.c_void_p, ctypes.c_size_t]),
     "moldtex_sim_set_bias": (_status, [_Sim, ctypes.c_void_p, ctypes.c_size_t]),
+    "moldtex_sim_set_map": (_status, [_Sim, ctypes.c_uint32, ctypes.c_void_p,
+                                      ctypes.c_size_t]),
+    "moldtex_sim_get_map": (_status, [_Sim, ctypes.c_uint32, ctypes.c_void_p,
+                                      ctypes.c_size_t, _P(ctypes.c_uint32)]),
     "moldtex_sim_set_food": (_status, [_Sim, _P(FoodSource), ctypes.c_uint32]),
     "moldtex_sim_get_food": (_status, [_Sim, _P(FoodSource), ctypes.c_uint32,
                                        _P(ctypes.c_uint32)]),
@@ -402,6 +406,26 @@ _SIGNATURES = {
     "moldtex_surface_map_gradient": (_status, [_Surface, ctypes.c_void_p, ctypes.c_size_t,
                                                ctypes.c_void_p, ctypes.c_size_t]),
 }
+
+# moldtex_map values (moldtex.h): parameter maps and stimuli of the continuous model,
+# Simulation.set_map / get_map. MAP_MOVE_RATE .. MAP_SPAWN multiply their parameter
+# where an agent stands (0 .. MAP_MULTIPLIER_MAX; MEAN_LIFETIME 0 = a sink, SPAWN =
+# where turnover re-spawns agents); the two stimuli are signed, in units of U.
+MAP_MOVE_RATE = 0
+MAP_TURN_RATE = 1
+MAP_SENSOR_DISTANCE = 2
+MAP_SENSOR_ANGLE = 3
+MAP_DEPOSIT_RATE = 4
+MAP_MEAN_LIFETIME = 5
+MAP_ACTIVATION_TIME = 6
+MAP_SPAWN = 7
+MAP_READ_STIMULUS = 8
+MAP_WRITE_STIMULUS = 9
+MAP_DIFFUSION_RATE = 10
+MAP_DECAY_RATE = 11
+MAP_COUNT = 12
+MAP_MULTIPLIER_MAX = 1000.0  # multipliers are in [0, 1000]
+MAP_STIMULUS_MAX = 1e6       # stimuli are within +-1e6
 
 SEED_RANDOM = 0     # moldtex_seed_shape
 SEED_SPAWN_MAP = 1
@@ -1061,6 +1085,36 @@ class Simulation:
                               ERROR_INVALID_ARGUMENT)
         _check(_lib.moldtex_sim_set_bias(self.handle, ctypes.c_void_p(address), count),
                "Setting the bias")
+
+    def set_map(self, kind, values):
+        """Parameter map or stimulus `kind` (MAP_*) of the continuous model: width*height
+        floats (array('f') or numpy float32) in read_rgba's texel order (gutter texels
+        are ignored), multipliers in [0, 1000], stimuli within +-1e6. None clears it.
+        Kept across reset and in checkpoints."""
+        kind = int(kind)
+        if not 0 <= kind < MAP_COUNT:
+            raise EngineError(f"Unknown map {kind} (0 .. {MAP_COUNT - 1}).",
+                              ERROR_INVALID_ARGUMENT)
+        if values is None:
+            _check(_lib.moldtex_sim_set_map(self.handle, kind, None, 0), "Setting a map")
+            return
+        address, count = _buffer_address(values, ("f",), writable=False)
+        expected = self.width * self.height
+        if count != expected:
+            raise EngineError(f"A map needs one float per texel ({expected} for "
+                              f"{self.width} x {self.height}), got {count}.",
+                              ERROR_INVALID_ARGUMENT)
+        _check(_lib.moldtex_sim_set_map(self.handle, kind, ctypes.c_void_p(address), count),
+               "Setting a map")
+
+    def get_map(self, kind):
+        """Map `kind` (MAP_*) as array('f') of width*height floats, or None when unset."""
+        values = array.array("f", bytes(4 * self.width * self.height))
+        address, count = _buffer_address(values, ("f",), writable=True)
+        is_set = ctypes.c_uint32(0)
+        _check(_lib.moldtex_sim_get_map(self.handle, int(kind), ctypes.c_void_p(address),
+                                        count, ctypes.byref(is_set)), "Reading a map")
+        return values if is_set.value else None
 
     def set_food(self, sources):
         """Replaces the food sources: a list of (position (x, y, z), strength, amount)

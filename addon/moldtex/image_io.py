@@ -44,6 +44,23 @@ def read_pixels(image):
     return pixels
 
 
+def resample_nearest(source, source_width, source_height, channels, width, height):
+    """RGBA floats of width × height from `channels`-channel pixels (nearest texel)."""
+    fields = array.array("f", bytes(4 * 4 * width * height))
+    count = min(channels, 4)
+    columns = [min(source_width - 1, int((x + 0.5) * source_width / width))
+               for x in range(width)]
+    for y in range(height):
+        row = min(source_height - 1, int((y + 0.5) * source_height / height))
+        base = row * source_width
+        target = 4 * y * width
+        for x, column in enumerate(columns):
+            start = channels * (base + column)
+            out = target + 4 * x
+            fields[out:out + count] = source[start:start + count]
+    return fields
+
+
 def upload(image, pixels):
     """Copies an RGBA float buffer of exactly the image's size into the image, and
     tells the viewport to draw it afresh."""

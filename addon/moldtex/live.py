@@ -18,6 +18,7 @@ import zlib
 
 from . import engine, image_io
 from .maps import mesh_values
+from .maps import sampling as map_sampling
 from .mesh_export import (MeshExportError, export_object, export_scale,
                           length_in_mesh_units, read_corner_fields, resolve_uv_map_name,
                           world_to_mesh)
@@ -85,6 +86,12 @@ class LiveSim:
         # (direction in mesh coordinates or None, triangle count) of the bias vectors
         # last given to the continuous model's simulation (_push_bias).
         self.bias_key = None
+        # Parameter maps (maps/): {engine.MAP_*: maps.sampling key} of the values last
+        # given to the continuous model's simulation (_push_maps), and the last error
+        # reading them (the Maps panel shows it; "" = none).
+        self.map_keys = {}
+        self.maps_error = ""
+        self.maps_failed = None   # the keys of that error's settings (no retry per step)
         # Live loop pacing (step_for_time): seconds one step took (running mean), the
         # steps per second of wall time while Start runs (what the panel shows), and
         # the time between the end of one update's stepping and the next one's start
@@ -643,21 +650,8 @@ def _fields_from_attributes(settings, width, height, mesh, surface, depsgraph):
             surface.release()
 
 
-def _resample_nearest(source, source_width, source_height, channels, width, height):
-    """RGBA floats of width × height from `channels`-channel pixels (nearest texel)."""
-    fields = array.array("f", bytes(4 * 4 * width * height))
-    count = min(channels, 4)
-    columns = [min(source_width - 1, int((x + 0.5) * source_width / width))
-               for x in range(width)]
-    for y in range(height):
-        row = min(source_height - 1, int((y + 0.5) * source_height / height))
-        base = row * source_width
-        target = 4 * y * width
-        for x, column in enumerate(columns):
-            start = channels * (base + column)
-            out = target + 4 * x
-            fields[out:out + count] = source[start:start + count]
-    return fields
+# (image_io.resample_nearest; the parameter maps resample their images with it too)
+_resample_nearest = image_io.resample_nearest
 
 
 def _check_spawn_map(settings, fields):
@@ -752,6 +746,17 @@ def _build(entry, obj, mesh, depsgraph=None):
         continuous = None
         if config["model"] == engine.MODEL_CONTINUOUS:
             continuous = continuous_params_from_settings(settings, area)
+        map_values, map_keys = {}, {}
+        if continuous is not None:
+            try:
+                map_values = map_sampling.sample(obj, map_sampling.all_kinds(),
+                                                 config["width"], config["height"], mesh,
+                                                 surface, depsgraph)
+            except engine.EngineError as error:
+                entry.maps_error = str(error)  # (the Maps panel shows it too)
+                raise
+            map_keys = map_sampling.keys(settings, config["width"], config["height"],
+                                         mesh.signature)
         sim = engine.Simulation(surface, create_config,
                                 params_from_settings(settings, area, config["model"]),
                                 fields, continuous)
@@ -771,6 +776,9 @@ def _build(entry, obj, mesh, depsgraph=None):
         if continuous is not None:
             _note_u_area(sim, settings, surface_info.get("area"))
             bias_key = _push_bias(entry, obj, sim, depsgraph)
+            for kind, values in map_values.items():
+                if values is not None:
+                    sim.set_map(kind, values)
         _push_species(_Holder(sim), settings)
         holder = LiveSim(entry.name)
         holder.sim = sim
@@ -782,6 +790,9 @@ def _build(entry, obj, mesh, depsgraph=None):
         entry.sim.release()
     entry.sim = sim
     entry.bias_key = bias_key
+    entry.map_keys = map_keys
+    entry.maps_error = ""
+    entry.maps_failed = None
     entry.fields_crc = _crc(fields)
     entry.create_config = create_config
     entry.config = config
@@ -896,6 +907,7 @@ def _push_settings(entry, obj):
     if model == engine.MODEL_CONTINUOUS:
         entry.sim.set_continuous_params(continuous_params_from_settings(settings, area))
         _push_bias(entry, obj)
+        _push_maps(entry, obj, quiet=True)
     _push_species(entry, settings)
 
 
@@ -931,6 +943,61 @@ def push_fields(obj):
                                   depsgraph)
     entry.sim.set_fields(fields)
     entry.fields_crc = _crc(fields)
+
+
+def _push_maps(entry, obj, quiet=False):
+    """Gives the continuous simulation the maps whose settings changed since it last got
+    them (entry.map_keys): a map is read again only when its own slot, the mesh or the
+    size changed (setting a Lifetime or Activation map restarts the agents' clocks).
+    quiet=True (every step): an error becomes entry.maps_error and the notice, and the
+    simulation runs on with the maps it has; else it raises engine.EngineError."""
+    sim = entry.sim
+    settings = obj.moldtex
+    wanted = map_sampling.keys(settings, sim.width, sim.height, entry.signature)
+    changed = [kind for kind, key in wanted.items() if key != entry.map_keys.get(kind)]
+    if not changed or (quiet and wanted == entry.maps_failed):
+        return
+    try:
+        mesh = depsgraph = None
+        if any(wanted[kind] is not None and wanted[kind][3][0] != 'IMAGE'
+               for kind in changed):
+            import bpy
+            depsgraph = bpy.context.evaluated_depsgraph_get()
+            try:
+                mesh = export_object(obj, depsgraph, entry.uv_map)
+            except MeshExportError as error:
+                raise engine.EngineError(str(error),
+                                         engine.ERROR_INVALID_ARGUMENT) from None
+            if mesh.signature != entry.signature:
+                # Not the mesh the simulation runs on: the next step rebuilds on the new
+                # mesh, and reads the maps then.
+                entry.dirty = True
+                return
+        values = map_sampling.sample(obj, changed, sim.width, sim.height, mesh, None,
+                                     depsgraph, classes=sim.read_texel_classes(),
+                                     unchosen_off=True)
+        for kind in changed:
+            sim.set_map(kind, values[kind])
+            entry.map_keys[kind] = wanted[kind]
+        entry.maps_error = ""
+        entry.maps_failed = None
+    except engine.EngineError as error:
+        entry.maps_error = str(error)
+        # Not again every step: only when the settings change again.
+        entry.maps_failed = wanted
+        if not quiet:
+            raise
+        entry.notice = str(error)
+
+
+def push_maps(obj):
+    """Sends the object's parameter maps to its live continuous simulation, if any (only
+    the maps whose settings changed). Raises engine.EngineError in plain words."""
+    entry = _registry.get(obj.name) if obj is not None else None
+    if (entry is None or entry.sim is None or entry.baking
+            or sim_model(entry) != engine.MODEL_CONTINUOUS):
+        return
+    _push_maps(entry, obj)
 
 
 def step(entry, obj, steps):

@@ -241,13 +241,17 @@ _DOMAIN_WORDS = {'POINT': "Vertex", 'CORNER': "Face Corner", 'EDGE': "Edge", 'FA
                  'CURVE': "Spline", 'INSTANCE': "Instance"}
 
 
-def read_corner_fields(obj, depsgraph, mesh, names, labels=("Spawn", "Obstacle", "Attractor")):
+FIELDS_WHERE = "Moldtex ▸ Species & Start ▸ Fields"
+
+
+def read_corner_fields(obj, depsgraph, mesh, names, labels=("Spawn", "Obstacle", "Attractor"),
+                       where=FIELDS_WHERE):
     """Per-corner RGBA (array('f'), 4 floats for each corner of each triangle of `mesh`,
     the MeshArrays export_object made of the same evaluated object): channel k holds the
     values of names[k] ("" = 0), a vertex group (weights, 0 where unassigned) or else a
     mesh attribute (FLOAT, FLOAT_COLOR or BYTE_COLOR on the Vertex or Face Corner domain;
     colours by LUMINANCE), read from the evaluated mesh (after modifiers). Raises
-    MeshExportError with words the user can act on."""
+    MeshExportError with words the user can act on (`where`: the panel that names them)."""
     check_object(obj)
     evaluated = obj.evaluated_get(depsgraph)
     data = evaluated.to_mesh()
@@ -259,7 +263,7 @@ def read_corner_fields(obj, depsgraph, mesh, names, labels=("Spawn", "Obstacle",
         for channel, (label, name) in enumerate(zip(labels, names)):
             if not name:
                 continue
-            values, domain = _named_values(obj, data, name, label)
+            values, domain = _named_values(obj, data, name, label, where)
             # Corner -> vertex (triangles) or corner -> loop (triangle_uvs: loop indices).
             index = mesh.triangles if domain == 'POINT' else mesh.triangle_uvs
             corners[channel::4] = array.array("f", map(values.__getitem__, index))
@@ -268,7 +272,7 @@ def read_corner_fields(obj, depsgraph, mesh, names, labels=("Spawn", "Obstacle",
         evaluated.to_mesh_clear()
 
 
-def _named_values(obj, data, name, label):
+def _named_values(obj, data, name, label, where=FIELDS_WHERE):
     """(array('f') of values, 'POINT' or 'CORNER') of a vertex group or attribute."""
     group = obj.vertex_groups.get(name)
     if group is not None:
@@ -287,7 +291,7 @@ def _named_values(obj, data, name, label):
         raise MeshExportError(
             f"{label}: '{name}' is neither a vertex group of '{obj.name}' nor an attribute "
             f"of its mesh (vertex groups: {groups}; attributes: {attributes}). Fix the name "
-            f"in Moldtex ▸ Species & Start ▸ Fields, or clear it.")
+            f"in {where}, or clear it.")
     domain, kind = attribute.domain, attribute.data_type
     if domain not in ('POINT', 'CORNER'):
         raise MeshExportError(

@@ -18,6 +18,10 @@ Keep U off first and sets it last, and gives a fixed agent count: that model's l
 does not depend on the texture resolution. Its ramp spans u / U from 0 to
 s.continuous.display_range.
 
+Presets neither store nor change the parameter maps (s.maps, maps/): a look is about
+the parameters, while a map names one object's vertex groups and images, which another
+object would not have (applying a look keeps the object's maps as they are).
+
 scaled_agent_count and apply_ramp are methods of the settings (properties.py), so a
 preset never imports this add-on, whose module name differs between installs
 ("moldtex" as a legacy add-on, "bl_ext.<repository>.moldtex" as a 4.2 extension).

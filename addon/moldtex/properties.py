@@ -20,6 +20,7 @@ from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProp
                        FloatVectorProperty, IntProperty, PointerProperty, StringProperty)
 
 from . import engine, live
+from .maps.settings import MoldtexMaps
 
 _RESET_NOTE = " Takes effect on Reset (or Start)"
 MAX_THREADS = 256  # the core refuses more (moldtex_sim_set_params)
@@ -582,6 +583,9 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         description="Model: how the agents and the pheromone behave." + _RESET_NOTE,
         update=_model_changed)
     continuous: PointerProperty(type=MoldtexContinuous)
+    # Parameter maps and stimuli of the continuous model (maps/settings.py; registered
+    # by maps.register() before this class).
+    maps: PointerProperty(type=MoldtexMaps)
     # ---- agents (momas-paper.md Table 1) ----
     movement_speed: FloatProperty(
         name="Movement Speed", default=1.0, min=0.0, max=64.0, soft_min=1.0, soft_max=2.0,

@@ -15,6 +15,7 @@ from . import bake, brush, engine, live, material, presets
 from .mesh_export import (MeshExportError, check_transform, length_in_scene_units,
                           resolve_uv_map_name)
 from .properties import invalid_enum_notes
+from .maps.settings import slots as map_slots
 
 # Short labels shown in the panel: property identifier -> label.
 LABELS = {
@@ -474,6 +475,58 @@ class MOLDTEX_PT_map_tools(_SubPanel, bpy.types.Panel):
                  ("gradient_normalize", None), ("gradient_attribute", None)))
 
 
+class MOLDTEX_PT_continuous_maps(_ContinuousPanel, bpy.types.Panel):
+    """Parameter maps and stimuli (maps/): one line per map, its source and factors
+    when it is on."""
+    bl_label = "Maps"
+    bl_idname = "MOLDTEX_PT_continuous_maps"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        obj = context.active_object
+        layout = self.layout
+        entry = live.get(obj.name)
+        if entry is not None and entry.maps_error:
+            _wrapped(layout, entry.maps_error, icon='ERROR')
+        enabled = 0
+        for spec, slot in map_slots(obj.moldtex):
+            enabled += bool(slot.enabled)
+            _draw_map(layout, obj, spec, slot)
+        if enabled:
+            _wrapped(layout, "Map values 0 to 1; after painting, press Reset.",
+                     icon='INFO')
+        else:
+            _wrapped(layout, "Tick a setting to vary it over the surface by a vertex "
+                             "group, attribute or image.", icon='INFO')
+
+
+def _draw_map(layout, obj, spec, slot):
+    column = layout.column(align=True)
+    row = column.row(align=True)
+    row.prop(slot, "enabled", text=spec.label)
+    if not slot.enabled:
+        return
+    row.prop(slot, "source", text="", icon_only=True, expand=True)
+    row.operator("moldtex.map_show", text="", icon='HIDE_OFF').map = spec.key
+    box = column.box()
+    source = _split(box)
+    if slot.source == 'IMAGE':
+        source.prop(slot, "image", text="Image")
+        missing = slot.image is None
+    else:
+        source.prop_search(slot, "attribute", obj, "vertex_groups", text="Group",
+                           icon='GROUP_VERTEX', **_SUGGESTIONS)
+        missing = not slot.attribute
+    if missing:
+        _wrapped(box, "Off until one is picked; Reset refuses it.", icon='ERROR')
+    if spec.role == 'MULTIPLIER':
+        row = box.row(align=True)
+        row.prop(slot, "at0")
+        row.prop(slot, "at1")
+    else:
+        _split(box).prop(slot, "strength")
+
+
 class MOLDTEX_PT_setup(_SubPanel, bpy.types.Panel):
     bl_label = "Simulation"
     bl_idname = "MOLDTEX_PT_setup"
@@ -745,6 +798,9 @@ CLASSES = (MOLDTEX_PT_main, MOLDTEX_PT_agents, MOLDTEX_PT_pheromone,
            MOLDTEX_PT_continuous_agents, MOLDTEX_PT_continuous_pheromone,
            MOLDTEX_PT_continuous_turnover, MOLDTEX_PT_continuous_bias, MOLDTEX_PT_species, MOLDTEX_PT_brush,
            MOLDTEX_PT_map_tools, MOLDTEX_PT_setup, MOLDTEX_PT_bake)
+# The Maps sub-panel follows Bias (the sidebar shows panels in registration order).
+_at = CLASSES.index(MOLDTEX_PT_continuous_bias) + 1
+CLASSES = CLASSES[:_at] + (MOLDTEX_PT_continuous_maps,) + CLASSES[_at:]
 # (Resolution, Agents and Steps per Update are on the main panel; the Simulation
 # sub-panel keeps what is changed rarely: seed, backend, threads, image.)
 

@@ -1,79 +1,115 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Inputs of the map tools, kept per object (Object.moldtex_map_tools) so the Map Tools
-panel can show them and they are saved with the .blend."""
+"""Settings of the parameter maps (obj.moldtex.maps), saved in the .blend.
+
+One slot per map of maps/spec.py (a PropertyGroup class each, so that each has its own
+defaults and tooltips): whether it is on, where its values come from (a vertex group
+or mesh attribute by name, or an image in the object's UV space), and how a value v
+in [0, 1] becomes what the core takes (At 0 / At 1 for the multipliers, Strength for
+the stimuli). A change is sent to the live simulation at once (live.push_maps); the
+values of a painted group or image are read again on Reset.
+"""
 
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, PointerProperty, StringProperty
 
+from .. import engine
+from .spec import MAPS, MULTIPLIER
 
-class MoldtexMapToolSettings(bpy.types.PropertyGroup):
-    # Geodesic distance
-    distance_source: StringProperty(
-        name="Source", default="",
-        description="Source: vertex group whose vertices (weight above 0.5) the distance is "
-                    "measured from")
-    distance_group: StringProperty(
-        name="Output", default="Moldtex Distance",
-        description="Output: vertex group that receives the distance divided by its "
-                    "largest value (0 at the source, 1 farthest; unreachable parts 1)")
-    distance_attribute: StringProperty(
-        name="Attribute", default="moldtex_distance",
-        description="Attribute: Vertex float attribute that receives the distance in object "
-                    "units (-1 where no source can be reached over the surface)")
-    time_factor: FloatProperty(
-        name="Smoothness", default=1.0, min=0.01, max=1000.0, soft_min=0.1, soft_max=20.0,
-        description="Smoothness (heat time factor): the heat method's time in squared mean "
-                    "edge lengths. 1 is the usual choice; larger values give smoother "
-                    "distances and reach farther on very large meshes")
-    # Laplace interpolation
-    blend_low: StringProperty(
-        name="Value 0", default="",
-        description="Value 0: vertex group of the region that gets 0 (weight above 0.5)")
-    blend_high: StringProperty(
-        name="Value 1", default="",
-        description="Value 1: vertex group of the region that gets 1 (weight above 0.5)")
-    blend_group: StringProperty(
-        name="Output", default="Moldtex Blend",
-        description="Output: vertex group that receives the smoothest blend (harmonic "
-                    "interpolation) from the 0 region to the 1 region")
-    # Blur
-    blur_source: StringProperty(
-        name="Map", default="",
-        description="Map: vertex group to blur over the surface (across UV seams)")
-    blur_radius: FloatProperty(
-        name="Radius", default=0.1, min=0.0, max=1e6, soft_min=0.0, soft_max=2.0,
-        subtype='DISTANCE', precision=3,
-        description="Radius: blur radius in object units (the Gaussian's standard "
-                    "deviation; the heat flows for time radius² / 2)")
-    blur_group: StringProperty(
-        name="Output", default="Moldtex Blur",
-        description="Output: vertex group that receives the blurred map (may be the map "
-                    "itself)")
-    # Gradient to bias
-    gradient_source: StringProperty(
-        name="Map", default="",
-        description="Map: vertex group or Vertex float attribute whose gradient becomes "
-                    "the bias")
-    gradient_attribute: StringProperty(
-        name="Output", default="moldtex_bias",
-        description="Output: Face vector attribute that receives the gradient (the "
-                    "continuous model's Bias reads it with Source Attribute)")
-    gradient_direction: EnumProperty(
-        name="Toward", default='UP',
-        items=(('UP', "Higher", "Agents are pulled toward higher values of the map"),
-               ('DOWN', "Lower", "Agents are pulled toward lower values of the map")),
-        description="Toward: pull agents uphill or downhill on the map")
-    gradient_normalize: BoolProperty(
-        name="Normalize", default=True,
-        description="Normalize: unit vectors on every face (full bias wherever the map "
-                    "slopes); off: lengths follow the slope, the steepest face 1")
+# The numbers are what a .blend stores.
+SOURCE_ITEMS = [
+    ("ATTRIBUTE", "Attribute", "A vertex group, or a Float or Color attribute (per vertex "
+                               "or face corner; a colour counts by its brightness) of the "
+                               "mesh after its modifiers", 'GROUP_VERTEX', 0),
+    ("IMAGE", "Image", "An image painted in the object's UV space (its brightness)",
+     'IMAGE_DATA', 1),
+]
+
+
+def _maps_changed(self, context):
+    obj = self.id_data
+    if not isinstance(obj, bpy.types.Object):
+        return
+    from .. import live
+    from ..properties import _push  # (properties imports this module)
+    _push(obj, live.push_maps)
+
+
+def _slot_class(spec):
+    """The PropertyGroup of one map (its own class: its own defaults and tooltips)."""
+    long = f"{spec.name} map"
+    annotations = {
+        "enabled": BoolProperty(
+            name=spec.label, default=False,
+            description=f"{long}: {spec.meaning}. Applied when changed and on Reset",
+            update=_maps_changed),
+        "source": EnumProperty(
+            name="Source", items=SOURCE_ITEMS, default='ATTRIBUTE',
+            description=f"{long} source: where its values (0 to 1) come from",
+            update=_maps_changed),
+        "attribute": StringProperty(
+            name="Group", default="",
+            description=f"{long} group: the vertex group, or Float or Color attribute, "
+                        f"whose value (0 to 1, clamped) is the map. Read after modifiers; "
+                        f"after painting it, press Reset",
+            update=_maps_changed),
+        "image": PointerProperty(
+            name="Image", type=bpy.types.Image,
+            description=f"{long} image: an image in the object's UV space whose "
+                        f"brightness (0 to 1, clamped) is the map. After painting it, "
+                        f"press Reset",
+            update=_maps_changed),
+    }
+    if spec.role == MULTIPLIER:
+        limit = engine.MAP_MULTIPLIER_MAX
+        annotations["at0"] = FloatProperty(
+            name="At 0", default=spec.at0, min=0.0, max=limit, soft_max=10.0,
+            description=f"{long} at 0: the factor on {spec.name} where the map is 0 "
+                        f"(1 = unchanged; 0 to 1000). Between 0 and 1 the factor blends "
+                        f"to At 1",
+            update=_maps_changed)
+        annotations["at1"] = FloatProperty(
+            name="At 1", default=spec.at1, min=0.0, max=limit, soft_max=10.0,
+            description=f"{long} at 1: the factor on {spec.name} where the map is 1 "
+                        f"(1 = unchanged, 2 = double; 0 to 1000)",
+            update=_maps_changed)
+    else:
+        limit = engine.MAP_STIMULUS_MAX
+        annotations["strength"] = FloatProperty(
+            name="Strength", default=spec.strength, min=-limit, max=limit,
+            soft_min=-10.0, soft_max=10.0,
+            description=f"{long} strength: the stimulus where the map is 1, in units of "
+                        f"U (1 = the uniform steady state); negative repels. Where the "
+                        f"map is v it is Strength × v",
+            update=_maps_changed)
+    name = "MoldtexMap" + "".join(part.title() for part in spec.key.split("_"))
+    return type(name, (bpy.types.PropertyGroup,), {
+        "__annotations__": annotations, "__doc__": f"{long} of the continuous model"})
+
+
+SLOT_CLASSES = tuple(_slot_class(spec) for spec in MAPS)
+
+
+class MoldtexMaps(bpy.types.PropertyGroup):
+    """Parameter maps and stimuli of the continuous model (layton-intrinsic-slime.md
+    §3.3): one slot per map of maps/spec.py, under its key."""
+    __annotations__ = {spec.key: PointerProperty(type=cls)
+                       for spec, cls in zip(MAPS, SLOT_CLASSES)}
+
+
+def slots(settings):
+    """[(spec, slot)] of obj.moldtex's maps, in MAPS' order."""
+    maps = settings.maps
+    return [(spec, getattr(maps, spec.key)) for spec in MAPS]
+
+
+CLASSES = SLOT_CLASSES + (MoldtexMaps,)
 
 
 def register():
-    bpy.utils.register_class(MoldtexMapToolSettings)
-    bpy.types.Object.moldtex_map_tools = PointerProperty(type=MoldtexMapToolSettings)
+    for cls in CLASSES:
+        bpy.utils.register_class(cls)
 
 
 def unregister():
-    del bpy.types.Object.moldtex_map_tools
-    bpy.utils.unregister_class(MoldtexMapToolSettings)
+    for cls in reversed(CLASSES):
+        bpy.utils.unregister_class(cls)
