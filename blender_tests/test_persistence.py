@@ -45,7 +45,7 @@ CONTINUOUS_NON_DEFAULTS = {
     "mean_lifetime": 0.75, "activation_time": 1.5, "integrator": "BACKWARD",
     "display_range": 2.25, "keep_u": True, "target_u": 123.5, "surface_area": 7.25,
     "bias_strength": 2.5, "bias_symmetry": 4, "bias_direction": (0.25, -0.5, 0.75),
-    "bias_spawn": True,
+    "bias_spawn": True, "bias_source": 'ATTRIBUTE', "bias_attribute": "my_bias",
 }
 # Not stored: shown by get/set from backend_type and the opencl_* properties, and the
 # panel's angle (°) view of vision_angle.
@@ -74,6 +74,8 @@ class PersistenceTests(unittest.TestCase):
         self.assertEqual(sorted(names), sorted(NON_DEFAULTS))
         for key in ("spawn_attribute", "obstacle_attribute", "attractor_attribute"):
             obj.vertex_groups.new(name=NON_DEFAULTS[key])  # empty: fields of zeros
+        # The bias attribute the continuous settings name (zeros: no pull).
+        obj.data.attributes.new(CONTINUOUS_NON_DEFAULTS["bias_attribute"], 'FLOAT_VECTOR', 'FACE')
         for key, value in NON_DEFAULTS.items():
             self.assertNotEqual(getattr(settings, key), value, f"{key} default")
             setattr(settings, key, value)
