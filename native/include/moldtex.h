@@ -303,7 +303,15 @@ typedef struct moldtex_continuous_params {
   uint32_t bias_spawn;    /* 1: agents (re)spawned by turnover face one of the n bias
                              directions of their triangle (Fig. 8), where it has one;
                              0 (default): a uniform heading */
+  /* Added with the parameter maps; older callers get the default. */
+  uint32_t boundary;      /* a moldtex_boundary: what an agent does at an open edge */
 } moldtex_continuous_params;
+
+typedef enum moldtex_boundary {
+  MOLDTEX_BOUNDARY_REFLECT = 0, /* turns back into the surface (default) */
+  MOLDTEX_BOUNDARY_ABSORB = 1   /* dies there and is reborn (a sink along the mesh's open
+                                   edges, Fig. 18), even with no turnover elsewhere */
+} moldtex_boundary;
 
 typedef enum moldtex_integrator {
   MOLDTEX_INTEGRATOR_AUTO = 0,     /* forward Euler while it needs at most 64 sub-steps per

@@ -193,6 +193,8 @@ void validate_continuous_params(const moldtex_continuous_params& p) {
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "bias_spawn must be 0 (uniform headings) or 1 (along the bias)");
   if (p.bias_symmetry < 1 || p.bias_symmetry > 6)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The bias symmetry must be between 1 and 6 (copies of the direction)");
+  if (p.boundary > MOLDTEX_BOUNDARY_ABSORB)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Unknown boundary mode: use 0 (reflect) or 1 (absorb)");
   if (p.integrator > MOLDTEX_INTEGRATOR_BACKWARD)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
          "Unknown integrator: use 0 (auto), 1 (forward Euler) or 2 (backward Euler)");

@@ -352,6 +352,146 @@ TEST(ParameterMaps, MoveRateMapGivesEachHalfItsOwnScale) {
   EXPECT_NEAR(measured, predicted, 0.05);
 }
 
+// Absorbing boundaries (Fig. 18): an agent that meets the plane's open edge dies there and
+// is reborn. Agents outside a central square move 3 units a step (every one of them
+// meets the edge), those inside it do not move (move map 0) and the spawn map puts every
+// rebirth inside it. After one step, every agent either stands where it started in the
+// square or lies on the edge; after the second, all are in the square. Reflecting
+// instead, no agent stops on the edge (and some walk into the square).
+TEST(ParameterMaps, AbsorbingBoundariesKillAgentsAtTheEdge) {
+  // Texels 102 .. 153 on both axes (maps are read per texel, so the square's edges lie
+  // on texel edges: 102 * 2 / 256 = 0.796875).
+  auto centre = [](double x, double y) { return std::fabs(x - 1.0) < 0.203125 && std::fabs(y - 1.0) < 0.203125; };
+  for (uint32_t boundary : {MOLDTEX_BOUNDARY_ABSORB, MOLDTEX_BOUNDARY_REFLECT}) {
+    moldtex_continuous_params p = Look();
+    p.mean_lifetime = 0.f;
+    p.move_rate = 3.f / p.time_step;
+    p.boundary = boundary;
+    const uint32_t agents = 4000;
+    MapRun r = Start(agents, 37, p,
+                     {{MOLDTEX_MAP_MOVE_RATE, [&](double x, double y) { return centre(x, y) ? 0.f : 1.f; }},
+                      {MOLDTEX_MAP_SPAWN, [&](double x, double y) { return centre(x, y) ? 1.f : 0.f; }}});
+    ASSERT_TRUE(r.sim);
+    auto census = [&]() {  // (in the square, on the edge, elsewhere)
+      std::array<size_t, 3> n{};
+      for (const moldtex_surface_point& a : read_agents(r.sim.get(), agents)) {
+        const Vec3 q = evaluate_position(r.surface.get(), a);
+        const double edge = std::min(std::min(q[0], 2.0 - q[0]), std::min(q[1], 2.0 - q[1]));
+        ++n[centre(q[0], q[1]) ? 0 : edge < 1e-4 ? 1 : 2];
+      }
+      return n;
+    };
+    const std::array<size_t, 3> start = census();
+    ASSERT_EQ(moldtex_sim_step(r.sim.get(), 1), MOLDTEX_OK) << LastError();
+    const std::array<size_t, 3> one = census();
+    ASSERT_EQ(moldtex_sim_step(r.sim.get(), 1), MOLDTEX_OK) << LastError();
+    const std::array<size_t, 3> two = census();
+    std::printf(
+        "  %s: start %zu in the square; after one step %zu / %zu on the edge / %zu elsewhere; after two "
+        "%zu in the square\n",
+        boundary == MOLDTEX_BOUNDARY_ABSORB ? "absorb" : "reflect", start[0], one[0], one[1], one[2], two[0]);
+    EXPECT_GT(start[0], 100u);  // the square is 4% of the plane
+    if (boundary == MOLDTEX_BOUNDARY_ABSORB) {
+      EXPECT_EQ(one[0], start[0]);
+      EXPECT_EQ(one[1], agents - start[0]);
+      EXPECT_EQ(two[0], size_t(agents));
+    } else {
+      EXPECT_LT(one[1], 10u);
+      EXPECT_LT(two[0], start[0] + 400);  // only those walking into the square by chance
+    }
+  }
+}
+
+// Holes of a thresholded pattern: connected regions (4-neighbour) of texels with
+// u <= level inside the disc of radius `radius` around the plane's centre that reach
+// neither the disc's rim nor the sink at the centre (radius `sink`): enclosed cells.
+size_t EnclosedCells(const std::vector<double>& shown, double level, double radius, double sink) {
+  std::vector<int> label(shown.size(), 0);
+  auto inside = [&](uint32_t x, uint32_t y) { return std::hypot(PlaneX(x) - 1.0, PlaneX(y) - 1.0) < radius; };
+  size_t holes = 0;
+  std::vector<size_t> stack;
+  for (uint32_t y0 = 0; y0 < kSize; ++y0)
+    for (uint32_t x0 = 0; x0 < kSize; ++x0) {
+      const size_t i0 = size_t(y0) * kSize + x0;
+      if (label[i0] || !inside(x0, y0) || shown[i0] > level) continue;
+      bool open = false;
+      size_t area = 0;
+      label[i0] = 1;
+      stack.assign(1, i0);
+      while (!stack.empty()) {
+        const size_t i = stack.back();
+        stack.pop_back();
+        ++area;
+        const uint32_t x = uint32_t(i % kSize), y = uint32_t(i / kSize);
+        if (std::hypot(PlaneX(x) - 1.0, PlaneX(y) - 1.0) < sink) open = true;
+        const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
+        for (int d = 0; d < 4; ++d) {
+          const int nx = int(x) + dx[d], ny = int(y) + dy[d];
+          if (nx < 0 || ny < 0 || nx >= int(kSize) || ny >= int(kSize) || !inside(nx, ny)) {
+            open = true;
+            continue;
+          }
+          const size_t j = size_t(ny) * kSize + nx;
+          if (label[j] || shown[j] > level) continue;
+          label[j] = 1;
+          stack.push_back(j);
+        }
+      }
+      holes += !open && area >= 4;  // (specks of a few texels are noise, not cells)
+    }
+  return holes;
+}
+
+// Fig. 8: agents born on the rim of a disc (spawn map on its outer band), facing and
+// pulled toward a sink at its centre (lifetime map 0; also beyond the rim, the disc's
+// outside), lay a branching pattern: trails merge on their way in, like veins, and
+// enclose almost no cells. The same run without the bias makes a network of closed
+// cells. Cells are counted on the thresholded pattern (above its mean over the disc),
+// for two seeds. The look is the default one at half its lengths (sensor distance, move
+// rate, and diffusion by the square), so the disc holds several cells; bias 30 / s turns
+// an agent toward the centre within a few hundredths of a second.
+TEST(ParameterMaps, BiasTowardASinkBranches) {
+  const Mesh& m = Plane();
+  std::vector<float> inward(3 * size_t(m.triangle_count()));  // unit, toward the centre
+  for (uint32_t t = 0; t < m.triangle_count(); ++t) {
+    const Vec3 c = scale(add(add(m.corner(t, 0), m.corner(t, 1)), m.corner(t, 2)), 1.0 / 3);
+    const double l = std::max(1e-9, std::hypot(1.0 - c[0], 1.0 - c[1]));
+    inward[3 * t] = float((1.0 - c[0]) / l);
+    inward[3 * t + 1] = float((1.0 - c[1]) / l);
+  }
+  auto radius = [](double x, double y) { return std::hypot(x - 1.0, y - 1.0); };
+  const std::vector<std::pair<uint32_t, MapOf>> maps = {
+      {MOLDTEX_MAP_MEAN_LIFETIME,
+       [&](double x, double y) { return radius(x, y) < 0.08 || radius(x, y) > 0.98 ? 0.f : 1.f; }},
+      {MOLDTEX_MAP_SPAWN, [&](double x, double y) { return radius(x, y) > 0.6 && radius(x, y) < 0.95 ? 1.f : 0.f; }}};
+  size_t holes[2] = {0, 0};
+  for (uint64_t seed : {41, 42})
+    for (int biased = 0; biased < 2; ++biased) {
+      moldtex_continuous_params p = Look();
+      p.sensor_distance *= 0.5f;
+      p.move_rate *= 0.5f;
+      p.diffusion_rate *= 0.25f;
+      p.bias_strength = biased ? 30.f : 0.f;
+      p.bias_spawn = biased ? 1u : 0u;
+      MapRun r = Start(20000, seed, p, maps);
+      ASSERT_TRUE(r.sim);
+      ASSERT_EQ(moldtex_sim_set_bias(r.sim.get(), inward.data(), inward.size()), MOLDTEX_OK) << LastError();
+      ASSERT_EQ(moldtex_sim_step(r.sim.get(), 360), MOLDTEX_OK) << LastError();
+      if (const char* dump = std::getenv("MOLDTEX_TEST_DUMP"))
+        moldtex_sim_write_image(
+            r.sim.get(), (std::string(dump) + (biased ? "_biased_" : "_free_") + std::to_string(seed) + ".png").c_str(),
+            MOLDTEX_IMAGE_PNG8);
+      // Trails: above the mean over the disc (U is the mean over the whole plane, and the
+      // agents live in the disc).
+      const std::vector<double> shown = Shown(r.sim.get());
+      auto disc = [&](uint32_t x, uint32_t y) { return radius(PlaneX(x), PlaneX(y)) < 0.95; };
+      holes[biased] += EnclosedCells(shown, Mean(Geometry(), shown, disc), 0.95, 0.1);
+    }
+  std::printf("  enclosed cells (two seeds): %zu without the bias, %zu with it\n", holes[0], holes[1]);
+  EXPECT_GE(holes[0], 6u);
+  EXPECT_LE(3 * holes[1], holes[0]);
+}
+
 // Same seed, same maps: the same bits on 1 and 2 threads.
 TEST(ParameterMaps, DeterministicAcrossThreadCounts) {
   const std::vector<std::pair<uint32_t, MapOf>> maps = {

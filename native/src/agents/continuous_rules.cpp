@@ -127,6 +127,7 @@ ContinuousStepConstants continuous_constants(const StepSettings& settings, const
   c.bias_rate = p.bias_strength;
   c.bias_symmetry = p.bias_symmetry;
   c.bias_spawn = !settings.bias.empty() && p.bias_spawn ? 1u : 0u;
+  c.absorb = p.boundary == MOLDTEX_BOUNDARY_ABSORB ? 1u : 0u;
   for (int k = 0; k < MTX_AGENT_MAPS; ++k) c.map_plane[k] = -1;
   if (settings.maps) {
     for (int k = 0; k < MTX_AGENT_MAPS; ++k) c.map_plane[k] = settings.maps->plane_of[k];

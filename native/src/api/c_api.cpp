@@ -311,6 +311,7 @@ void moldtex_continuous_params_init(moldtex_continuous_params* p) {
   p->bias_strength = 0.f;
   p->bias_symmetry = 1;
   p->bias_spawn = 0;
+  p->boundary = MOLDTEX_BOUNDARY_REFLECT;
 }
 
 void moldtex_species_params_init(moldtex_species_params* p, uint32_t species) {

@@ -41,7 +41,8 @@ MTX_BEGIN_NAMESPACE
 #define MTX_AGENT_MAPS 8
 /* A respawn under a spawn map draws a triangle by area times its sampled weight, then
  * points in it until one is accepted against the triangle's largest weight. */
-#define MTX_MAX_SPAWN_TRIES 16
+#define MTX_MAX_SPAWN_TRIES 64
+#define MTX_SPAWN_TRIES_PER_TRIANGLE 16
 
 /* Per-step constants of the continuous model, derived on the host. 64-bit fields first
  * so C++ and OpenCL C agree on the layout. */
@@ -74,7 +75,7 @@ typedef struct mtx_continuous_constants {
   mtx_u32 bias_spawn;     /* respawns face a bias direction (needs a bias field) */
   mtx_u32 maps_on;        /* some plane of map_plane is >= 0 */
   mtx_i32 map_plane[MTX_AGENT_MAPS]; /* plane of each agent map in `maps`, -1 = none */
-  mtx_u32 padding;
+  mtx_u32 absorb;         /* agents that meet an open boundary die there (Fig. 18) */
 } mtx_continuous_constants;
 
 /* The per-agent clocks of the continuous model. */
@@ -114,23 +115,42 @@ MTX_FN float mtx_map_value(MTX_GLOBAL const float* maps, const mtx_continuous_co
 /* A respawn under a spawn map: the alias table weighs triangles by area times their mean
  * spawn weight; within the drawn triangle a point is kept with probability weight / the
  * triangle's largest weight (spawn_max), else another point of the same triangle is
- * drawn, at most MTX_MAX_SPAWN_TRIES times (then the last point is kept). */
+ * drawn; after MTX_SPAWN_TRIES_PER_TRIANGLE misses (a triangle the map's edge barely
+ * enters) another triangle is drawn, and after MTX_MAX_SPAWN_TRIES the point of highest
+ * weight drawn is kept. */
 MTX_FN void mtx_respawn_weighted(mtx_surface_tables s, MTX_GLOBAL const float* alias_prob,
                                  MTX_GLOBAL const mtx_u32* alias_index, MTX_GLOBAL const float* maps,
                                  MTX_GLOBAL const float* spawn_max, const mtx_continuous_constants* k,
                                  mtx_walker* w, mtx_u64* rng) {
   mtx_respawn(alias_prob, alias_index, k->triangle_count, w, rng);
   if (k->map_plane[MTX_MAP_SPAWN] < 0) return;
-  const float top = spawn_max[w->triangle];
-  if (!(top > 0.0f)) return;
-  for (int tries = 1; tries < MTX_MAX_SPAWN_TRIES; ++tries) {
+  float best_weight = -1.0f, best[3];
+  mtx_u32 best_triangle = w->triangle;
+  for (int tries = 0; tries < MTX_MAX_SPAWN_TRIES; ++tries) {
+    /* Every MTX_SPAWN_TRIES_PER_TRIANGLE misses, another triangle (one the map's edge
+     * barely enters may hold little weight). */
+    if (tries > 0 && tries % MTX_SPAWN_TRIES_PER_TRIANGLE == 0) {
+      const mtx_vec2 heading = w->heading;
+      mtx_respawn(alias_prob, alias_index, k->triangle_count, w, rng);
+      w->heading = heading;
+    } else if (tries > 0) {
+      const float a = sqrt(mtx_rng_float(rng)), b = mtx_rng_float(rng);
+      w->bary[0] = 1.0f - a;
+      w->bary[1] = a * (1.0f - b);
+      w->bary[2] = a * b;
+    }
+    const float top = spawn_max[w->triangle];
+    if (!(top > 0.0f)) return;
     const float here = mtx_map_value(maps, k, MTX_MAP_SPAWN, mtx_walker_texel(s.corner_uvs, w, k->width, k->height));
     if (mtx_rng_float(rng) * top <= here) return;
-    const float a = sqrt(mtx_rng_float(rng)), b = mtx_rng_float(rng);
-    w->bary[0] = 1.0f - a;
-    w->bary[1] = a * (1.0f - b);
-    w->bary[2] = a * b;
+    if (here > best_weight) {
+      best_weight = here;
+      best_triangle = w->triangle;
+      for (int c = 0; c < 3; ++c) best[c] = w->bary[c];
+    }
   }
+  w->triangle = best_triangle;
+  for (int c = 0; c < 3; ++c) w->bary[c] = best[c];
 }
 
 /* -ln X for X uniform in (0, 1]. */
@@ -194,7 +214,8 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
     else
       sink = 1;
   }
-  if (exposure_step > 0.0f || sink) {
+  /* (An agent absorbed by a boundary last step has its threshold at 0.) */
+  if (exposure_step > 0.0f || sink || life->exposure >= life->threshold) {
     life->exposure += exposure_step;
     if (sink || life->exposure >= life->threshold) {
       mtx_u64 rng = mtx_rng_init(k->seed, MTX_RNG_TURNOVER, agent, k->step);
@@ -303,7 +324,12 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
   const mtx_i32 share = deposit_units / pieces, extra = deposit_units - share * pieces;
   for (int i = 0; i < pieces; ++i) {
     const mtx_walker before = *w;
-    mtx_walk(s.frames, s.adjacency, w, piece, 0, 0);
+    if (mtx_walk_until(s.frames, s.adjacency, w, piece, 0, 0, MTX_CAST(int, k->absorb)) < 0) {
+      /* Absorbed by an open boundary: the agent ends here and is reborn next step. */
+      life->exposure = 0.0f;
+      life->threshold = 0.0f;
+      break;
+    }
     if (MTX_FIELDS && k->has_fields) {
       const mtx_u32 texel = mtx_walker_texel(s.corner_uvs, w, k->width, k->height);
       if (field[texel] < MTX_OBSTACLE_THRESHOLD) {

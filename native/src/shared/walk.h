@@ -71,9 +71,11 @@ MTX_FN void mtx_clamp_bary(float* b) {
 
 /* Walks `length` 3D units. If `events` is not null, the walker's state after each edge
  * crossing or bounce is stored there, up to `capacity` of them. Returns the number of
- * crossings and bounces. */
-MTX_FN int mtx_walk(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const mtx_u32* adjacency,
-                    mtx_walker* w, float length, mtx_walker* events, int capacity) {
+ * crossings and bounces. With `stop_at_boundary`, the walk ends where it first meets an
+ * open boundary edge (without bouncing) and returns -1. */
+MTX_FN int mtx_walk_until(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const mtx_u32* adjacency,
+                          mtx_walker* w, float length, mtx_walker* events, int capacity,
+                          int stop_at_boundary) {
   float remaining = length;
   for (int count = 0;; ++count) {
     const mtx_frame f = frames[w->triangle];
@@ -109,6 +111,7 @@ MTX_FN int mtx_walk(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const mtx_u32
     const float along = w->heading.x * e.x + w->heading.y * e.y;
     const float across = fmax(fabs(w->heading.x * -e.y + w->heading.y * e.x), MTX_MIN_CROSSING_SINE);
     const mtx_u32 code = adjacency[3 * w->triangle + MTX_CAST(mtx_u32, exit)];
+    if (code == MTX_NO_NEIGHBOUR && stop_at_boundary) return -1;
     if (code == MTX_NO_NEIGHBOUR) {
       /* Bounce: mirror the heading about the boundary edge. */
       mtx_vec2 h;
@@ -137,6 +140,11 @@ MTX_FN int mtx_walk(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const mtx_u32
     }
     if (events && count < capacity) events[count] = *w;
   }
+}
+
+MTX_FN int mtx_walk(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const mtx_u32* adjacency,
+                    mtx_walker* w, float length, mtx_walker* events, int capacity) {
+  return mtx_walk_until(frames, adjacency, w, length, events, capacity, 0);
 }
 
 MTX_END_NAMESPACE
