@@ -46,6 +46,7 @@ CONTINUOUS_NON_DEFAULTS = {
     "display_range": 2.25, "keep_u": True, "target_u": 123.5, "surface_area": 7.25,
     "bias_strength": 2.5, "bias_symmetry": 4, "bias_direction": (0.25, -0.5, 0.75),
     "bias_spawn": True, "bias_source": 'ATTRIBUTE', "bias_attribute": "my_bias",
+    "boundary": 'ABSORB',
 }
 # Not stored: shown by get/set from backend_type and the opencl_* properties, and the
 # panel's angle (°) view of vision_angle.

@@ -218,6 +218,7 @@ class ContinuousParams(ctypes.Structure):
         ("bias_strength", ctypes.c_float),    # per second, 0 = off
         ("bias_symmetry", ctypes.c_uint32),   # n, 1 .. 6: n-fold symmetric pull
         ("bias_spawn", ctypes.c_uint32),      # 1: turnover respawns face the bias (Fig. 8)
+        ("boundary", ctypes.c_uint32),        # BOUNDARY_*: what agents do at open edges
     ]
 
 
@@ -411,6 +412,10 @@ _SIGNATURES = {
 # Simulation.set_map / get_map. MAP_MOVE_RATE .. MAP_SPAWN multiply their parameter
 # where an agent stands (0 .. MAP_MULTIPLIER_MAX; MEAN_LIFETIME 0 = a sink, SPAWN =
 # where turnover re-spawns agents); the two stimuli are signed, in units of U.
+# moldtex_boundary: what an agent of the continuous model does at the mesh's open edges.
+BOUNDARY_REFLECT = 0  # turns back into the surface
+BOUNDARY_ABSORB = 1   # dies there and is reborn (a sink along the edges, Fig. 18)
+
 MAP_MOVE_RATE = 0
 MAP_TURN_RATE = 1
 MAP_SENSOR_DISTANCE = 2

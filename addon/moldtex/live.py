@@ -353,6 +353,8 @@ def continuous_params_from_settings(settings, area):
         "bias_strength": float(cont.bias_strength),
         "bias_symmetry": int(cont.bias_symmetry),
         "bias_spawn": 1 if cont.bias_spawn else 0,
+        "boundary": (engine.BOUNDARY_ABSORB if enum_value(cont, "boundary") == 'ABSORB'
+                     else engine.BOUNDARY_REFLECT),
     }
 
 

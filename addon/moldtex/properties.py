@@ -288,6 +288,12 @@ MODEL_ITEMS = [
                                  "(1 = the uniform steady state)", 1),
 ]
 
+BOUNDARY_ITEMS = [
+    ("REFLECT", "Reflect", "Agents turn back into the surface", 0),
+    ("ABSORB", "Absorb", "Agents die where they meet the edge and are reborn (a sink "
+                         "along the edges, Fig. 18; the Spawn map says where)", 1),
+]
+
 INTEGRATOR_ITEMS = [
     ("AUTO", "Auto", "Forward Euler while 64 sub-steps per step keep it stable, else "
                      "backward Euler", 0),
@@ -484,6 +490,11 @@ class MoldtexContinuous(bpy.types.PropertyGroup):
         name="Bias Attribute", default="moldtex_bias",
         description="Bias Attribute: Face vector attribute holding each face's bias "
                     "vector in the object's local axes (length 1 = full strength)",
+        update=_continuous_changed)
+    boundary: EnumProperty(
+        name="Open Edges", items=BOUNDARY_ITEMS, default='REFLECT',
+        description="Open Edges: what agents do where the mesh ends (its open boundary "
+                    "edges)",
         update=_continuous_changed)
     # ---- simulation ----
     integrator: EnumProperty(

@@ -60,6 +60,7 @@ LABELS = {
     "bias_spawn": "Spawn",
     "bias_direction": "Toward",  # a vector: Blender draws "Toward X", "Y", "Z"
     "bias_source": "Source",
+    "boundary": "Edges",
     # the Map Tools panel (Object.moldtex_map_tools)
     "time_factor": "Smooth",
     "gradient_normalize": "Unit",
@@ -402,6 +403,7 @@ class MOLDTEX_PT_continuous_turnover(_ContinuousPanel, bpy.types.Panel):
         sub = column.column(align=True)
         sub.active = cont.mean_lifetime > 0.0
         _prop(sub, cont, "activation_time")
+        _prop(column, cont, "boundary")
         if cont.mean_lifetime <= 0.0:
             _wrapped(layout, "Lifetime 0: agents live for ever (no turnover).",
                      icon='INFO')
