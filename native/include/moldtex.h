@@ -800,14 +800,18 @@ typedef struct moldtex_colour_ramp_info {
   uint32_t stop_count;      /* stops written */
   uint32_t sample_count;    /* pixels used */
   uint32_t component_count; /* pieces of the neighbour graph (1 = one connected curve) */
-  /* How well one variable explains the image, 0..1: variance_explained times the
-   * fraction of samples in the largest piece of the neighbour graph. Below ~0.7 (e.g.
-   * two unrelated colour clusters) one ramp does not describe the image well. */
+  /* How well one variable explains the image, 0..1: variance_explained times
+   * continuity. Below ~0.7 (e.g. two unrelated colour clusters) one continuous ramp
+   * does not describe the image well. */
   float explained;
   float variance_explained; /* 1 - mean squared Delta E to the curve / colour variance */
   float eigen_energy;       /* MDS: top eigenvalue / trace of the double-centred matrix */
   float mean_error;         /* mean Delta E of the samples from the fitted curve */
   float ramp_error;         /* largest Delta E of the linear ramp from the curve */
+  /* 1 - (longest edge that had to join separate pieces of the neighbour graph) / (extent
+   * of the 1D coordinate): near 1 for a continuous curve (also a posterised one, whose
+   * many pieces join with short edges), low when the colours jump between groups. */
+  float continuity;
 } moldtex_colour_ramp_info;
 
 MOLDTEX_API void moldtex_colour_ramp_info_init(moldtex_colour_ramp_info* info);

@@ -159,6 +159,28 @@ TEST(ColourRamp, CurveImageGivesTheCurveInOrderDarkestFirst) {
   }
 }
 
+// A posterised image (64 flat levels along the curve, as a 64-column gradient): the
+// neighbour graph falls into many pieces, joined by short edges: still one variable.
+TEST(ColourRamp, PosterisedCurveIsStillExplained) {
+  std::vector<float> pixels(4 * 64 * 64);
+  for (size_t i = 0; i < 64 * 64; ++i) {
+    double c[3];
+    Curve(((i % 64) + 0.5) / 64.0, c);
+    for (int k = 0; k < 3; ++k) pixels[4 * i + k] = static_cast<float>(ToLinear(c[k]));
+    pixels[4 * i + 3] = 1.f;
+  }
+  moldtex_colour_ramp_desc d;
+  moldtex_colour_ramp_desc_init(&d);
+  const Ramp r = RunRamp(pixels, d);
+  ASSERT_EQ(r.status, MOLDTEX_OK) << LastError();
+  std::printf("posterised curve: %u stops, %u pieces, continuity %.3f, explained %.3f\n", r.info.stop_count,
+              r.info.component_count, r.info.continuity, r.info.explained);
+  EXPECT_GT(r.info.component_count, 1u);
+  EXPECT_GT(r.info.explained, 0.8f);
+  EXPECT_LT(NearestU(RampAt(r.stops, 0.0), nullptr), 0.05);
+  EXPECT_GT(NearestU(RampAt(r.stops, 1.0), nullptr), 0.95);
+}
+
 TEST(ColourRamp, ReverseStartsAtTheLighterEnd) {
   const std::vector<float> pixels = CurveImage(50000, 0.02, 2);
   moldtex_colour_ramp_desc d = SrgbDesc();
@@ -197,9 +219,9 @@ TEST(ColourRamp, TwoClustersAreExplainedPoorlyButStillGiveARamp) {
     return d;
   }());
   ASSERT_EQ(r.status, MOLDTEX_OK) << LastError();
-  std::printf("two clusters: %u stops, %u pieces, explained %.3f (variance %.3f, MDS energy %.3f)\n",
+  std::printf("two clusters: %u stops, %u pieces, explained %.3f (variance %.3f, continuity %.3f, MDS energy %.3f)\n",
               r.info.stop_count, r.info.component_count, r.info.explained, r.info.variance_explained,
-              r.info.eigen_energy);
+              r.info.continuity, r.info.eigen_energy);
   EXPECT_GE(r.stops.size(), 2u);
   EXPECT_LE(r.stops.size(), 32u);
   EXPECT_GE(r.info.component_count, 2u);

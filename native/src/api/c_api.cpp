@@ -1029,6 +1029,7 @@ moldtex_status moldtex_colour_ramp_from_pixels(const float* pixels, size_t pixel
       out.eigen_energy = static_cast<float>(r.eigen_energy);
       out.mean_error = static_cast<float>(r.mean_error);
       out.ramp_error = static_cast<float>(r.ramp_error);
+      out.continuity = static_cast<float>(r.continuity);
       const uint32_t size = info->struct_size;
       std::memcpy(info, &out, std::min<size_t>(size, sizeof(out)));
       info->struct_size = std::min<uint32_t>(size, sizeof(out));

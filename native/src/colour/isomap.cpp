@@ -66,8 +66,10 @@ size_t components(const Graph& graph, std::vector<size_t>& label) {
 
 // Joins the pieces: Prim's algorithm over pieces, each step adding the shortest edge
 // from the joined pieces to a point outside them.
-void bridge(Graph& graph, const std::vector<Lab>& p, const std::vector<size_t>& label, size_t count) {
-  if (count <= 1) return;
+// Returns the longest edge added.
+double bridge(Graph& graph, const std::vector<Lab>& p, const std::vector<size_t>& label, size_t count) {
+  double longest = 0.0;
+  if (count <= 1) return longest;
   const size_t n = p.size();
   std::vector<char> joined(count, 0);
   joined[label[0]] = 1;
@@ -90,10 +92,12 @@ void bridge(Graph& graph, const std::vector<Lab>& p, const std::vector<size_t>& 
     for (size_t j = 0; j < n; ++j)
       if (!joined[label[j]] && (j_best == n || best[j] < best[j_best])) j_best = j;
     add_edge(graph, from[j_best], j_best, std::sqrt(best[j_best]));
+    longest = std::max(longest, std::sqrt(best[j_best]));
     const size_t piece = label[j_best];
     joined[piece] = 1;
     relax_piece(piece);
   }
+  return longest;
 }
 
 }  // namespace
@@ -110,7 +114,7 @@ Isomap1D isomap_1d(const std::vector<Lab>& points, size_t k) {
   std::vector<size_t> sizes(out.component_count, 0);
   for (size_t l : label) ++sizes[l];
   out.largest_component = *std::max_element(sizes.begin(), sizes.end());
-  bridge(graph, points, label, out.component_count);
+  out.largest_bridge = bridge(graph, points, label, out.component_count);
 
   // Squared geodesic distances, Dijkstra from every point.
   Eigen::MatrixXd b(n, n);

@@ -15,6 +15,7 @@ struct Isomap1D {
   double eigen_energy = 0;         // eigenvalue / trace of the double-centred matrix
   size_t component_count = 0;      // connected pieces of the k-NN graph before bridging
   size_t largest_component = 0;    // points in the largest piece
+  double largest_bridge = 0;       // longest edge added to join pieces (Delta E), 0 if none
 };
 
 // points: at least 2; k in [1, points.size() - 1]. Pieces of the neighbour graph that

@@ -124,7 +124,7 @@ RampResult colour_ramp_from_pixels(const float* pixels, size_t pixel_count, cons
   if (n < 3 || total < 1e-6) {  // one colour (or nearly): a flat ramp
     knots.assign(2, mean);
     result.component_count = 1;
-    result.explained = result.variance_explained = result.eigen_energy = 1.0;
+    result.explained = result.variance_explained = result.eigen_energy = result.continuity = 1.0;
   } else {
     const Isomap1D iso = isomap_1d(lab, std::min<size_t>(o.neighbour_count, n - 1));
     result.component_count = iso.component_count;
@@ -153,7 +153,12 @@ RampResult colour_ramp_from_pixels(const float* pixels, size_t pixel_count, cons
     residual /= static_cast<double>(n);
     result.mean_error /= static_cast<double>(n);
     result.variance_explained = std::clamp(1.0 - residual / total, 0.0, 1.0);
-    result.explained = result.variance_explained * static_cast<double>(iso.largest_component) / static_cast<double>(n);
+    // A jump: the longest edge that had to join separate pieces of the neighbour graph,
+    // as a share of the whole coordinate's extent (many small pieces, as in a
+    // posterised image, join with short edges and barely count).
+    const double extent = sorted.back() - sorted.front();
+    result.continuity = extent > 0.0 ? std::clamp(1.0 - iso.largest_bridge / extent, 0.0, 1.0) : 1.0;
+    result.explained = result.variance_explained * result.continuity;
   }
   if (o.reverse) std::reverse(knots.begin(), knots.end());
 

@@ -32,8 +32,9 @@ struct RampResult {
   std::vector<RampStop> stops;
   size_t sample_count = 0;
   size_t component_count = 0;
-  double explained = 0;       // variance_explained * largest component / samples
+  double explained = 0;       // variance_explained * continuity
   double variance_explained = 0;
+  double continuity = 0;      // 1 - longest bridge between graph pieces / coordinate extent
   double eigen_energy = 0;
   double mean_error = 0;      // mean Delta E of the samples from the curve
   double ramp_error = 0;      // max Delta E of the ramp from the curve
