@@ -123,6 +123,18 @@ class ColourMapTests(unittest.TestCase):
         self.assertGreaterEqual(len(elements), 2)
         self.assertLessEqual(len(elements), 32)
 
+    def test_colour_map_before_set_up_material_is_kept_for_it(self):
+        h.clear_scene()
+        obj = h.plane(resolution="128")
+        self.assertIsNone(obj.active_material)
+        self.assertEqual(bpy.ops.moldtex.colour_map_from_image(image=curve_image().name),
+                         {'FINISHED'})
+        self.assertIn("Set Up Material will use them", colour_map().last_report[1])
+        self.assertEqual(bpy.ops.moldtex.setup_material(), {'FINISHED'})
+        elements = obj.active_material.node_tree.nodes["Moldtex Ramp"].color_ramp.elements
+        self.assertGreaterEqual(len(elements), 3)
+        self.assertLess(distance_to_curve(tuple(elements[len(elements) // 2].color)), 0.08)
+
     def test_colour_map_refuses_missing_or_empty_images(self):
         with self.assertRaises(RuntimeError) as caught:
             bpy.ops.moldtex.colour_map_from_image(image="No Such Image")

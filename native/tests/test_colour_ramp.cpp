@@ -290,6 +290,54 @@ TEST(ColourRamp, RefusesBadInputsWithMessages) {
       << LastError();
 }
 
+// Small random images and options (as the fuzz target does): every call either refuses
+// with a message or gives 2..max_stops increasing stops with finite colours >= 0.
+TEST(ColourRamp, SmallRandomInputsGiveValidRampsOrMessages) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> value(-0.5f, 3.f);
+  int accepted = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    moldtex_colour_ramp_desc d;
+    moldtex_colour_ramp_desc_init(&d);
+    d.channels = 3 + rng() % 2;
+    d.sample_count = 16 + rng() % 200;
+    d.neighbour_count = 2 + rng() % 20;
+    d.max_stops = 2 + rng() % 31;
+    d.reverse = rng() % 2;
+    d.srgb_encoded = rng() % 2;
+    d.tolerance = 0.1f + static_cast<float>(rng() % 50);
+    d.peak_position = (rng() % 3 == 0) ? static_cast<float>(rng() % 101) / 100.f : -1.f;
+    const size_t count = rng() % 300;
+    const uint32_t distinct = 1 + rng() % 6;  // few distinct colours: duplicates galore
+    std::vector<float> palette(3 * distinct);
+    for (float& v : palette) v = value(rng);
+    std::vector<float> pixels(count * d.channels);
+    for (size_t i = 0; i < count; ++i)
+      for (uint32_t c = 0; c < d.channels; ++c) pixels[i * d.channels + c] = c < 3 ? palette[3 * (rng() % distinct) + c] : 1.f;
+    std::vector<moldtex_colour_stop> stops(32);
+    moldtex_colour_ramp_info info;
+    moldtex_colour_ramp_info_init(&info);
+    const moldtex_status st = moldtex_colour_ramp_from_pixels(pixels.data(), count, &d, stops.data(), 32, &info);
+    if (st != MOLDTEX_OK) {
+      EXPECT_EQ(st, MOLDTEX_ERROR_INVALID_ARGUMENT);
+      EXPECT_STRNE(moldtex_last_error(), "");
+      continue;
+    }
+    ++accepted;
+    ASSERT_GE(info.stop_count, 2u);
+    ASSERT_LE(info.stop_count, d.max_stops);
+    for (uint32_t i = 0; i < info.stop_count; ++i) {
+      EXPECT_GE(stops[i].position, 0.f);
+      EXPECT_LE(stops[i].position, 1.f);
+      if (i > 0) EXPECT_GT(stops[i].position, stops[i - 1].position);
+      for (float c : stops[i].color) EXPECT_TRUE(std::isfinite(c) && c >= 0.f);
+    }
+    EXPECT_GE(info.explained, 0.f);
+    EXPECT_LE(info.explained, 1.f);
+  }
+  EXPECT_GT(accepted, 250);
+}
+
 TEST(ColourRamp, A4KImageTakesAboutASecond) {
   const size_t w = 3840, h = 2160;
   std::vector<float> pixels = CurveImage(w * h, 0.03, 6);
