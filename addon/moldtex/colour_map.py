@@ -80,7 +80,8 @@ variable (Isomap) and places up to 32 stops where their curve bends"""
                           description="Lighter end of the colors at 0 (default: darker end at 0)")
     sample_count: IntProperty(name="Samples", default=1500, min=16, max=4096,
                               description="Pixels used (evenly spread over the image; more "
-                                          "is slower: about quadratic)")
+                                          "is slower, about quadratic: 1500 take ~0.5 s, "
+                                          "4096 ~5 s)")
     use_peak: BoolProperty(name="Peak At", default=False,
                            description="Move the ramp so its most saturated color sits at "
                                        "Position (e.g. rings around spot peaks)")

@@ -771,7 +771,8 @@ MOLDTEX_API moldtex_status moldtex_surface_map_gradient(moldtex_surface surface,
  * stops strays most (in Delta E, CIE76) from the curve, until the largest error is below
  * tolerance or max_stops are placed. Positions are proportional to perceptual distance
  * along the curve. Cost: O(sample_count^2 (neighbour_count + log sample_count)) time and
- * 8 * sample_count^2 bytes; ~0.3 s for 1500 samples plus one pass over the pixels. */
+ * 8 * sample_count^2 bytes: ~0.45 s for 1500 samples, ~5 s for 4096 (one core), plus
+ * one pass over the pixels (~0.05 s for 4K). */
 typedef struct moldtex_colour_ramp_desc {
   uint32_t struct_size;
   uint32_t channels;        /* floats per pixel: 3 (RGB) or 4 (RGBA, alpha ignored); 4 */
