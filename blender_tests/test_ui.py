@@ -153,9 +153,11 @@ class PanelTests(unittest.TestCase):
         self.assertIn(("menu", "MOLDTEX_MT_presets"), log)
         buttons = [name for kind, name in log if kind == "operator"]
         self.assertEqual(buttons[0], "moldtex.preset_add")  # + and - beside the menu
-        # Set Up Material, then Start (the order of the work).
+        # Set Up Material (and its Colour Map from Image), then Start (the order of the
+        # work).
         self.assertEqual(buttons[2], "moldtex.setup_material")
-        self.assertEqual(buttons[3], "Start")
+        self.assertEqual(buttons[3], "moldtex.colour_map_from_image")
+        self.assertEqual(buttons[4], "Start")
         self.assertIn("Bake Sequence", buttons)
         self.assertIn("moldtex.use_baked_sequence", buttons)
         # The bake panel names the files; an unsaved file cannot use the default
@@ -173,7 +175,7 @@ class PanelTests(unittest.TestCase):
         h.run(obj, 3)
         h.live().get(obj.name).running = True  # as the modal Start sets it
         log = draw_all(self, obj)
-        self.assertEqual([n for k, n in log if k == "operator"][3], "Pause")
+        self.assertEqual([n for k, n in log if k == "operator"][4], "Pause")
         text = labels(log)
         self.assertIn("Coverage", text)
         self.assertIn("2,000", text)  # agents

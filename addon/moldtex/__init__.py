@@ -15,6 +15,7 @@ Layout (engine never imports bpy; UI never calls ctypes):
   cli.py          headless bake (blender -P cli.py --, blender --command moldtex bake)
   image_io.py     pheromone image and fast pixel upload
   material.py     node setup
+  colour_map.py   Colour Map from Image (the ramp from an exemplar image, Isomap in the core)
   handlers.py     load / depsgraph / undo / save handlers
   ui.py           sidebar panel
   maps/           parameter maps and stimuli of the continuous model (settings, sampling,
@@ -40,17 +41,19 @@ if "live" in locals():
     for _module in (engine, mesh_export, maps.spec, maps.settings, maps.sampling, maps.operators,
                     maps.tool_settings, maps.mesh_values, maps.tools, maps):
         importlib.reload(_module)
-    for _module in (live, properties, image_io, material, bake, presets, operators, brush,
-                    brush_ops, handlers, ui, cli):
+    for _module in (live, properties, image_io, material, colour_map, bake, presets,
+                    operators, brush, brush_ops, handlers, ui, cli):
         importlib.reload(_module)
 
 import bpy  # noqa: E402
 
 from . import maps  # noqa: E402  (before live and properties, which use it)
 from . import engine, mesh_export, live, properties, image_io, material  # noqa: E402
+from . import colour_map  # noqa: E402
 from . import bake, presets, operators, brush, brush_ops, handlers, ui, cli  # noqa: E402
 
-_MODULES = (maps, properties, brush, presets, operators, brush_ops, ui, handlers)
+_MODULES = (maps, properties, brush, presets, operators, colour_map, brush_ops, ui,
+            handlers)
 _cli_commands = []  # handles of bpy.utils.register_cli_command (Blender 4.2+)
 
 

@@ -288,6 +288,46 @@ class Brush(ctypes.Structure):
     ]
 
 
+class ColourRampDesc(ctypes.Structure):
+    _fields_ = [
+        ("struct_size", ctypes.c_uint32),
+        ("channels", ctypes.c_uint32),
+        ("srgb_encoded", ctypes.c_uint32),
+        ("sample_count", ctypes.c_uint32),
+        ("neighbour_count", ctypes.c_uint32),
+        ("max_stops", ctypes.c_uint32),
+        ("tolerance", ctypes.c_float),
+        ("reverse", ctypes.c_uint32),
+        ("peak_position", ctypes.c_float),
+        ("seed", ctypes.c_uint64),
+    ]
+
+
+class ColourStop(ctypes.Structure):
+    _fields_ = [
+        ("position", ctypes.c_float),
+        ("color", ctypes.c_float * 4),
+    ]
+
+
+class ColourRampInfo(ctypes.Structure):
+    _fields_ = [
+        ("struct_size", ctypes.c_uint32),
+        ("stop_count", ctypes.c_uint32),
+        ("sample_count", ctypes.c_uint32),
+        ("component_count", ctypes.c_uint32),
+        ("explained", ctypes.c_float),
+        ("variance_explained", ctypes.c_float),
+        ("eigen_energy", ctypes.c_float),
+        ("mean_error", ctypes.c_float),
+        ("ramp_error", ctypes.c_float),
+        ("continuity", ctypes.c_float),
+    ]
+
+
+MAX_RAMP_STOPS = 32  # Blender's ColorRamp holds at most 32 elements
+
+
 # moldtex_brush_mode values (moldtex.h)
 BRUSH_PAINT = 0
 BRUSH_ERASE = 1   # paint: target 0
@@ -406,6 +446,12 @@ _SIGNATURES = {
                                               ctypes.c_float, ctypes.c_void_p, ctypes.c_size_t]),
     "moldtex_surface_map_gradient": (_status, [_Surface, ctypes.c_void_p, ctypes.c_size_t,
                                                ctypes.c_void_p, ctypes.c_size_t]),
+    # colour map from an image (Layton et al. §3.4)
+    "moldtex_colour_ramp_desc_init": (None, [_P(ColourRampDesc)]),
+    "moldtex_colour_ramp_info_init": (None, [_P(ColourRampInfo)]),
+    "moldtex_colour_ramp_from_pixels": (_status, [ctypes.c_void_p, ctypes.c_size_t,
+                                                  _P(ColourRampDesc), _P(ColourStop),
+                                                  ctypes.c_uint32, _P(ColourRampInfo)]),
 }
 
 # moldtex_map values (moldtex.h): parameter maps and stimuli of the continuous model,
@@ -452,6 +498,8 @@ _STRUCT_INITS = (
     ("moldtex_opencl_device_info_init", OpenCLDeviceInfo),
     ("moldtex_ray_hit_init", RayHit),
     ("moldtex_brush_init", Brush),
+    ("moldtex_colour_ramp_desc_init", ColourRampDesc),
+    ("moldtex_colour_ramp_info_init", ColourRampInfo),
 )
 
 ADDON_DIR = os.path.dirname(os.path.abspath(__file__))
@@ -1369,3 +1417,39 @@ class Bake:
             self.release()
         except Exception:
             pass
+
+
+# ---- colour map from an image (Layton et al. §3.4) ----------------------------------
+
+def colour_ramp_from_pixels(pixels, channels=4, srgb_encoded=False, sample_count=1500,
+                            max_stops=MAX_RAMP_STOPS, reverse=False, peak_position=-1.0,
+                            tolerance=1.0, neighbour_count=10):
+    """Colour map of an image's pixel colours (moldtex_colour_ramp_from_pixels):
+    pixels is an array('f') (or float32 numpy array) of `channels` (3 or 4) floats per
+    pixel. Returns (stops, info): stops = [(position, (r, g, b, a))] in linear RGB,
+    darker end first unless reverse; info = dict of moldtex_colour_ramp_info (explained:
+    0..1, how well one variable describes the image)."""
+    _require()
+    address, count = _buffer_address(pixels, ("f",), writable=False)
+    desc = ColourRampDesc()
+    _lib.moldtex_colour_ramp_desc_init(ctypes.byref(desc))
+    desc.channels = int(channels)
+    desc.srgb_encoded = 1 if srgb_encoded else 0
+    desc.sample_count = int(sample_count)
+    desc.max_stops = int(max_stops)
+    desc.reverse = 1 if reverse else 0
+    desc.peak_position = float(peak_position)
+    desc.tolerance = float(tolerance)
+    desc.neighbour_count = int(neighbour_count)
+    stops = (ColourStop * MAX_RAMP_STOPS)()
+    info = ColourRampInfo()
+    _lib.moldtex_colour_ramp_info_init(ctypes.byref(info))
+    pixel_count = count // max(1, int(channels))
+    _check(_lib.moldtex_colour_ramp_from_pixels(ctypes.c_void_p(address), pixel_count,
+                                                ctypes.byref(desc), stops, MAX_RAMP_STOPS,
+                                                ctypes.byref(info)),
+           "Extracting a colour map")
+    result = [(float(stops[i].position), tuple(float(c) for c in stops[i].color))
+              for i in range(info.stop_count)]
+    return result, {name: getattr(info, name) for name, _ in ColourRampInfo._fields_
+                    if name != "struct_size"}

@@ -212,6 +212,7 @@ class MOLDTEX_PT_main(bpy.types.Panel):
         running = entry is not None and entry.running
         # In the order of the work: material (Start also sets it up), grow, adjust.
         column.operator("moldtex.setup_material", icon='MATERIAL')
+        column.operator("moldtex.colour_map_from_image", icon='COLOR')
         row = column.row(align=True)
         row.scale_y = 1.4
         row.operator("moldtex.start", text="Pause" if running else "Start",

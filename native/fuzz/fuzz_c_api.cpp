@@ -104,7 +104,7 @@ void check_pheromone(moldtex_sim sim, uint32_t width, uint32_t height) {
 enum Op : uint8_t {
   kRayCast, kClosestPoint, kTrace, kPaint, kCreateSim, kStep, kAddAgents, kEraseAgents, kUndo,
   kSetFood, kSetFields, kCheckpoint, kRasterize, kSetParams, kReset, kSetContinuous, kSetBias, kSetMap,
-  kSurfaceMap, kOpCount
+  kSurfaceMap, kColourRamp, kOpCount
 };
 
 void fuzz_mesh(Bytes& in) {
@@ -377,6 +377,41 @@ void fuzz_mesh(Bytes& in) {
         if (st == MOLDTEX_OK && which % 4 == 0)
           for (size_t i = 0; i < info.vertex_count; ++i)
             if (out[i] < 0.f && out[i] != -1.f) bug("a negative geodesic distance other than -1 (unreachable)");
+        break;
+      }
+      case kColourRamp: {
+        // Colour map from up to 64 pixels of 3 or 4 channels from the bytes (NaN and huge
+        // ones get refused) with options from the bytes; an accepted call gives 2..max_stops
+        // increasing stops in [0, 1] with finite, non-negative colours.
+        const uint8_t shape = in.u8();
+        const uint32_t channels = (shape & 1) ? 4u : 3u;
+        const size_t count = in.u8() % 65;
+        std::vector<float> pixels(count * channels);
+        for (float& v : pixels) v = (shape & 2) ? in.f32() : static_cast<float>(in.u8()) / 200.f;
+        moldtex_colour_ramp_desc d;
+        moldtex_colour_ramp_desc_init(&d);
+        d.channels = (shape & 4) ? in.u8() % 6 : channels;  // sometimes wrong
+        d.srgb_encoded = (shape >> 3) & 1;
+        d.reverse = (shape >> 4) & 1;
+        d.sample_count = 12 + in.u8() % 64;  // (below 16: refused)
+        d.neighbour_count = in.u8() % 70;
+        d.max_stops = in.u8() % 36;
+        d.tolerance = (shape & 32) ? in.f32() : 1.f;
+        d.peak_position = (shape & 64) ? in.f32() : -1.f;
+        moldtex_colour_stop stops[32];
+        moldtex_colour_ramp_info ramp_info;
+        moldtex_colour_ramp_info_init(&ramp_info);
+        if (check(moldtex_colour_ramp_from_pixels(pixels.data(), count, &d, stops, 32, &ramp_info)) == MOLDTEX_OK) {
+          if (ramp_info.stop_count < 2 || ramp_info.stop_count > d.max_stops) bug("a colour map with a wrong stop count");
+          for (uint32_t i = 0; i < ramp_info.stop_count; ++i) {
+            if (!(stops[i].position >= 0.f && stops[i].position <= 1.f) ||
+                (i > 0 && !(stops[i].position > stops[i - 1].position)))
+              bug("colour map stops out of [0, 1] or not increasing");
+            for (float c : stops[i].color)
+              if (!std::isfinite(c) || c < 0.f) bug("a colour map stop with a non-finite or negative colour");
+          }
+          if (!(ramp_info.explained >= 0.f && ramp_info.explained <= 1.f)) bug("explained outside [0, 1]");
+        }
         break;
       }
       case kReset:

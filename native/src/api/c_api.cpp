@@ -936,3 +936,105 @@ moldtex_status moldtex_surface_map_gradient(moldtex_surface surface, const float
 }
 
 }  // extern "C"
+
+// ---- colour map from an image (Layton et al. §3.4) ------------------------------------
+
+#include "colour/ramp_fit.h"
+
+extern "C" {
+
+void moldtex_colour_ramp_desc_init(moldtex_colour_ramp_desc* desc) {
+  if (!desc) return;
+  std::memset(desc, 0, sizeof(*desc));
+  desc->struct_size = sizeof(*desc);
+  desc->channels = 4;
+  desc->srgb_encoded = 0;
+  desc->sample_count = 1500;
+  desc->neighbour_count = 10;
+  desc->max_stops = 32;
+  desc->tolerance = 1.0f;
+  desc->reverse = 0;
+  desc->peak_position = -1.0f;
+  desc->seed = 0x6d6f6c64ull;
+}
+
+void moldtex_colour_ramp_info_init(moldtex_colour_ramp_info* info) {
+  if (!info) return;
+  std::memset(info, 0, sizeof(*info));
+  info->struct_size = sizeof(*info);
+}
+
+moldtex_status moldtex_colour_ramp_from_pixels(const float* pixels, size_t pixel_count,
+                                               const moldtex_colour_ramp_desc* desc,
+                                               moldtex_colour_stop* out_stops, uint32_t capacity,
+                                               moldtex_colour_ramp_info* info) {
+  return guarded([&] {
+    const moldtex_colour_ramp_desc d =
+        read_struct(desc, "moldtex_colour_ramp_desc", moldtex_colour_ramp_desc_init);
+    require(pixels != nullptr, "The pixel array is NULL");
+    require(out_stops != nullptr, "The output stop array is NULL");
+    if (info != nullptr && info->struct_size < offsetof(moldtex_colour_ramp_info, explained))
+      moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+                    "moldtex_colour_ramp_info.struct_size is too small: initialise it with its _init function");
+    require(d.channels == 3 || d.channels == 4, "Pixels must have 3 (RGB) or 4 (RGBA) channels");
+    require(d.srgb_encoded <= 1 && d.reverse <= 1, "srgb_encoded and reverse must be 0 or 1");
+    require(d.sample_count >= 16 && d.sample_count <= 4096, "The sample count must be in 16..4096");
+    require(d.neighbour_count >= 2 && d.neighbour_count <= 64, "The neighbour count must be in 2..64");
+    require(d.max_stops >= 2 && d.max_stops <= 32, "The number of stops must be in 2..32");
+    require(std::isfinite(d.tolerance) && d.tolerance > 0.f && d.tolerance <= 100.f,
+            "The stop tolerance must be a finite Delta E in (0, 100]");
+    require(std::isfinite(d.peak_position) && d.peak_position <= 1.f,
+            "Peak At must be a position in [0, 1] (or negative: off)");
+    require(capacity >= d.max_stops, "The output stop array holds fewer stops than max_stops");
+    if (pixel_count < 2)
+      moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The image has no pixels (a colour map needs at least 2)");
+    if (pixel_count > (size_t{1} << 32) / d.channels)
+      moldtex::fail(MOLDTEX_ERROR_TOO_LARGE, "The image is too large (more than 2^32 floats)");
+    const size_t floats = pixel_count * d.channels;
+    for (size_t i = 0; i < floats; ++i) {
+      const float v = pixels[i];
+      if (!(v >= -1.f && v <= 1e6f)) {  // (false for NaN)
+        if (d.channels == 4 && i % 4 == 3 && std::isfinite(v)) continue;  // alpha: ignored
+        moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+                      "Pixel " + std::to_string(i / d.channels) + " has a value that is NaN, infinite or "
+                      "outside [-1, 1e6]: fix or re-save the image");
+      }
+    }
+    moldtex::colour::RampOptions o;
+    o.channels = d.channels;
+    o.srgb_encoded = d.srgb_encoded != 0;
+    o.sample_count = d.sample_count;
+    o.neighbour_count = d.neighbour_count;
+    o.max_stops = d.max_stops;
+    o.tolerance = d.tolerance;
+    o.reverse = d.reverse != 0;
+    o.peak_position = d.peak_position < 0.f ? -1.0 : d.peak_position;
+    o.seed = d.seed;
+    const moldtex::colour::RampResult r = moldtex::colour::colour_ramp_from_pixels(pixels, pixel_count, o);
+    if (r.stops.size() < 2 || r.stops.size() > d.max_stops)
+      moldtex::fail(MOLDTEX_ERROR_INTERNAL, "Internal error: the colour map has a wrong number of stops");
+    for (size_t i = 0; i < r.stops.size(); ++i) {
+      out_stops[i].position = r.stops[i].position;
+      for (int c = 0; c < 3; ++c) out_stops[i].color[c] = r.stops[i].rgb[c];
+      out_stops[i].color[3] = 1.f;
+    }
+    if (info != nullptr) {
+      moldtex_colour_ramp_info out;
+      moldtex_colour_ramp_info_init(&out);
+      out.stop_count = static_cast<uint32_t>(r.stops.size());
+      out.sample_count = static_cast<uint32_t>(r.sample_count);
+      out.component_count = static_cast<uint32_t>(r.component_count);
+      out.explained = static_cast<float>(r.explained);
+      out.variance_explained = static_cast<float>(r.variance_explained);
+      out.eigen_energy = static_cast<float>(r.eigen_energy);
+      out.mean_error = static_cast<float>(r.mean_error);
+      out.ramp_error = static_cast<float>(r.ramp_error);
+      out.continuity = static_cast<float>(r.continuity);
+      const uint32_t size = info->struct_size;
+      std::memcpy(info, &out, std::min<size_t>(size, sizeof(out)));
+      info->struct_size = std::min<uint32_t>(size, sizeof(out));
+    }
+  });
+}
+
+}  // extern "C"
