@@ -329,7 +329,9 @@ TEST(ColourRamp, SmallRandomInputsGiveValidRampsOrMessages) {
     for (uint32_t i = 0; i < info.stop_count; ++i) {
       EXPECT_GE(stops[i].position, 0.f);
       EXPECT_LE(stops[i].position, 1.f);
-      if (i > 0) EXPECT_GT(stops[i].position, stops[i - 1].position);
+      if (i > 0) {
+        EXPECT_GT(stops[i].position, stops[i - 1].position);
+      }
       for (float c : stops[i].color) EXPECT_TRUE(std::isfinite(c) && c >= 0.f);
     }
     EXPECT_GE(info.explained, 0.f);

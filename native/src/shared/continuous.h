@@ -124,7 +124,8 @@ MTX_FN void mtx_respawn_weighted(mtx_surface_tables s, MTX_GLOBAL const float* a
                                  mtx_walker* w, mtx_u64* rng) {
   mtx_respawn(alias_prob, alias_index, k->triangle_count, w, rng);
   if (k->map_plane[MTX_MAP_SPAWN] < 0) return;
-  float best_weight = -1.0f, best[3];
+  float best_weight = -1.0f;
+  float best[3] = {w->bary[0], w->bary[1], w->bary[2]};
   mtx_u32 best_triangle = w->triangle;
   for (int tries = 0; tries < MTX_MAX_SPAWN_TRIES; ++tries) {
     /* Every MTX_SPAWN_TRIES_PER_TRIANGLE misses, another triangle (one the map's edge
