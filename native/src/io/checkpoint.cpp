@@ -20,7 +20,8 @@ namespace {
 // appended to the parameters. Version 5: length_unit appended to the parameters.
 // Version 6: the continuous model (config.model, its parameters, simulated time, the
 // agents' clocks).
-constexpr char kMagic[8] = {'M', 'T', 'X', 'C', 'K', 'P', 'T', '7'};
+// Version 8: the Gray-Scott model's parameters after the continuous ones.
+constexpr char kMagic[8] = {'M', 'T', 'X', 'C', 'K', 'P', 'T', '8'};
 
 struct Writer {
   std::vector<char> bytes;
@@ -127,7 +128,8 @@ void validate_checkpoint_values(const Checkpoint& c, const std::string& path, ui
         !std::isfinite(a.threshold[i]))
       damaged(path, agent + " has a clock, age, exposure or threshold that is negative or not a number");
   }
-  const bool continuous = c.config.model == MOLDTEX_MODEL_CONTINUOUS;
+  const bool continuous =
+      c.config.model == MOLDTEX_MODEL_CONTINUOUS || c.config.model == MOLDTEX_MODEL_GRAY_SCOTT;
   const double max_pheromone = continuous ? std::numeric_limits<float>::max() : kMaxPheromone;
   const double max_coverage = continuous ? 1e30 : 1.0;
   for (size_t i = 0; i < c.state.pheromone.size(); ++i) {
@@ -157,6 +159,7 @@ void save_checkpoint(const std::string& path, const Checkpoint& c) {
   w.value(c.config);
   w.value(c.params);
   w.value(c.continuous);
+  w.value(c.reaction);
   w.value(c.time);
   w.value(c.surface_fingerprint);
   w.value(c.step_count);
@@ -185,6 +188,7 @@ Checkpoint load_checkpoint(const std::string& path) {
   c.config.fields_rgba = nullptr;  // a pointer is meaningless in a file
   c.params = r.value<moldtex_sim_params>();
   c.continuous = r.value<moldtex_continuous_params>();
+  c.reaction = r.value<moldtex_reaction_params>();
   c.time = r.value<double>();
   c.surface_fingerprint = r.value<uint64_t>();
   c.step_count = r.value<uint64_t>();
