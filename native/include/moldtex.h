@@ -341,18 +341,19 @@ MOLDTEX_API moldtex_status moldtex_sim_set_bias(moldtex_sim sim, const float* ve
  *   dU/dt = D_u Laplacian(U) - U V^2 + F (1 - U)
  *   dV/dt = D_v Laplacian(V) + U V^2 - (F + k) V
  * on the surface (the continuous model's texel Laplacian: 3D areas, through every UV
- * seam, open boundaries closed), by Euler steps explicit in the reaction and in the
- * neighbours, implicit in each cell's own diffusion loss, with as many equal sub-steps
- * per step as needed (max(D_u, D_v) dt_sub rate <= 0.5 for 99% of the texels, and
- * (1 + F + k) dt_sub <= 0.5; the stiffest 1%, e.g. at UV poles, stay stable by the
- * implicit loss); a step needing more than 4096 is refused: lower time_step or the
- * diffusion rates. Values stay finite and >= 0 for any parameters. Every cell reads the
- * previous sub-step only: bit-identical for any thread count.
+ * seam, open boundaries closed), by forward Euler with equal sub-steps per step:
+ * (1 + F + k) dt_sub <= 0.5 and max(D_u, D_v) dt_sub rate <= 0.5 for 99% of the texels
+ * (rate: the texel's sum of conductances over its 3D area), but no more than 4x the
+ * sub-steps the median texel needs. Stiffer texels (the thin ones at UV poles) take
+ * their own diffusion loss implicitly, so they follow their neighbours instead of
+ * blowing up (slightly slower diffusion there). A step needing more than 4096 sub-steps
+ * is refused: lower time_step or the diffusion rates. Values stay finite and >= 0. Every
+ * cell reads the previous sub-step only: bit-identical for any thread count.
  * The model has no agents: config.agent_count and species_count are ignored (the
  * simulation reports 0 agents and 2 planes). Plane 0 is V, plane 1 is U:
  * moldtex_sim_read_rgba gives R = V, G = U, B = 0, A = the island mask; images have the
  * channels R (V) and G (U). The start (create and reset) is U = 1, V = 0 with
- * seed_count small disks (radius seed_radius, mesh units, 3D distance) of V = 1 and
+ * seed_count small disks (radius seed_radius, mesh units, 3D distance) of V = 0.25 and
  * U = 0.5, centred at random points chosen from config.seed: uniform by 3D area, or by
  * the fields' spawn weights (R) with seed_shape MOLDTEX_SEED_SPAWN_MAP.
  * Stats: coverage = mean V, presence = area fraction where V > 0.1. */

@@ -35,13 +35,18 @@ moldtex_reaction_params Params(const Preset& p, double scale, uint32_t seeds) {
   r.diffusion_u = float(0.2 * scale * scale);
   r.diffusion_v = float(0.1 * scale * scale);
   r.seed_count = seeds;
-  r.seed_radius = float(3 * scale);
+  r.seed_radius = float(5 * scale);
   return r;
 }
 
 // A 1 x 1 plane (UV = xy).
 const Mesh& Plane() {
   static const Mesh m = make_plane(16, 16, 0, 0, 1, 1, [](double x, double y) { return Vec2{x, y}; });
+  return m;
+}
+// A 2 x 2 plane (UV = xy / 2).
+const Mesh& BigPlane() {
+  static const Mesh m = make_plane(16, 16, 0, 0, 2, 2, [](double x, double y) { return Vec2{x / 2, y / 2}; });
   return m;
 }
 
@@ -114,18 +119,276 @@ void ExpectSaneField(const Result& o, const char* what) {
   EXPECT_GT(vhi - vlo, 0.1) << what << ": V is uniform (" << vlo << " .. " << vhi << ")";
 }
 
-TEST(ReactionDiffusion, Explore) {
-  for (const Preset* p : {&kSpots, &kLabyrinth, &kWorms}) {
-    RdRun r;
-    r.mesh = &Plane();
-    r.p = Params(*p, 1.0 / 128, 64);
-    r.steps = 3000;
+// A UV sphere of radius 0.5 (area pi): poles as triangle fans (tiny texels there) and
+// the seam u = 0 along a meridian with no gutter between its sides.
+const Mesh& Sphere() {
+  static const Mesh m = make_uv_sphere(64, 32, 0.5);
+  return m;
+}
+
+// Labyrinth at the classic rates, one "pixel" = `scale` mesh units, `density` seeds per
+// mesh unit squared, after 2000 s: filled with stripes on both meshes used here.
+RdRun LabyrinthRun(const Mesh& mesh, uint32_t w, uint32_t h, double scale, uint64_t seed, uint32_t seeds) {
+  RdRun r;
+  r.mesh = &mesh;
+  r.width = w;
+  r.height = h;
+  r.seed = seed;
+  r.steps = 2000;
+  r.p = Params(kLabyrinth, scale, seeds);
+  return r;
+}
+
+// The pattern scales with sqrt(D): the same (F, k) at D and 4 D (scale s and 2 s) on the
+// 1 x 1 plane at 96^2, s = 1.5 and 3 texels (at 1 texel the lattice shortens the
+// stripes: the ratio came out 2.34). The stripe spacing (first zero of V's autocorrelation in 3D)
+// doubles. Two seeds each; the tolerance (10%) is about 3x the seed spread measured here
+// (printed: each seed's spacing).
+TEST(ReactionDiffusion, SpacingScalesWithTheSquareRootOfDiffusion) {
+  double mean[2] = {0, 0};
+  for (int d = 0; d < 2; ++d)
+    for (uint64_t seed : {1, 2}) {
+      const RdRun r = LabyrinthRun(Plane(), 96, 96, (d ? 3.0 : 1.5) / 96, seed, 128);
+      const Result o = Simulate(r);
+      ASSERT_TRUE(o.ok);
+      ExpectSaneField(o, "plane");
+      const double l = Spacing(r, o, 0.5);
+      std::printf("D x %d, seed %d: spacing %.4f, mean V %.4f\n", d ? 4 : 1, int(seed), l, o.stats.coverage);
+      mean[d] += l / 2;
+    }
+  const double ratio = mean[1] / mean[0];
+  std::printf("spacing ratio at 4 D: %.3f (sqrt(4) = 2)\n", ratio);
+  EXPECT_NEAR(ratio, 2.0, 0.2);
+}
+
+// The texture domain measures the surface: the same preset in mesh units gives the same
+// spacing on a UV sphere (poles, a seam, texels of varying 3D size) as on the plane.
+TEST(ReactionDiffusion, SphereAndPlaneShowTheSameSpacing) {
+  const double scale = 0.03;  // about 1.2 texels on both
+  double plane = 0, sphere = 0;
+  for (uint64_t seed : {1, 2}) {
+    const RdRun rp = LabyrinthRun(BigPlane(), 80, 80, scale, seed, 256);
+    const Result op = Simulate(rp);
+    ASSERT_TRUE(op.ok);
+    const RdRun rs = LabyrinthRun(Sphere(), 128, 64, scale, seed, 200);
+    const Result os = Simulate(rs);
+    ASSERT_TRUE(os.ok);
+    ExpectSaneField(os, "sphere");
+    const double lp = Spacing(rp, op, 0.5), ls = Spacing(rs, os, 0.5);
+    std::printf("seed %d: plane %.4f (mean V %.4f), sphere %.4f (mean V %.4f)\n", int(seed), lp,
+                op.stats.coverage, ls, os.stats.coverage);
+    plane += lp / 2;
+    sphere += ls / 2;
+  }
+  std::printf("sphere / plane spacing: %.3f\n", sphere / plane);
+  EXPECT_NEAR(sphere / plane, 1.0, 0.1);
+}
+
+// No trace of the seam u = 0 on the sphere: V in the 3 texel columns each side of it
+// against V elsewhere (rows within 60 degrees of the equator, two seeds), and the mean
+// jump |V(x) - V(x - 1)| across the seam against that across every other column line.
+TEST(ReactionDiffusion, NoTraceOfTheSphereSeam) {
+  const uint32_t w = 128, h = 64;
+  double near_sum = 0, near_area = 0, far_sum = 0, far_area = 0, jump_seam = 0, jump_other = 0;
+  const TexelGeometry g = Texels(Sphere(), w, h);
+  for (uint64_t seed : {1, 2, 3}) {
+    const RdRun r = LabyrinthRun(Sphere(), w, h, 0.03, seed, 200);
     const Result o = Simulate(r);
     ASSERT_TRUE(o.ok);
-    std::printf("%s: mean V %.4f presence %.3f spacing %.4f\n", p->name, o.stats.coverage, o.stats.presence,
-                Spacing(r, o, 0.4));
+    for (uint32_t y = h / 6; y < h - h / 6; ++y)
+      for (uint32_t x = 0; x < w; ++x) {
+        const size_t i = size_t(y) * w + x;
+        if (!g.inside(i)) continue;
+        const bool near = x < 3 || x >= w - 3;
+        (near ? near_sum : far_sum) += g.area[i] * o.v[i];
+        (near ? near_area : far_area) += g.area[i];
+        const double jump = std::fabs(o.v[i] - o.v[size_t(y) * w + (x + w - 1) % w]);
+        (x == 0 ? jump_seam : jump_other) += x == 0 ? jump : jump / (w - 1);
+      }
   }
+  const double level = (near_sum / near_area) / (far_sum / far_area), jumps = jump_seam / jump_other;
+  std::printf("near the seam / elsewhere: V %.3f, jump %.3f\n", level, jumps);
+  EXPECT_GE(level, 0.9);
+  EXPECT_LE(level, 1.1);
+  EXPECT_GE(jumps, 0.8);
+  EXPECT_LE(jumps, 1.25);
 }
+
+TEST(ReactionDiffusion, BitIdenticalForOneAndTwoThreads) {
+  RdRun r = LabyrinthRun(Sphere(), 128, 64, 0.03, 7, 40);
+  r.steps = 300;
+  r.threads = 1;
+  const Result a = Simulate(r);
+  r.threads = 2;
+  const Result b = Simulate(r);
+  ASSERT_TRUE(a.ok && b.ok);
+  ASSERT_EQ(a.rgba.size(), b.rgba.size());
+  EXPECT_EQ(std::memcmp(a.rgba.data(), b.rgba.data(), a.rgba.size() * sizeof(float)), 0);
+}
+
+TEST(ReactionDiffusion, CheckpointResumesBitIdentically) {
+  TempDir dir;
+  const std::string path = (dir.path / "gs.bin").string();
+  RdRun r = LabyrinthRun(Sphere(), 128, 64, 0.03, 3, 40);
+  auto s = create_surface(Sphere());
+  ASSERT_TRUE(s);
+  auto a = MakeSim(s.get(), r);
+  ASSERT_TRUE(a) << LastError();
+  ASSERT_EQ(moldtex_sim_step(a.get(), 100), MOLDTEX_OK) << LastError();
+  ASSERT_EQ(moldtex_sim_save_checkpoint(a.get(), path.c_str()), MOLDTEX_OK) << LastError();
+  ASSERT_EQ(moldtex_sim_step(a.get(), 100), MOLDTEX_OK) << LastError();
+  // Another simulation with other parameters: the checkpoint brings them back.
+  RdRun other = r;
+  other.p.feed = 0.02f;
+  other.p.diffusion_u *= 2;
+  auto b = MakeSim(s.get(), other);
+  ASSERT_TRUE(b) << LastError();
+  ASSERT_EQ(moldtex_sim_load_checkpoint(b.get(), path.c_str()), MOLDTEX_OK) << LastError();
+  moldtex_reaction_params got;
+  moldtex_reaction_params_init(&got);
+  ASSERT_EQ(moldtex_sim_get_reaction_params(b.get(), &got), MOLDTEX_OK);
+  EXPECT_EQ(got.feed, r.p.feed);
+  EXPECT_EQ(got.diffusion_u, r.p.diffusion_u);
+  ASSERT_EQ(moldtex_sim_step(b.get(), 100), MOLDTEX_OK) << LastError();
+  const std::vector<float> ra = read_rgba(a.get(), r.width, r.height), rb = read_rgba(b.get(), r.width, r.height);
+  EXPECT_EQ(std::memcmp(ra.data(), rb.data(), ra.size() * sizeof(float)), 0);
+  EXPECT_EQ(get_stats(a.get()).step_count, get_stats(b.get()).step_count);
+  EXPECT_EQ(get_stats(a.get()).time, get_stats(b.get()).time);
+  // A MoMaS simulation refuses it (another model).
+  moldtex_sim_config c = make_config(128, 64, 100, 3);
+  auto m = create_sim(s.get(), c, default_params());
+  ASSERT_TRUE(m);
+  EXPECT_NE(moldtex_sim_load_checkpoint(m.get(), path.c_str()), MOLDTEX_OK);
+}
+
+// Each preset over a long run: finite, in [0, 1.5], and a pattern (V not uniform), on
+// the sphere whose pole texels are far stiffer than the rest; also with a time step 5x
+// the classic one.
+TEST(ReactionDiffusion, NoBlowUpAtAnyPreset) {
+  for (const Preset* p : {&kSpots, &kLabyrinth, &kWorms})
+    for (float dt : {1.0f, 5.0f}) {
+      RdRun r;
+      r.mesh = &Sphere();
+      r.width = 64;
+      r.height = 32;
+      r.p = Params(*p, 0.06, 64);
+      r.p.time_step = dt;
+      r.steps = uint32_t(3000 / dt);
+      const Result o = Simulate(r);
+      ASSERT_TRUE(o.ok);
+      std::printf("%s, dt %g: mean V %.4f, presence %.3f\n", p->name, dt, o.stats.coverage, o.stats.presence);
+      ExpectSaneField(o, p->name);
+      EXPECT_NEAR(o.stats.time, 3000.0, 1e-6);
+      EXPECT_EQ(o.stats.agent_count, 0u);
+    }
+}
+
+TEST(ReactionDiffusion, BadParametersAreRefusedWithMessages) {
+  auto s = create_surface(Plane());
+  ASSERT_TRUE(s);
+  RdRun r = LabyrinthRun(Plane(), 32, 32, 0.03, 1, 8);
+  auto sim = MakeSim(s.get(), r);
+  ASSERT_TRUE(sim) << LastError();
+  auto refused = [&](void (*edit)(moldtex_reaction_params&), const char* word) {
+    moldtex_reaction_params p = r.p;
+    edit(p);
+    EXPECT_EQ(moldtex_sim_set_reaction_params(sim.get(), &p), MOLDTEX_ERROR_INVALID_ARGUMENT) << word;
+    EXPECT_NE(LastError().find(word), std::string::npos) << LastError();
+  };
+  refused([](moldtex_reaction_params& p) { p.feed = NAN; }, "feed");
+  refused([](moldtex_reaction_params& p) { p.feed = -0.1f; }, "feed");
+  refused([](moldtex_reaction_params& p) { p.kill = 2.f; }, "kill");
+  refused([](moldtex_reaction_params& p) { p.diffusion_u = -1.f; }, "diffusion_u");
+  refused([](moldtex_reaction_params& p) { p.diffusion_v = INFINITY; }, "diffusion_v");
+  refused([](moldtex_reaction_params& p) { p.time_step = 0.f; }, "time_step");
+  refused([](moldtex_reaction_params& p) { p.seed_count = 0; }, "seed_count");
+  refused([](moldtex_reaction_params& p) { p.seed_radius = 0.f; }, "seed_radius");
+  refused([](moldtex_reaction_params& p) { p.struct_size = 4; }, "struct_size");
+  EXPECT_EQ(moldtex_sim_set_reaction_params(sim.get(), nullptr), MOLDTEX_ERROR_INVALID_ARGUMENT);
+  // Rates needing more than 4096 sub-steps: refused at the step, with what to do.
+  moldtex_reaction_params p = r.p;
+  p.diffusion_u = 1e6f;
+  ASSERT_EQ(moldtex_sim_set_reaction_params(sim.get(), &p), MOLDTEX_OK);
+  EXPECT_EQ(moldtex_sim_step(sim.get(), 1), MOLDTEX_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(LastError().find("sub-steps"), std::string::npos) << LastError();
+  ASSERT_EQ(moldtex_sim_set_reaction_params(sim.get(), &r.p), MOLDTEX_OK);
+  EXPECT_EQ(moldtex_sim_step(sim.get(), 1), MOLDTEX_OK) << LastError();
+  // The model number is checked; agent count 0 is fine for this model only.
+  moldtex_sim_config c = make_config(32, 32, 0, 1);
+  EXPECT_FALSE(create_sim(s.get(), c, default_params()));
+  c.model = 3;
+  EXPECT_FALSE(create_sim(s.get(), c, default_params()));
+  EXPECT_NE(LastError().find("Gray-Scott"), std::string::npos) << LastError();
+  c.model = MOLDTEX_MODEL_GRAY_SCOTT;
+  auto ok = create_sim(s.get(), c, default_params());
+  ASSERT_TRUE(ok) << LastError();
+  moldtex_sim_config got;
+  moldtex_sim_config_init(&got);
+  ASSERT_EQ(moldtex_sim_get_config(ok.get(), &got), MOLDTEX_OK);
+  EXPECT_EQ(got.species_count, 2u);
+  EXPECT_EQ(got.agent_count, 0u);
+}
+
+// The start: U = 1, V = 0 except in the seed disks (V = 0.25, U = 0.5); a function of the
+// seed; a spawn map puts the disks where its weight is.
+TEST(ReactionDiffusion, SeedsFollowTheSeedAndTheSpawnMap) {
+  auto s = create_surface(Plane());
+  ASSERT_TRUE(s);
+  RdRun r = LabyrinthRun(Plane(), 64, 64, 0.01, 5, 6);
+  auto a = MakeSim(s.get(), r);
+  auto b = MakeSim(s.get(), r);
+  ASSERT_TRUE(a && b);
+  const std::vector<float> fa = read_rgba(a.get(), 64, 64), fb = read_rgba(b.get(), 64, 64);
+  EXPECT_EQ(fa, fb);
+  size_t seeded = 0;
+  for (size_t i = 0; i < 64 * 64; ++i) {
+    EXPECT_TRUE((fa[4 * i] == 0.f && fa[4 * i + 1] == 1.f) || (fa[4 * i] == 0.25f && fa[4 * i + 1] == 0.5f)) << i;
+    seeded += fa[4 * i] == 0.25f;
+  }
+  EXPECT_GT(seeded, 0u);
+  // Spawn weights only in the left quarter: every seeded texel lies there.
+  std::vector<float> fields(64 * 64 * 4, 0.f);
+  for (uint32_t y = 0; y < 64; ++y)
+    for (uint32_t x = 0; x < 16; ++x) fields[(size_t(y) * 64 + x) * 4] = 1.f;
+  moldtex_sim_config c = make_config(64, 64, 0, 5);
+  c.model = MOLDTEX_MODEL_GRAY_SCOTT;
+  c.seed_shape = MOLDTEX_SEED_SPAWN_MAP;
+  c.fields_rgba = fields.data();
+  auto m = create_sim(s.get(), c, default_params());
+  ASSERT_TRUE(m) << LastError();
+  ASSERT_EQ(moldtex_sim_set_reaction_params(m.get(), &r.p), MOLDTEX_OK);
+  ASSERT_EQ(moldtex_sim_reset(m.get()), MOLDTEX_OK);
+  const std::vector<float> fm = read_rgba(m.get(), 64, 64);
+  size_t inside = 0, outside = 0;
+  for (uint32_t y = 0; y < 64; ++y)
+    for (uint32_t x = 0; x < 64; ++x)
+      if (fm[(size_t(y) * 64 + x) * 4] == 0.25f) (x < 16 + 3 ? inside : outside) += 1;
+  EXPECT_GT(inside, 0u);
+  EXPECT_EQ(outside, 0u);
+}
+
+// CPU and OpenCL run the same shared cell update: the same pattern statistics (mean V
+// within 3%, spacing within 5%) after 2000 s; skipped without an OpenCL device.
+class ReactionDiffusionBackends : public ::testing::TestWithParam<Backend> {};
+TEST_P(ReactionDiffusionBackends, MatchTheCpu) {
+  RdRun r = LabyrinthRun(Sphere(), 128, 64, 0.03, 1, 200);
+  r.steps = 2000;
+  {
+    moldtex_sim_config c = make_config(8, 8, 1, 1);
+    MTX_PIN_BACKEND(c);
+  }
+  r.backend = GetParam();
+  const Result o = Simulate(r);
+  ASSERT_TRUE(o.ok);
+  ExpectSaneField(o, "backend");
+  r.backend = Backend::Cpu;
+  const Result cpu = Simulate(r);
+  const double lo = Spacing(r, o, 0.5), lc = Spacing(r, cpu, 0.5);
+  std::printf("mean V %.4f (CPU %.4f), spacing %.4f (CPU %.4f)\n", o.stats.coverage, cpu.stats.coverage, lo, lc);
+  EXPECT_NEAR(o.stats.coverage / cpu.stats.coverage, 1.0, 0.03);
+  EXPECT_NEAR(lo / lc, 1.0, 0.05);
+}
+MTX_BACKENDS(ReactionDiffusionBackends);
 
 }  // namespace
 }  // namespace mtx

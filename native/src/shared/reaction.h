@@ -11,17 +11,15 @@
 
 MTX_BEGIN_NAMESPACE
 
-/* Cell rows[r] (texel i) after one sub-step of length h, explicit in the reaction and
- * in the neighbours, implicit in the cell's own diffusion loss (a diagonally implicit,
- * linearised Euler step):
- *   U' = (U + du S_U + h (F (1 - U) - U V^2)) / (1 + du rate_r)
- *   V' = (V + dv S_V + h (U V^2 - (F + k) V)) / (1 + dv rate_r)
- * with S_X = 1 / A_i sum_j c_ij X_j over the CSR row start[r] .. start[r + 1] and
- * rate_r = 1 / A_i sum_j c_ij, du = h D_u, dv = h D_v. Where du rate_r is small this is
- * forward Euler up to O(h^2); where it is large (the few tiny texels at UV poles or
- * pinches) the cell follows its neighbours' mean instead of overshooting, so no cell
- * needs sub-steps for its own stiffness: every weight is non-negative, the new value is
- * bounded by the old ones and the reaction's (h (1 + F + k) <= 1 keeps it >= 0).
+/* Cell rows[r] (texel i) after one sub-step of length h, forward Euler
+ *   U* = U + du (L U)_i + h (F (1 - U) - U V^2)
+ *   V* = V + dv (L V)_i + h (U V^2 - (F + k) V)
+ * with (L X)_i = 1 / A_i sum_j c_ij (X_j - X_i) over the CSR row start[r] .. start[r + 1],
+ * du = h D_u, dv = h D_v. A cell too stiff for h (du rate_r > 0.5, rate_r = sum_j c_ij /
+ * A_i: the few tiny texels at UV poles or pinches) takes its own diffusion loss
+ * implicitly instead: U' = (U* + du rate_r U) / (1 + du rate_r) (likewise V), which
+ * follows its neighbours' mean rather than overshooting; every weight is then
+ * non-negative, so values stay bounded and >= 0 while h (1 + F + k) <= 0.5.
  * Reads only v_in and u_in and writes only v_out[i] and u_out[i]: every cell is
  * independent of the others and of the order they run in. */
 MTX_FN void mtx_gray_scott_cell(MTX_GLOBAL const mtx_u32* rows, MTX_GLOBAL const mtx_u32* start,
@@ -32,16 +30,19 @@ MTX_FN void mtx_gray_scott_cell(MTX_GLOBAL const mtx_u32* rows, MTX_GLOBAL const
                                 float du, float dv, float feed, float kill) {
   const mtx_u32 i = rows[r];
   const float ui = u_in[i], vi = v_in[i];
-  float sum_u = 0.0f, sum_v = 0.0f;
+  float flux_u = 0.0f, flux_v = 0.0f;
   for (mtx_u32 k = start[r]; k < start[r + 1]; ++k) {
     const mtx_u32 j = col[k];
-    sum_u += weight[k] * u_in[j];
-    sum_v += weight[k] * v_in[j];
+    flux_u += weight[k] * (u_in[j] - ui);
+    flux_v += weight[k] * (v_in[j] - vi);
   }
   const float inv_area = area[i] > 0.0f ? 1.0f / area[i] : 0.0f;
   const float uvv = ui * vi * vi;
-  const float u = (ui + du * inv_area * sum_u + h * (feed * (1.0f - ui) - uvv)) / (1.0f + du * rate[r]);
-  const float v = (vi + dv * inv_area * sum_v + h * (uvv - (feed + kill) * vi)) / (1.0f + dv * rate[r]);
+  float u = ui + du * inv_area * flux_u + h * (feed * (1.0f - ui) - uvv);
+  float v = vi + dv * inv_area * flux_v + h * (uvv - (feed + kill) * vi);
+  const float su = du * rate[r], sv = dv * rate[r];
+  if (su > 0.5f) u = (u + su * ui) / (1.0f + su);
+  if (sv > 0.5f) v = (v + sv * vi) / (1.0f + sv);
   u_out[i] = u > 0.0f ? u : 0.0f;
   v_out[i] = v > 0.0f ? v : 0.0f;
 }
