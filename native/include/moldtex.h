@@ -353,7 +353,7 @@ MOLDTEX_API moldtex_status moldtex_sim_set_bias(moldtex_sim sim, const float* ve
  * simulation reports 0 agents and 2 planes). Plane 0 is V, plane 1 is U:
  * moldtex_sim_read_rgba gives R = V, G = U, B = 0, A = the island mask; images have the
  * channels R (V) and G (U). The start (create and reset) is U = 1, V = 0 with
- * seed_count small disks (radius seed_radius, mesh units, 3D distance) of V = 0.25 and
+ * seed_count small disks (radius seed_radius, mesh units, 3D distance) of V = 1 and
  * U = 0.5, centred at random points chosen from config.seed: uniform by 3D area, or by
  * the fields' spawn weights (R) with seed_shape MOLDTEX_SEED_SPAWN_MAP.
  * Stats: coverage = mean V, presence = area fraction where V > 0.1. */

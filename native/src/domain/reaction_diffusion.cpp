@@ -111,7 +111,7 @@ std::vector<float> reaction_initial_state(const Surface& surface, const TextureD
         const double dx = pos[0] - centres[3 * s], dy = pos[1] - centres[3 * s + 1],
                      dz = pos[2] - centres[3 * s + 2];
         if (dx * dx + dy * dy + dz * dz <= r2) {
-          v[i] = 0.25f;  // Pearson's start
+          v[i] = 1.f;
           u[i] = 0.5f;
           break;
         }

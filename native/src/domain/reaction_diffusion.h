@@ -28,7 +28,7 @@ void validate_reaction_params(const moldtex_reaction_params& params);
 uint32_t reaction_substeps(const TexelLaplacian& lap, const moldtex_reaction_params& params);
 
 // The starting state: 2 planes of width * height (V, then U; gutter filled): U = 1, V = 0,
-// and V = 0.25, U = 0.5 within params.seed_radius (3D distance from the texel centre) of
+// and V = 1, U = 0.5 within params.seed_radius (3D distance from the texel centre) of
 // params.seed_count points drawn from `seed`: uniform by 3D area, or with probability ~
 // texel_weights (3D area * spawn weight) when given.
 std::vector<float> reaction_initial_state(const Surface& surface, const TextureDomain& domain,
