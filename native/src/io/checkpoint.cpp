@@ -20,7 +20,7 @@ namespace {
 // appended to the parameters. Version 5: length_unit appended to the parameters.
 // Version 6: the continuous model (config.model, its parameters, simulated time, the
 // agents' clocks).
-// Version 8: the Gray-Scott model's parameters after the continuous ones.
+// Version 8: the Gray-Scott model's parameters, at the end of the file.
 constexpr char kMagic[8] = {'M', 'T', 'X', 'C', 'K', 'P', 'T', '8'};
 
 struct Writer {
@@ -159,7 +159,6 @@ void save_checkpoint(const std::string& path, const Checkpoint& c) {
   w.value(c.config);
   w.value(c.params);
   w.value(c.continuous);
-  w.value(c.reaction);
   w.value(c.time);
   w.value(c.surface_fingerprint);
   w.value(c.step_count);
@@ -171,6 +170,7 @@ void save_checkpoint(const std::string& path, const Checkpoint& c) {
   w.array(c.map_kinds);
   w.array(c.maps);
   for_each_array(c.state, [&](const auto& v) { w.array(v); });
+  w.value(c.reaction);  // version 8: last, so the layout before it is version 7's
   write_file_atomically(path, w.bytes.data(), w.bytes.size());
 }
 
@@ -188,7 +188,6 @@ Checkpoint load_checkpoint(const std::string& path) {
   c.config.fields_rgba = nullptr;  // a pointer is meaningless in a file
   c.params = r.value<moldtex_sim_params>();
   c.continuous = r.value<moldtex_continuous_params>();
-  c.reaction = r.value<moldtex_reaction_params>();
   c.time = r.value<double>();
   c.surface_fingerprint = r.value<uint64_t>();
   c.step_count = r.value<uint64_t>();
@@ -200,6 +199,7 @@ Checkpoint load_checkpoint(const std::string& path) {
   r.array(c.map_kinds);
   r.array(c.maps);
   for_each_array(c.state, [&](auto& v) { r.array(v); });
+  c.reaction = r.value<moldtex_reaction_params>();
   return c;
 }
 
