@@ -198,6 +198,21 @@ class SimStats(ctypes.Structure):
     ]
 
 
+class ReactionParams(ctypes.Structure):
+    """moldtex_reaction_params (Gray-Scott): F, k per second, D_u, D_v in mesh units^2
+    per second, time_step in seconds; seed disks (count, radius in mesh units)."""
+    _fields_ = [
+        ("struct_size", ctypes.c_uint32),
+        ("feed", ctypes.c_float),
+        ("kill", ctypes.c_float),
+        ("diffusion_u", ctypes.c_float),
+        ("diffusion_v", ctypes.c_float),
+        ("time_step", ctypes.c_float),
+        ("seed_count", ctypes.c_uint32),
+        ("seed_radius", ctypes.c_float),
+    ]
+
+
 class ContinuousParams(ctypes.Structure):
     """moldtex_continuous_params: rates per simulated second, lengths in mesh units."""
     _fields_ = [
@@ -337,6 +352,7 @@ MAX_BRUSH_BATCH = 65535  # batch numbers of moldtex_sim_add_agents are 1 .. this
 # moldtex_model values (moldtex.h): chosen at create (a config field)
 MODEL_MOMAS = 0       # momas-paper.md Algorithm 1 (SimParams)
 MODEL_CONTINUOUS = 1  # layton-intrinsic-slime.md §3.2 (ContinuousParams)
+MODEL_GRAY_SCOTT = 2  # Gray-Scott reaction-diffusion (ReactionParams); no agents
 
 # moldtex_integrator values (moldtex.h): how the continuous model's PDE is stepped
 INTEGRATOR_AUTO = 0      # forward Euler while 64 sub-steps suffice, else backward
@@ -350,6 +366,7 @@ PARAM_FIELDS = tuple(name for name, _ in SimParams._fields_ if name != "struct_s
 STATS_FIELDS = tuple(name for name, _ in SimStats._fields_ if name != "struct_size")
 CONTINUOUS_FIELDS = tuple(name for name, _ in ContinuousParams._fields_
                           if name != "struct_size")
+REACTION_FIELDS = tuple(name for name, _ in ReactionParams._fields_ if name != "struct_size")
 SURFACE_INFO_FIELDS = tuple(name for name, _ in SurfaceInfo._fields_ if name != "struct_size")
 BAKE_PROGRESS_FIELDS = tuple(name for name, _ in BakeProgress._fields_
                              if name not in ("struct_size", "message"))
@@ -386,6 +403,9 @@ _SIGNATURES = {
     "moldtex_continuous_params_init": (None, [_P(ContinuousParams)]),
     "moldtex_sim_set_continuous_params": (_status, [_Sim, _P(ContinuousParams)]),
     "moldtex_sim_get_continuous_params": (_status, [_Sim, _P(ContinuousParams)]),
+    "moldtex_reaction_params_init": (None, [_P(ReactionParams)]),
+    "moldtex_sim_set_reaction_params": (_status, [_Sim, _P(ReactionParams)]),
+    "moldtex_sim_get_reaction_params": (_status, [_Sim, _P(ReactionParams)]),
     "moldtex_sim_set_params": (_status, [_Sim, _P(SimParams)]),
     "moldtex_sim_get_params": (_status, [_Sim, _P(SimParams)]),
     "moldtex_sim_get_config": (_status, [_Sim, _P(SimConfig)]),
@@ -493,6 +513,7 @@ _STRUCT_INITS = (
     ("moldtex_sim_params_init", SimParams),
     ("moldtex_sim_stats_init", SimStats),
     ("moldtex_continuous_params_init", ContinuousParams),
+    ("moldtex_reaction_params_init", ReactionParams),
     ("moldtex_bake_desc_init", BakeDesc),
     ("moldtex_bake_progress_init", BakeProgress),
     ("moldtex_opencl_device_info_init", OpenCLDeviceInfo),
@@ -654,6 +675,14 @@ def default_params():
     params = SimParams()
     _require().moldtex_sim_params_init(ctypes.byref(params))
     return _struct_to_dict(params, PARAM_FIELDS)
+
+
+def default_reaction_params():
+    """The core's defaults of the Gray-Scott model (moldtex_reaction_params_init) as a
+    dict of REACTION_FIELDS."""
+    params = ReactionParams()
+    _require().moldtex_reaction_params_init(ctypes.byref(params))
+    return _struct_to_dict(params, REACTION_FIELDS)
 
 
 def default_continuous_params():
@@ -996,7 +1025,8 @@ class Simulation:
     """A simulation on a surface's UV layout (moldtex_sim): MoMaS, or the continuous
     model when config["model"] is MODEL_CONTINUOUS."""
 
-    def __init__(self, surface, config=None, params=None, fields=None, continuous=None):
+    def __init__(self, surface, config=None, params=None, fields=None, continuous=None,
+                 reaction=None):
         """config: dict with any of CONFIG_FIELDS (width, height, agent_count, seed,
         backend, opencl_platform, opencl_device, species_count, seed_shape, seed_radius,
         seed_rays; seed_center as (triangle, (b0, b1, b2)); missing = core default);
@@ -1006,6 +1036,8 @@ class Simulation:
         continuous: dict with any of CONTINUOUS_FIELDS for a continuous simulation,
         given to the core right after it is created, which then resets (the state a
         reset with these parameters gives), or None for the core's defaults.
+        reaction: dict with any of REACTION_FIELDS for a Gray-Scott simulation
+        (MODEL_GRAY_SCOTT), set right after create, then reset (seeds from them).
         config["model"] chooses the model (MODEL_*)."""
         lib = _require()
         self._handle = None
@@ -1047,6 +1079,13 @@ class Simulation:
             except (EngineError, KeyError, TypeError):
                 self.release()
                 raise
+        if reaction:
+            try:
+                self.set_reaction_params(reaction)
+                self.reset()  # the seed disks from these parameters
+            except (EngineError, KeyError, TypeError):
+                self.release()
+                raise
 
     @property
     def handle(self):
@@ -1073,6 +1112,25 @@ class Simulation:
         _fill(p, params, CONTINUOUS_FIELDS, "continuous params")
         _check(_lib.moldtex_sim_set_continuous_params(self.handle, ctypes.byref(p)),
                "Setting the continuous model's parameters")
+
+    def set_reaction_params(self, params):
+        """Gray-Scott model: a dict with any of REACTION_FIELDS (diffusion in mesh
+        units^2 per second); fields not given keep their current value. The seed fields
+        apply at the next reset."""
+        p = ReactionParams()
+        _lib.moldtex_reaction_params_init(ctypes.byref(p))
+        _check(_lib.moldtex_sim_get_reaction_params(self.handle, ctypes.byref(p)),
+               "Reading the reaction-diffusion parameters")
+        _fill(p, params, REACTION_FIELDS, "reaction params")
+        _check(_lib.moldtex_sim_set_reaction_params(self.handle, ctypes.byref(p)),
+               "Setting the reaction-diffusion parameters")
+
+    def get_reaction_params(self):
+        p = ReactionParams()
+        _lib.moldtex_reaction_params_init(ctypes.byref(p))
+        _check(_lib.moldtex_sim_get_reaction_params(self.handle, ctypes.byref(p)),
+               "Reading the reaction-diffusion parameters")
+        return _struct_to_dict(p, REACTION_FIELDS)
 
     def get_continuous_params(self):
         p = ContinuousParams()

@@ -91,7 +91,8 @@ void check_pheromone(moldtex_sim sim, uint32_t width, uint32_t height) {
   moldtex_sim_config c;
   moldtex_sim_config_init(&c);
   if (check(moldtex_sim_get_config(sim, &c)) != MOLDTEX_OK) bug("get_config failed");
-  const bool continuous = c.model == MOLDTEX_MODEL_CONTINUOUS;
+  // Gray-Scott's U and V: finite and >= 0 (V may pass 1 a little).
+  const bool continuous = c.model == MOLDTEX_MODEL_CONTINUOUS || c.model == MOLDTEX_MODEL_GRAY_SCOTT;
   static const bool trace = std::getenv("MOLDTEX_FUZZ_TRACE") != nullptr;
   if (trace)
     for (size_t i = 0; i < rgba.size(); ++i)
@@ -104,7 +105,7 @@ void check_pheromone(moldtex_sim sim, uint32_t width, uint32_t height) {
 enum Op : uint8_t {
   kRayCast, kClosestPoint, kTrace, kPaint, kCreateSim, kStep, kAddAgents, kEraseAgents, kUndo,
   kSetFood, kSetFields, kCheckpoint, kRasterize, kSetParams, kReset, kSetContinuous, kSetBias, kSetMap,
-  kSurfaceMap, kColourRamp, kOpCount
+  kSurfaceMap, kColourRamp, kSetReaction, kOpCount
 };
 
 void fuzz_mesh(Bytes& in) {
@@ -219,7 +220,7 @@ void fuzz_mesh(Bytes& in) {
         c.seed_center = point(in);
         c.seed_radius = in.f32();
         c.seed_rays = in.u16() % 1100;
-        c.model = in.u8() % 3;  // 2 is not a model
+        c.model = in.u8() % 4;  // 3 is not a model
         moldtex_sim_params p;
         moldtex_sim_params_init(&p);
         p.thread_count = 1;
@@ -335,6 +336,15 @@ void fuzz_mesh(Bytes& in) {
         p.bias_spawn = in.u8() % 3;
         p.integrator = in.u8() % 4;
         if (sim) check(moldtex_sim_set_continuous_params(sim, &p));
+        break;
+      }
+      case kSetReaction: {
+        moldtex_reaction_params p;
+        moldtex_reaction_params_init(&p);
+        float* fields[] = {&p.feed, &p.kill, &p.diffusion_u, &p.diffusion_v, &p.time_step, &p.seed_radius};
+        *fields[in.u8() % 6] = in.f32();
+        p.seed_count = in.u16() % 1100;
+        if (sim) check(moldtex_sim_set_reaction_params(sim, &p));
         break;
       }
       case kSetBias: {

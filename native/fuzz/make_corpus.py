@@ -15,7 +15,7 @@ f32 = lambda *v: struct.pack("<%df" % len(v), *v)
 
 # Operation codes (enum Op in fuzz_c_api.cpp).
 (RAY, CLOSEST, TRACE, PAINT, CREATE, STEP, ADD, ERASE, UNDO, FOOD, FIELDS, CKPT, RASTER, PARAMS, RESET,
- CONTINUOUS, BIAS, MAP, SURFACE_MAP, COLOUR_RAMP) = range(20)
+ CONTINUOUS, BIAS, MAP, SURFACE_MAP, COLOUR_RAMP, SET_REACTION) = range(21)
 
 
 def surface_map(which, pattern=(1.0, 0.0, 0.25, 0.0), scalar=1.0, mask=0b0101):

@@ -192,9 +192,11 @@ typedef struct moldtex_sim_config {
  * simulation). */
 typedef enum moldtex_model {
   MOLDTEX_MODEL_MOMAS = 0,      /* momas-paper.md Algorithm 1 (moldtex_sim_params) */
-  MOLDTEX_MODEL_CONTINUOUS = 1  /* layton-intrinsic-slime.md §3.2: rate-based agents, a
+  MOLDTEX_MODEL_CONTINUOUS = 1, /* layton-intrinsic-slime.md §3.2: rate-based agents, a
                                    diffusion-decay PDE, line-integrated deposits, agent
                                    turnover (moldtex_continuous_params) */
+  MOLDTEX_MODEL_GRAY_SCOTT = 2  /* Gray-Scott reaction-diffusion, no agents
+                                   (moldtex_reaction_params) */
 } moldtex_model;
 
 /* How agents are placed at create and reset. All placements are a pure function of the
@@ -333,6 +335,48 @@ MOLDTEX_API moldtex_status moldtex_sim_get_continuous_params(moldtex_sim sim,
  * be finite with length <= 1e6. Kept across moldtex_sim_reset and in checkpoints. */
 MOLDTEX_API moldtex_status moldtex_sim_set_bias(moldtex_sim sim, const float* vectors,
                                                 size_t float_count);
+
+/* ---- Gray-Scott reaction-diffusion (MOLDTEX_MODEL_GRAY_SCOTT) ---------------------
+ * Two chemicals U and V per island texel obey
+ *   dU/dt = D_u Laplacian(U) - U V^2 + F (1 - U)
+ *   dV/dt = D_v Laplacian(V) + U V^2 - (F + k) V
+ * on the surface (the continuous model's texel Laplacian: 3D areas, through every UV
+ * seam, open boundaries closed), by forward Euler with equal sub-steps per step:
+ * (1 + F + k) dt_sub <= 0.5 and max(D_u, D_v) dt_sub rate <= 0.5 for 99% of the texels
+ * (rate: the texel's sum of conductances over its 3D area), but no more than 4x the
+ * sub-steps the median texel needs. Stiffer texels (the thin ones at UV poles) take
+ * their own diffusion loss implicitly, so they follow their neighbours instead of
+ * blowing up (slightly slower diffusion there). A step needing more than 4096 sub-steps
+ * is refused: lower time_step or the diffusion rates. Values stay finite and >= 0. Every
+ * cell reads the previous sub-step only: bit-identical for any thread count.
+ * The model has no agents: config.agent_count and species_count are ignored (the
+ * simulation reports 0 agents and 2 planes). Plane 0 is V, plane 1 is U:
+ * moldtex_sim_read_rgba gives R = V, G = U, B = 0, A = the island mask; images have the
+ * channels R (V) and G (U). The start (create and reset) is U = 1, V = 0 with
+ * seed_count small disks (radius seed_radius, mesh units, 3D distance) of V = 1 and
+ * U = 0.5, centred at random points chosen from config.seed: uniform by 3D area, or by
+ * the fields' spawn weights (R) with seed_shape MOLDTEX_SEED_SPAWN_MAP.
+ * Stats: coverage = mean V, presence = area fraction where V > 0.1. */
+typedef struct moldtex_reaction_params {
+  uint32_t struct_size;
+  float feed;            /* F: per second, 0 .. 1 (default 0.035) */
+  float kill;            /* k: per second, 0 .. 1 (default 0.065) */
+  float diffusion_u;     /* D_u: mesh units^2 per second, 0 .. 1e6 (default 2e-5) */
+  float diffusion_v;     /* D_v: mesh units^2 per second, 0 .. 1e6 (default 1e-5) */
+  float time_step;       /* seconds per step, (0, 100] (default 1) */
+  uint32_t seed_count;   /* starting disks, 1 .. 1024 (default 8); used at reset */
+  float seed_radius;     /* mesh units, > 0, < 1e30 (default 0.05); used at reset */
+} moldtex_reaction_params;
+
+/* Defaults: spots (F 0.035, k 0.065) with the classic pixel-unit rates D_u = 0.2,
+ * D_v = 0.1 on a lattice of 0.01 mesh units (a pattern scale s gives D = 0.2 s^2). */
+MOLDTEX_API void moldtex_reaction_params_init(moldtex_reaction_params* params);
+/* Takes effect at the next step (seed_count and seed_radius at the next reset). Kept under
+ * other models but unused there. */
+MOLDTEX_API moldtex_status moldtex_sim_set_reaction_params(moldtex_sim sim,
+    const moldtex_reaction_params* params);
+MOLDTEX_API moldtex_status moldtex_sim_get_reaction_params(moldtex_sim sim,
+    moldtex_reaction_params* params);
 
 /* Parameter maps and stimuli of the continuous model (layton-intrinsic-slime.md §3.3,
  * Eq. 6/7, Fig. 7, 8): per texel values in the order of moldtex_sim_read_rgba (width *

@@ -14,6 +14,7 @@
 #include "backends/opencl/opencl_backend.h"
 #endif
 #include "common/error.h"
+#include "domain/reaction_diffusion.h"
 #include "io/image_writer.h"
 
 namespace moldtex {
@@ -68,10 +69,11 @@ void validate_config(const moldtex_sim_config& c, const Surface& surface) {
   }
   if (c.backend > MOLDTEX_BACKEND_OPENCL)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Unknown backend: use 0 (auto), 1 (CPU) or 2 (OpenCL)");
-  if (c.agent_count == 0)
+  if (c.agent_count == 0 && c.model != MOLDTEX_MODEL_GRAY_SCOTT)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The number of agents must be at least 1");
-  if (c.model > MOLDTEX_MODEL_CONTINUOUS)
-    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Unknown model: use 0 (MoMaS) or 1 (continuous)");
+  if (c.model > MOLDTEX_MODEL_GRAY_SCOTT)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "Unknown model: use 0 (MoMaS), 1 (continuous) or 2 (Gray-Scott reaction-diffusion)");
   if (c.species_count < 1 || c.species_count > MOLDTEX_MAX_SPECIES)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The number of species must be between 1 and 4");
   if (c.seed_shape > MOLDTEX_SEED_STARBURST)
@@ -240,15 +242,16 @@ std::unique_ptr<Backend> make_auto_opencl(std::shared_ptr<const Surface> surface
 
 Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim_config& config,
                        const moldtex_sim_params& params)
-    : surface_(std::move(surface)), config_(config) {
-  validate_config(config, *surface_);
+    : surface_(std::move(surface)), config_(reaction_config(config)) {
+  validate_config(config_, *surface_);
   validate_params(params);
   config_.fields_rgba = nullptr;  // copied below, never kept
-  settings_.species_count = config.species_count;
+  settings_.species_count = config_.species_count;
   for (uint32_t k = 0; k < MTX_MAX_SPECIES; ++k) moldtex_species_params_init(&settings_.species[k], k);
   set_params(params);
   settings_.model = config.model;
   moldtex_continuous_params_init(&settings_.continuous);
+  moldtex_reaction_params_init(&settings_.reaction);
   {
     ThreadPool pool(params.thread_count);
     domain_ = std::make_shared<const TextureDomain>(
@@ -263,14 +266,14 @@ Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim
   switch (config.backend) {
     case MOLDTEX_BACKEND_OPENCL:
 #ifdef MOLDTEX_HAVE_OPENCL
-      backend_ = make_opencl(surface_, domain_, config);
+      backend_ = make_opencl(surface_, domain_, config_);
 #else
       fail(MOLDTEX_ERROR_UNAVAILABLE, "This build of Moldtex has no OpenCL support");
 #endif
       break;
     case MOLDTEX_BACKEND_AUTO:
 #ifdef MOLDTEX_HAVE_OPENCL
-      backend_ = make_auto_opencl(surface_, domain_, config, why_not);
+      backend_ = make_auto_opencl(surface_, domain_, config_, why_not);
 #else
       why_not = "this build has no OpenCL support";
 #endif
@@ -279,8 +282,8 @@ Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim
       break;
   }
   if (!backend_)
-    backend_ = std::make_unique<CpuBackend>(surface_, domain_, config.agent_count,
-                                            config.species_count, params.thread_count);
+    backend_ = std::make_unique<CpuBackend>(surface_, domain_, config_.agent_count,
+                                            config_.species_count, params.thread_count);
   why_not_opencl_ = why_not;
   maps_ = std::make_shared<ParameterMaps>();
   settings_.maps = maps_;
@@ -432,6 +435,20 @@ void Simulation::set_map(uint32_t kind, const float* values) {
 }
 
 void Simulation::reset() {
+  if (gray_scott()) {  // no agents: the two chemicals' starting state
+    ThreadPool pool(settings_.params.thread_count);
+    const bool weighted = config_.seed_shape == MOLDTEX_SEED_SPAWN_MAP;
+    SimState state;
+    state.pheromone = reaction_initial_state(*surface_, *domain_, settings_.reaction, config_.seed,
+                                             weighted ? &spawn_weights_ : nullptr, pool);
+    backend_->reset(state.agents);
+    backend_->import_state(state);
+    batches_.clear();
+    step_count_ = 0;
+    time_ = 0;
+    count_agents(state.agents);
+    return;
+  }
   SpawnSpec spec;
   spec.count = config_.agent_count;
   spec.seed = config_.seed;
@@ -490,6 +507,20 @@ void Simulation::update_u_metric() {
   if (!continuous()) return;
   for (uint32_t k = 0; k < settings_.species_count && k < species_agents_.size(); ++k)
     settings_.u_metric[k] = uniform_steady_state(settings_.continuous, species_agents_[k], cell_area_);
+}
+
+void Simulation::set_reaction_params(const moldtex_reaction_params& p) {
+  validate_reaction_params(p);
+  settings_.reaction = p;
+}
+
+moldtex_sim_config reaction_config(const moldtex_sim_config& config) {
+  moldtex_sim_config c = config;
+  if (c.model == MOLDTEX_MODEL_GRAY_SCOTT) {  // two planes (V, U), no agents
+    c.agent_count = 0;
+    c.species_count = kReactionPlanes;
+  }
+  return c;
 }
 
 void Simulation::set_continuous_params(const moldtex_continuous_params& p) {
@@ -646,7 +677,9 @@ void Simulation::step(uint32_t steps) {
           settings_.food.insert(settings_.food.end(), {f.position[0], f.position[1], f.position[2], f.strength});
         }
     backend_->step(settings_, config_.seed, step_count_++, eaters.data());
-    time_ += continuous() ? settings_.continuous.time_step : settings_.params.time_step;
+    time_ += continuous()    ? settings_.continuous.time_step
+             : gray_scott() ? settings_.reaction.time_step
+                            : settings_.params.time_step;
     // Depletion from exact counts, after the agent pass: the same on every backend.
     for (size_t a = 0; a < active.size(); ++a) {
       moldtex_food_source& f = food_[active[a]];
@@ -723,6 +756,7 @@ void Simulation::save_checkpoint(const std::string& path, const std::vector<Metr
   c.config.fields_rgba = nullptr;
   c.params = settings_.params;
   c.continuous = settings_.continuous;
+  c.reaction = settings_.reaction;
   c.time = time_;
   c.species.assign(settings_.species, settings_.species + MTX_MAX_SPECIES);
   c.fields_rgba = fields_rgba_;
@@ -780,6 +814,7 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
   validate_params(c.params);
   check_length_unit(c.params, *surface_);
   validate_continuous_params(c.continuous);
+  validate_reaction_params(c.reaction);
   for (uint32_t k = 0; k < MTX_MAX_SPECIES; ++k) validate_species_params(c.species[k]);
   {
     const std::vector<moldtex_food_source> keep = food_;
@@ -809,6 +844,7 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
   batches_.clear();
   settings_.params = c.params;
   settings_.continuous = c.continuous;
+  settings_.reaction = c.reaction;
   for (uint32_t k = 0; k < MTX_MAX_SPECIES; ++k) settings_.species[k] = c.species[k];
   food_ = c.food;
   step_count_ = c.step_count;
@@ -833,7 +869,13 @@ moldtex_sim_stats Simulation::stats() const {
   }
   const std::vector<float> field = display_field(raw);
   s.time = time_;
-  if (planes == 1) {
+  if (gray_scott()) {  // mean V, and where V > 0.1
+    const float* v = field.data() + kReactionV * texels;
+    s.coverage = measure(*domain_, v).coverage;
+    std::vector<float> spots(texels, 0.f);
+    for (size_t i = 0; i < texels; ++i) spots[i] = v[i] > 0.1f ? 1.f : 0.f;
+    s.presence = measure(*domain_, spots.data()).presence;
+  } else if (planes == 1) {
     FieldMetrics m = measure(*domain_, field.data());
     s.coverage = m.coverage;
     s.presence = m.presence;

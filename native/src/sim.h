@@ -20,6 +20,8 @@ void validate_params(const moldtex_sim_params& params);
 void check_length_unit(const moldtex_sim_params& params, const Surface& surface);
 void validate_species_params(const moldtex_species_params& params);
 void validate_continuous_params(const moldtex_continuous_params& params);
+// The config a simulation keeps: for Gray-Scott, no agents and two planes (V, U).
+moldtex_sim_config reaction_config(const moldtex_sim_config& config);
 
 class Simulation {
  public:
@@ -47,6 +49,10 @@ class Simulation {
   const std::vector<float>& map(uint32_t kind) const { return maps_->given[kind]; }
   const moldtex_continuous_params& continuous_params() const { return settings_.continuous; }
   bool continuous() const { return config_.model == MOLDTEX_MODEL_CONTINUOUS; }
+  // Gray-Scott reaction-diffusion (kept, but unused, under the other models).
+  bool gray_scott() const { return config_.model == MOLDTEX_MODEL_GRAY_SCOTT; }
+  void set_reaction_params(const moldtex_reaction_params& params);
+  const moldtex_reaction_params& reaction_params() const { return settings_.reaction; }
   const moldtex_sim_config& config() const { return config_; }
   const TextureDomain& domain() const { return *domain_; }
   const Surface& surface() const { return *surface_; }

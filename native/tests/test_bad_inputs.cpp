@@ -72,6 +72,7 @@ CheckpointLayout Layout(const std::vector<char>& bytes) {
   array(4, &l.exposure, nullptr);
   array(4, &l.threshold, nullptr);
   array(4, &l.pheromone, &l.texels);
+  at += sizeof(moldtex_reaction_params);  // version 8: Gray-Scott's parameters, last
   EXPECT_EQ(at, bytes.size()) << "the test's idea of the checkpoint layout is out of date";
   return l;
 }

@@ -30,6 +30,8 @@ struct StepSettings {
   uint32_t model = MOLDTEX_MODEL_MOMAS;
   moldtex_continuous_params continuous{};
   std::vector<double> u_metric;
+  // MOLDTEX_MODEL_GRAY_SCOTT's parameters.
+  moldtex_reaction_params reaction{};
   // Directional bias: 2 per triangle in its local frame (empty = none).
   std::vector<float> bias;
   // Parameter maps and stimuli of the continuous model (never null in a simulation).

@@ -1034,6 +1034,39 @@ moldtex_status moldtex_colour_ramp_from_pixels(const float* pixels, size_t pixel
       std::memcpy(info, &out, std::min<size_t>(size, sizeof(out)));
       info->struct_size = std::min<uint32_t>(size, sizeof(out));
     }
+
+// ---- Gray-Scott reaction-diffusion (MOLDTEX_MODEL_GRAY_SCOTT) ------------------------
+extern "C" {
+
+void moldtex_reaction_params_init(moldtex_reaction_params* p) {
+  if (!p) return;
+  std::memset(p, 0, sizeof(*p));
+  p->struct_size = sizeof(*p);
+  // Spots, with the classic pixel-unit rates (D_u 0.2, D_v 0.1 per second, dt 1) on a
+  // lattice of 0.01 mesh units.
+  p->feed = 0.035f;
+  p->kill = 0.065f;
+  p->diffusion_u = 2e-5f;
+  p->diffusion_v = 1e-5f;
+  p->time_step = 1.0f;
+  p->seed_count = 8;
+  p->seed_radius = 0.05f;
+}
+
+moldtex_status moldtex_sim_set_reaction_params(moldtex_sim sim, const moldtex_reaction_params* params) {
+  return guarded([&] {
+    use(sim).set_reaction_params(read_struct(params, "moldtex_reaction_params", moldtex_reaction_params_init));
+  });
+}
+
+moldtex_status moldtex_sim_get_reaction_params(moldtex_sim sim, moldtex_reaction_params* params) {
+  return guarded([&] {
+    use(sim);
+    read_struct(params, "moldtex_reaction_params", moldtex_reaction_params_init);
+    const uint32_t caller_size = params->struct_size;
+    const moldtex_reaction_params out = sim->sim->reaction_params();
+    std::memcpy(params, &out, std::min<size_t>(caller_size, sizeof(out)));
+    params->struct_size = caller_size;
   });
 }
 

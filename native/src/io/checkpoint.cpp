@@ -20,7 +20,8 @@ namespace {
 // appended to the parameters. Version 5: length_unit appended to the parameters.
 // Version 6: the continuous model (config.model, its parameters, simulated time, the
 // agents' clocks).
-constexpr char kMagic[8] = {'M', 'T', 'X', 'C', 'K', 'P', 'T', '7'};
+// Version 8: the Gray-Scott model's parameters, at the end of the file.
+constexpr char kMagic[8] = {'M', 'T', 'X', 'C', 'K', 'P', 'T', '8'};
 
 struct Writer {
   std::vector<char> bytes;
@@ -127,7 +128,8 @@ void validate_checkpoint_values(const Checkpoint& c, const std::string& path, ui
         !std::isfinite(a.threshold[i]))
       damaged(path, agent + " has a clock, age, exposure or threshold that is negative or not a number");
   }
-  const bool continuous = c.config.model == MOLDTEX_MODEL_CONTINUOUS;
+  const bool continuous =
+      c.config.model == MOLDTEX_MODEL_CONTINUOUS || c.config.model == MOLDTEX_MODEL_GRAY_SCOTT;
   const double max_pheromone = continuous ? std::numeric_limits<float>::max() : kMaxPheromone;
   const double max_coverage = continuous ? 1e30 : 1.0;
   for (size_t i = 0; i < c.state.pheromone.size(); ++i) {
@@ -168,6 +170,7 @@ void save_checkpoint(const std::string& path, const Checkpoint& c) {
   w.array(c.map_kinds);
   w.array(c.maps);
   for_each_array(c.state, [&](const auto& v) { w.array(v); });
+  w.value(c.reaction);  // version 8: last, so the layout before it is version 7's
   write_file_atomically(path, w.bytes.data(), w.bytes.size());
 }
 
@@ -196,6 +199,7 @@ Checkpoint load_checkpoint(const std::string& path) {
   r.array(c.map_kinds);
   r.array(c.maps);
   for_each_array(c.state, [&](auto& v) { r.array(v); });
+  c.reaction = r.value<moldtex_reaction_params>();
   return c;
 }
 

@@ -25,6 +25,7 @@ struct Checkpoint {
   moldtex_sim_params params{};
   moldtex_continuous_params continuous{};  // version 6
   double time = 0;                         // simulated seconds (version 6)
+  moldtex_reaction_params reaction{};      // Gray-Scott (version 8)
   uint64_t surface_fingerprint = 0;
   uint64_t step_count = 0;
   std::vector<MetricRow> metrics;

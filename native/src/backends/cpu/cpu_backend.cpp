@@ -6,6 +6,8 @@
 #include "agents/momas_rules.h"
 #include "agents/parameter_maps.h"
 #include "shared/pde.h"
+#include "common/error.h"
+#include "domain/reaction_diffusion.h"
 
 namespace moldtex {
 
@@ -44,6 +46,7 @@ void CpuBackend::set_thread_count(unsigned threads) {
 void CpuBackend::step(const StepSettings& settings, uint64_t seed, uint64_t step_index,
                       uint32_t* eaters) {
   if (settings.model == MOLDTEX_MODEL_CONTINUOUS) return step_continuous(settings, seed, step_index);
+  if (settings.model == MOLDTEX_MODEL_GRAY_SCOTT) return step_gray_scott(settings);
   const TextureDomain& d = *domain_;
   const moldtex_sim_params& p = settings.params;
   const MomasStepConstants c = momas_constants(settings, d, seed, step_index);
@@ -139,6 +142,17 @@ void CpuBackend::step_continuous(const StepSettings& settings, uint64_t seed, ui
       });
     fill_gutter(d, plane, *pool_);
   }
+}
+
+// Gray-Scott (domain/reaction_diffusion.h): planes V and U, no agents.
+void CpuBackend::step_gray_scott(const StepSettings& settings) {
+  const TextureDomain& d = *domain_;
+  if (!laplacian_) laplacian_ = std::make_unique<TexelLaplacian>(build_texel_laplacian(*surface_, d, *pool_));
+  const size_t texels = d.texel_count();
+  if (pheromone_.size() < texels * kReactionPlanes)
+    fail(MOLDTEX_ERROR_INTERNAL, "The Gray-Scott model needs two planes");
+  reaction_step(*laplacian_, settings.reaction, pheromone_.data(), scratch_, texels, *pool_);
+  for (uint32_t k = 0; k < kReactionPlanes; ++k) fill_gutter(d, pheromone_.data() + k * texels, *pool_);
 }
 
 void CpuBackend::read_pheromone(float* out) const {

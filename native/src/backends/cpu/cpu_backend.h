@@ -35,6 +35,7 @@ class CpuBackend final : public Backend {
 
  private:
   void step_continuous(const StepSettings& settings, uint64_t seed, uint64_t step_index);
+  void step_gray_scott(const StepSettings& settings);
 
   std::shared_ptr<const Surface> surface_;
   std::shared_ptr<const TextureDomain> domain_;

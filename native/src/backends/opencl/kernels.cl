@@ -324,3 +324,18 @@ __kernel void scale_cells(__global float* u, __global const uint* rows, __global
   const uint i = rows[r];
   for (uint p = 0; p < planes; ++p) u[p * texels + i] *= factor[i];
 }
+
+/* Gray-Scott reaction-diffusion (shared/reaction.h): one sub-step of every cell, planes
+ * V (0) and U (1) of `in` into `out`. Reads only `in`, so cells are independent. */
+__kernel void gray_scott_substep(__global const uint* rows, __global const uint* start,
+                                 __global const uint* col, __global const float* weight,
+                                 __global const float* area, __global const float* rate,
+                                 __global const float* in, __global float* out,
+                                 const float h, const float du,
+                                 const float dv, const float feed, const float kill,
+                                 const uint count, const uint texels) {
+  const uint r = get_global_id(0);
+  if (r >= count) return;
+  mtx_gray_scott_cell(rows, start, col, weight, area, rate, in, in + texels, out, out + texels, r, h, du, dv,
+                      feed, kill);
+}

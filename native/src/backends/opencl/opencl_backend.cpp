@@ -1,5 +1,7 @@
 #include "backends/opencl/opencl_backend.h"
 
+#include "domain/reaction_diffusion.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -10,6 +12,7 @@
 #include "agents/parameter_maps.h"
 #include "agents/momas_rules.h"
 #include "common/error.h"
+#include "domain/reaction_diffusion.h"
 
 namespace moldtex {
 
@@ -70,6 +73,8 @@ struct OpenClBackend::State {
   cl_kernel convert_kernel = nullptr, pde_kernel = nullptr, fine_start_kernel = nullptr,
             fine_diffuse_kernel = nullptr, coarse_diffuse_kernel = nullptr, write_kernel = nullptr,
             scale_kernel = nullptr;
+  cl_kernel gray_scott_kernel = nullptr;  // Gray-Scott's sub-step (shared/reaction.h)
+  cl_mem rate = nullptr;                  // and the Laplacian's rate per row
   cl_kernel deposit_kernel = nullptr, gutter_kernel = nullptr, diffuse_kernel = nullptr;
   // Surface units (see domain/surface_diffusion.h).
   cl_kernel surface_kernel = nullptr, seam_kernel = nullptr, fine_kernel = nullptr,
@@ -113,7 +118,7 @@ struct OpenClBackend::State {
                      scratch, marks, field, texels_per_unit, texel_triangle, island, seam_texel,
                      seam_neighbour, bias, texel_island, interior_bits, sums, alias_prob, alias_index, rows, row_start, col, weight,
                      area, reverse, is_fine, fine_rows, fine_cur, fine_next, fine_flux, map_planes,
-                     spawn_max, spawn_prob, spawn_index, write, decay})
+                     spawn_max, spawn_prob, spawn_index, write, decay, rate})
       if (m) r.clReleaseMemObject(m);
     release_plan();
     for (cl_kernel k : agent_kernels)
@@ -121,7 +126,7 @@ struct OpenClBackend::State {
     for (cl_kernel k : continuous_kernels)
       if (k) r.clReleaseKernel(k);
     for (cl_kernel k : {convert_kernel, pde_kernel, fine_start_kernel, fine_diffuse_kernel, coarse_diffuse_kernel,
-                        write_kernel, scale_kernel})
+                        write_kernel, scale_kernel, gray_scott_kernel})
       if (k) r.clReleaseKernel(k);
     for (cl_kernel k : {deposit_kernel, gutter_kernel, diffuse_kernel, surface_kernel, seam_kernel,
                         fine_kernel, scatter_kernel})
@@ -360,6 +365,7 @@ void OpenClBackend::reset(const Agents& agents) {
 void OpenClBackend::step(const StepSettings& settings, uint64_t seed, uint64_t step_index,
                          uint32_t* eaters) {
   if (settings.model == MOLDTEX_MODEL_CONTINUOUS) return step_continuous(settings, seed, step_index);
+  if (settings.model == MOLDTEX_MODEL_GRAY_SCOTT) return step_gray_scott(settings);
   State& s = *state_;
   const TextureDomain& d = *domain_;
   const moldtex_sim_params& p = settings.params;
@@ -683,6 +689,38 @@ void OpenClBackend::integrate(const moldtex_continuous_params& p, const TexelLap
     s.run(s.coarse_diffuse_kernel, cells);
     std::swap(s.pheromone, s.scratch);
   }
+}
+
+// Gray-Scott (domain/reaction_diffusion.h): planes V and U, no agents; every sub-step
+// runs the shared cell update on the device, then the gutter is filled.
+void OpenClBackend::step_gray_scott(const StepSettings& settings) {
+  prepare_continuous();  // the texel Laplacian's buffers
+  State& s = *state_;
+  const TexelLaplacian& lap = *laplacian_;
+  const moldtex_reaction_params& p = settings.reaction;
+  if (species_count_ < kReactionPlanes) fail(MOLDTEX_ERROR_INTERNAL, "The Gray-Scott model needs two planes");
+  if (!s.gray_scott_kernel) {
+    cl_int err = CL_SUCCESS;
+    s.gray_scott_kernel = s.r.clCreateKernel(s.programs[0], "gray_scott_substep", &err);
+    check(err, "creating the Gray-Scott kernel");
+    s.rate = s.buffer(lap.rate.size() * 4, lap.rate.empty() ? nullptr : lap.rate.data(), device_bytes_);
+  }
+  const uint32_t n = reaction_substeps(lap, p);
+  const float h = static_cast<float>(double(p.time_step) / n);
+  const float du = static_cast<float>(double(p.diffusion_u) * p.time_step / n);
+  const float dv = static_cast<float>(double(p.diffusion_v) * p.time_step / n);
+  const cl_uint cells = static_cast<cl_uint>(lap.rows.size());
+  const cl_uint texels = static_cast<cl_uint>(domain_->texel_count());
+  for (uint32_t j = 0; j < n; ++j) {
+    s.args(s.gray_scott_kernel, s.rows, s.row_start, s.col, s.weight, s.area, s.rate, s.pheromone, s.scratch, h, du, dv,
+           p.feed, p.kill, cells, texels);
+    s.run(s.gray_scott_kernel, cells);
+    std::swap(s.pheromone, s.scratch);
+  }
+  const cl_uint gutter = static_cast<cl_uint>(domain_->gutter_texel.size());
+  s.args(s.gutter_kernel, s.pheromone, s.gutter_texel, s.gutter_source, gutter, texels,
+         static_cast<cl_uint>(species_count_));
+  s.run(s.gutter_kernel, gutter);
 }
 
 void OpenClBackend::finish() { check(state_->r.clFinish(state_->queue), "finishing the step"); }

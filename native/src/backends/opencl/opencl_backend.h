@@ -51,6 +51,7 @@ class OpenClBackend final : public Backend {
   // The continuous model: its step, its agent kernel (fields on/off) and, at its first
   // step, its tables on the device (the PDE's cells, the respawn table, deposit sums).
   void step_continuous(const StepSettings& settings, uint64_t seed, uint64_t step_index);
+  void step_gray_scott(const StepSettings& settings);
   cl_kernel continuous_kernel(bool fields);
   void prepare_continuous();
   // The PDE's step: forward-Euler sub-steps on the device, or backward Euler on the host.
