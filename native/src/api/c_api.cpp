@@ -1034,6 +1034,10 @@ moldtex_status moldtex_colour_ramp_from_pixels(const float* pixels, size_t pixel
       std::memcpy(info, &out, std::min<size_t>(size, sizeof(out)));
       info->struct_size = std::min<uint32_t>(size, sizeof(out));
     }
+  });
+}
+
+}  // extern "C"
 
 // ---- Gray-Scott reaction-diffusion (MOLDTEX_MODEL_GRAY_SCOTT) ------------------------
 extern "C" {
