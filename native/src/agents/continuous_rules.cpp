@@ -122,18 +122,16 @@ ContinuousStepConstants continuous_constants(const StepSettings& settings, const
   c.has_fields = settings.has_fields ? 1u : 0u;
   c.triangle_count = triangle_count;
   c.deposit_on = p.deposit_rate > 0.f ? 1u : 0u;
-  c.deposit_units = deposit_units(agents);
   c.bias_on = !settings.bias.empty() && p.bias_strength > 0.f ? 1u : 0u;
   c.bias_rate = p.bias_strength;
   c.bias_symmetry = p.bias_symmetry;
   c.bias_spawn = !settings.bias.empty() && p.bias_spawn ? 1u : 0u;
   c.absorb = p.boundary == MOLDTEX_BOUNDARY_ABSORB ? 1u : 0u;
-  for (int k = 0; k < MTX_AGENT_MAPS; ++k) c.map_plane[k] = -1;
-  if (settings.maps) {
-    for (int k = 0; k < MTX_AGENT_MAPS; ++k) c.map_plane[k] = settings.maps->plane_of[k];
-    c.maps_on = settings.maps->any_agent_map() ? 1u : 0u;
-    c.deposit_units = deposit_units(agents, settings.maps->deposit_max);
-  }
+  // (A simulation always has its maps, empty or not.)
+  const ParameterMaps& maps = *settings.maps;
+  for (int k = 0; k < MTX_AGENT_MAPS; ++k) c.map_plane[k] = maps.plane_of[k];
+  c.maps_on = maps.any_agent_map() ? 1u : 0u;
+  c.deposit_units = deposit_units(agents, maps.deposit_max);
   return c;
 }
 

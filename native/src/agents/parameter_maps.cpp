@@ -43,9 +43,9 @@ std::vector<float> decay_corrections(const std::vector<float>& decay_map, double
 }
 
 const TexelLaplacian& laplacian_for(const ParameterMaps& maps, const TexelLaplacian& base, MappedLaplacian& cache) {
-  if (maps.diffusion.empty()) return base;
+  if (maps.diffusion().empty()) return base;
   if (!cache.lap || cache.source != &maps || cache.version != maps.version) {
-    cache.lap = std::make_unique<TexelLaplacian>(with_diffusion_map(base, maps.diffusion));
+    cache.lap = std::make_unique<TexelLaplacian>(with_diffusion_map(base, maps.diffusion()));
     cache.source = &maps;
     cache.version = maps.version;
   }
@@ -53,14 +53,14 @@ const TexelLaplacian& laplacian_for(const ParameterMaps& maps, const TexelLaplac
 }
 
 const std::vector<float>& decay_for(const ParameterMaps& maps, double r_dec_dt, MappedLaplacian& cache) {
-  if (maps.decay.empty()) {
+  if (maps.decay().empty()) {
     cache.decay.clear();
     cache.decay_source = nullptr;
     return cache.decay;
   }
   if (cache.decay.empty() || cache.decay_source != &maps || cache.decay_version != maps.version ||
       cache.decay_key != r_dec_dt) {
-    cache.decay = decay_corrections(maps.decay, r_dec_dt);
+    cache.decay = decay_corrections(maps.decay(), r_dec_dt);
     cache.decay_source = &maps;
     cache.decay_version = maps.version;
     cache.decay_key = r_dec_dt;
@@ -158,9 +158,6 @@ void set_parameter_map(ParameterMaps& m, uint32_t kind, const float* values, con
   }
   const std::vector<float>& dep = m.given[MOLDTEX_MAP_DEPOSIT_RATE];
   m.deposit_max = dep.empty() ? 1.f : std::max(1.f, *std::max_element(dep.begin(), dep.end()));
-  m.write = m.given[MOLDTEX_MAP_WRITE_STIMULUS];
-  m.diffusion = m.given[MOLDTEX_MAP_DIFFUSION_RATE];
-  m.decay = m.given[MOLDTEX_MAP_DECAY_RATE];
 }
 
 }  // namespace moldtex

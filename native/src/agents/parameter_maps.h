@@ -29,14 +29,16 @@ struct ParameterMaps {
   // area times its mean sampled weight.
   std::vector<float> spawn_max;
   AliasTable spawn_alias;
-  // Write stimulus per texel (empty = none): r_dec * U per second per unit.
-  std::vector<float> write;
-  // Per texel multipliers of r_dif and r_dec (empty = none).
-  std::vector<float> diffusion, decay;
+
   // Bumped by every change, so a backend uploads only what changed.
   uint64_t version = 0;
 
   bool any_agent_map() const { return !agent_planes.empty(); }
+  // Write stimulus per texel (empty = none): r_dec * U per second per unit.
+  const std::vector<float>& write() const { return given[MOLDTEX_MAP_WRITE_STIMULUS]; }
+  // Per texel multipliers of r_dif and r_dec (empty = none).
+  const std::vector<float>& diffusion() const { return given[MOLDTEX_MAP_DIFFUSION_RATE]; }
+  const std::vector<float>& decay() const { return given[MOLDTEX_MAP_DECAY_RATE]; }
 };
 
 // Checks values for map `kind` (count floats for width * height texels); throws with a

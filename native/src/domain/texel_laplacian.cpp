@@ -417,15 +417,11 @@ TexelLaplacian build_texel_laplacian(const Surface& s, const TextureDomain& d, T
 }
 
 TexelLaplacian with_diffusion_map(const TexelLaplacian& base, const std::vector<float>& factor) {
-  TexelLaplacian lap;
-  lap.rows = base.rows;
-  lap.start = base.start;
-  lap.col = base.col;
-  lap.area = base.area;
-  lap.reverse = base.reverse;
-  lap.total_area = base.total_area;
-  lap.weight.resize(base.weight.size());
-  lap.rate.resize(base.rows.size());
+  // The same cells and faces; the conductances, rates and caches are made anew.
+  TexelLaplacian lap = base;
+  lap.local.reset();
+  lap.backward.reset();
+  lap.max_rate = 0;
   for (size_t r = 0; r < base.rows.size(); ++r) {
     const float fi = factor[base.rows[r]];
     double rate = 0;

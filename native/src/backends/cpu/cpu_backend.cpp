@@ -125,12 +125,12 @@ void CpuBackend::step_continuous(const StepSettings& settings, uint64_t seed, ui
         sums[i] = 0;
       }
     });
-    if (!maps.write.empty()) {
+    if (!maps.write().empty()) {
       const float rate = write_stimulus_amount(p, k < settings.u_metric.size() ? settings.u_metric[k] : 0.0);
       pool_->parallel_for(lap.rows.size(), 4096, [&](size_t begin, size_t end) {
         for (size_t r = begin; r < end; ++r) {
           const uint32_t i = lap.rows[r];
-          plane[i] = mtx_write_stimulus(plane[i], maps.write[i], rate);
+          plane[i] = mtx_write_stimulus(plane[i], maps.write()[i], rate);
         }
       });
     }

@@ -559,7 +559,7 @@ void OpenClBackend::step_continuous(const StepSettings& settings, uint64_t seed,
     replace(s.spawn_max, maps.spawn_max.data(), maps.spawn_max.size() * 4);
     replace(s.spawn_prob, maps.spawn_alias.prob.data(), maps.spawn_alias.prob.size() * 4);
     replace(s.spawn_index, maps.spawn_alias.alias.data(), maps.spawn_alias.alias.size() * 4);
-    replace(s.write, maps.write.data(), maps.write.size() * 4);
+    replace(s.write, maps.write().data(), maps.write().size() * 4);
     device_bytes_ += s.maps_bytes;
     s.maps_source = &maps;
     s.maps_version = maps.version;
@@ -575,7 +575,7 @@ void OpenClBackend::step_continuous(const StepSettings& settings, uint64_t seed,
   const float amount = deposit_unit_amount(p, c.deposit_units);
   s.args(s.convert_kernel, s.pheromone, s.sums, s.rows, s.area, amount, cells, texels, planes);
   s.run(s.convert_kernel, cells);
-  if (!maps.write.empty()) {
+  if (!maps.write().empty()) {
     cl_float4 a{};
     for (cl_uint q = 0; q < planes && q < 4; ++q)
       a.s[q] = write_stimulus_amount(p, q < settings.u_metric.size() ? settings.u_metric[q] : 0.0);
@@ -591,7 +591,7 @@ void OpenClBackend::step_continuous(const StepSettings& settings, uint64_t seed,
 void OpenClBackend::diffuse_continuous(const moldtex_continuous_params& p, const ParameterMaps& maps) {
   State& s = *state_;
   const TexelLaplacian& lap = laplacian_for(maps, *laplacian_, mapped_);
-  const void* weights_source = maps.diffusion.empty() ? nullptr : &maps;
+  const void* weights_source = maps.diffusion().empty() ? nullptr : &maps;
   if (weights_source != weights_source_ || (weights_source && weights_version_ != maps.version)) {
     // Another diffusion map (or none): its conductances, and the local stepping lists anew.
     check(s.r.clEnqueueWriteBuffer(s.queue, s.weight, CL_TRUE, 0, lap.weight.size() * 4, lap.weight.data(), 0,
