@@ -344,6 +344,9 @@ void fuzz_mesh(Bytes& in) {
         float* fields[] = {&p.feed, &p.kill, &p.diffusion_u, &p.diffusion_v, &p.time_step, &p.seed_radius};
         *fields[in.u8() % 6] = in.f32();
         p.seed_count = in.u16() % 1100;
+        if (trace)
+          std::fprintf(stderr, "reaction: F %g k %g Du %g Dv %g dt %g seeds %u radius %g\n", p.feed, p.kill,
+                       p.diffusion_u, p.diffusion_v, p.time_step, p.seed_count, p.seed_radius);
         if (sim) check(moldtex_sim_set_reaction_params(sim, &p));
         break;
       }
@@ -433,6 +436,7 @@ void fuzz_mesh(Bytes& in) {
         const uint32_t kind = in.u8() % (MOLDTEX_MAP_COUNT + 1);  // COUNT is not a map
         const float a = in.f32(), b = in.f32();
         const uint8_t how = in.u8() % 3;  // 0: clear, 1: right size, 2: one short
+        if (trace) std::fprintf(stderr, "map %u: %g / %g, how %u\n", kind, a, b, how);
         if (!sim) break;
         std::vector<float> map(size_t(width) * height - (how == 2 ? 1 : 0));
         for (size_t i = 0; i < map.size(); ++i) map[i] = ((i % width) / 4 + (i / width) / 4) % 2 ? a : b;

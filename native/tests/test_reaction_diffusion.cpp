@@ -311,6 +311,32 @@ TEST(ReactionDiffusion, NoBlowUpAtAnyPreset) {
       }
 }
 
+// Found by the fuzzer: with D_u four orders above D_v, neighbours refill U as fast as a
+// seed uses it, so U stays near 1 there and dv/dt ~ v^2 runs V to infinity within
+// seconds (it reached inf in 2 steps). V's ceiling keeps every value finite, U in [0, 1].
+TEST(ReactionDiffusion, ExtremeDiffusionRatioStaysFinite) {
+  RdRun r;
+  r.mesh = &BigPlane();
+  r.width = r.height = 32;
+  r.p = Params(kSpots, 0.0625, 1);
+  r.p.seed_radius = 0.07f;
+  r.p.diffusion_u = 0.3f;
+  r.p.diffusion_v = 1e-5f;
+  r.steps = 20;
+  const Result o = Simulate(r);
+  ASSERT_TRUE(o.ok);
+  double v_max = 0, u_max = 0;
+  for (size_t i = 0; i + 3 < o.rgba.size(); i += 4) {
+    ASSERT_TRUE(std::isfinite(o.rgba[i]) && std::isfinite(o.rgba[i + 1])) << "texel " << i / 4;
+    v_max = std::max(v_max, double(o.rgba[i]));
+    u_max = std::max(u_max, double(o.rgba[i + 1]));
+  }
+  std::printf("max V %.3f, max U %.3f, mean V %g\n", v_max, u_max, o.stats.coverage);
+  EXPECT_LE(u_max, 1.0 + 1e-6);
+  EXPECT_LE(v_max, 4.0 + 1e-6);
+  EXPECT_TRUE(std::isfinite(o.stats.coverage));
+}
+
 TEST(ReactionDiffusion, BadParametersAreRefusedWithMessages) {
   auto s = create_surface(Plane());
   ASSERT_TRUE(s);

@@ -11,6 +11,12 @@
 
 MTX_BEGIN_NAMESPACE
 
+/* V's ceiling. With u <= 1 (which the update keeps), dv/dt <= v^2 - (F + k) v, so where
+ * D_u is so much larger than D_v that neighbours refill u faster than the cell uses it
+ * (u held near 1), V runs to infinity in finite time. Normal patterns peak at v ~ 1.6 (the
+ * seeds' first seconds), far below the ceiling; it only keeps such extreme settings finite. */
+#define MTX_REACTION_MAX_V 4.0f
+
 /* Cell rows[r] (texel i) after one sub-step of length h, forward Euler
  *   U* = U + du (L U)_i + h (F (1 - U) - U V^2)
  *   V* = V + dv (L V)_i + h (U V^2 - (F + k) V)
@@ -19,7 +25,8 @@ MTX_BEGIN_NAMESPACE
  * A_i: the few tiny texels at UV poles or pinches) takes its own diffusion loss
  * implicitly instead: U' = (U* + du rate_r U) / (1 + du rate_r) (likewise V), which
  * follows its neighbours' mean rather than overshooting; every weight is then
- * non-negative, so values stay bounded and >= 0 while h (1 + F + k) <= 0.5.
+ * non-negative, so U stays in [0, 1] while h (1 + F + k) <= 0.5; V is kept in
+ * [0, MTX_REACTION_MAX_V].
  * Reads only v_in and u_in and writes only v_out[i] and u_out[i]: every cell is
  * independent of the others and of the order they run in. */
 MTX_FN void mtx_gray_scott_cell(MTX_GLOBAL const mtx_u32* rows, MTX_GLOBAL const mtx_u32* start,
@@ -44,7 +51,7 @@ MTX_FN void mtx_gray_scott_cell(MTX_GLOBAL const mtx_u32* rows, MTX_GLOBAL const
   if (su > 0.5f) u = (u + su * ui) / (1.0f + su);
   if (sv > 0.5f) v = (v + sv * vi) / (1.0f + sv);
   u_out[i] = u > 0.0f ? u : 0.0f;
-  v_out[i] = v > 0.0f ? v : 0.0f;
+  v_out[i] = v > 0.0f ? (v < MTX_REACTION_MAX_V ? v : MTX_REACTION_MAX_V) : 0.0f;
 }
 
 MTX_END_NAMESPACE
