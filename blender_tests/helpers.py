@@ -252,10 +252,12 @@ def fresh_sim(obj):
         config = live_module.config_from_settings(settings)
         continuous = (live_module.continuous_params_from_settings(settings, area)
                       if config["model"] == eng.MODEL_CONTINUOUS else None)
+        reaction = (live_module.reaction_params_from_settings(settings, area)
+                    if config["model"] == eng.MODEL_GRAY_SCOTT else None)
         sim = eng.Simulation(surface, config,
                              live_module.params_from_settings(settings, area,
                                                               config["model"]),
-                             None, continuous)
+                             None, continuous, reaction)
         if continuous is not None:
             sim.set_bias(live_module.bias_vectors(live_module.bias_direction_in_mesh(obj),
                                                   sim.triangle_count))

@@ -4,7 +4,7 @@
 Any Blender (3.4+):
     blender -b scene.blend -P <add-on folder>/moldtex/cli.py -- --object Rock \\
         --out /farm/rock_bake --frames 1 250 --steps-per-frame 2 --format exr-half \\
-        --preset marble [--model continuous] [--resume]
+        --preset marble [--model continuous|gray-scott] [--resume]
 Blender 4.2+ with the add-on enabled in the preferences:
     blender --command moldtex bake --blend scene.blend --object Rock --out ... (same)
 Blender as a Python module (pip install bpy):
@@ -33,7 +33,7 @@ EXIT_USAGE = 2
 
 FORMATS = {"exr-half": "EXR_HALF", "exr-float": "EXR_FLOAT", "png8": "PNG8",
            "png16": "PNG16"}
-MODELS = {"momas": "MOMAS", "continuous": "CONTINUOUS"}
+MODELS = {"momas": "MOMAS", "continuous": "CONTINUOUS", "gray-scott": "GRAY_SCOTT"}
 ADDON_DIR = os.path.dirname(os.path.abspath(__file__))
 
 
@@ -70,12 +70,14 @@ def build_parser(prog):
     parser.add_argument("--preset", metavar="NAME",
                         help="apply a look first: a shipped preset (marble, wood_grain, "
                              "golden_web, lava_rivers, moss, metal_scratches; continuous: "
-                             "branching_veins, coral_maze, zebra_stripes, starbursts), one of "
-                             "yours, or a preset .py file")
+                             "branching_veins, coral_maze, zebra_stripes, starbursts; "
+                             "Gray-Scott: reaction_spots, reaction_labyrinth, "
+                             "reaction_worms), one of yours, or a preset .py file")
     parser.add_argument("--model", choices=sorted(MODELS),
-                        help="behaviour model: momas, or continuous (the rate-based "
+                        help="behaviour model: momas, continuous (the rate-based "
                              "model with a diffusion-decay PDE and agent turnover, "
-                             "layton-intrinsic-slime.md); applied after --preset "
+                             "layton-intrinsic-slime.md) or gray-scott (reaction-"
+                             "diffusion, no agents); applied after --preset "
                              "(default: the object's, or the preset's)")
     parser.add_argument("--resume", action="store_true",
                         help="continue an interrupted bake from its checkpoint")

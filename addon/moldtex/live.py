@@ -54,6 +54,7 @@ class LiveSim:
         self.config = None        # dict the sim was created with
         self.uv_map = ""          # UV map name the sim was built on
         self.uv_map_setting = ""  # settings.uv_map at build time ("" = render UV map)
+        self.reaction_seeds = None  # reaction_seeds(settings) at build time (Gray-Scott)
         self.signature = None     # MeshArrays.signature of the mesh it was built on
         self.surface_info = {}
         self.pixels = None        # persistent array('f') for read_rgba + foreach_set
@@ -236,7 +237,8 @@ def backend_note(settings):
     return find_opencl_device(settings)[1]
 
 
-MODELS = {"MOMAS": engine.MODEL_MOMAS, "CONTINUOUS": engine.MODEL_CONTINUOUS}
+MODELS = {"MOMAS": engine.MODEL_MOMAS, "CONTINUOUS": engine.MODEL_CONTINUOUS,
+          "GRAY_SCOTT": engine.MODEL_GRAY_SCOTT}
 INTEGRATORS = {"AUTO": engine.INTEGRATOR_AUTO, "FORWARD": engine.INTEGRATOR_FORWARD,
                "BACKWARD": engine.INTEGRATOR_BACKWARD}
 
@@ -322,6 +324,38 @@ def params_from_settings(settings, area=None, model=None):
     params["food_radius"] = (length_in_mesh_units(obj, settings.food_radius)
                              if obj is not None else settings.food_radius)
     return params
+
+
+def reaction_params_from_settings(settings, area):
+    """The core's moldtex_reaction_params (Gray-Scott) for settings on a surface of
+    `area` mesh units²: diffusion rates from pattern units² to mesh units², the seed
+    radius from pattern units. Raises engine.EngineError when the pattern unit is not
+    known."""
+    reaction = settings.reaction
+    unit = pattern_unit(settings, area)
+    if not unit > 0.0 or not math.isfinite(unit):
+        raise engine.EngineError(
+            "The pattern unit is not known yet (the surface's area is needed for Pattern "
+            "Scale Mode Object): press Reset.", engine.ERROR_INVALID_ARGUMENT)
+    return {
+        "feed": float(reaction.feed),
+        "kill": float(reaction.kill),
+        "diffusion_u": float(reaction.diffusion_u) * unit * unit,
+        "diffusion_v": float(reaction.diffusion_v) * unit * unit,
+        "time_step": float(reaction.time_step),
+        "seed_count": int(reaction.seed_count),
+        "seed_radius": float(reaction.seed_radius) * unit,
+    }
+
+
+def reaction_seeds(settings):
+    """What a Gray-Scott simulation takes only at Reset: (seed count, seed radius);
+    None for the other models."""
+    if model_of(settings) != engine.MODEL_GRAY_SCOTT:
+        return None
+    return (int(settings.reaction.seed_count), float(settings.reaction.seed_radius),
+            float(settings.pattern_scale), _enum(settings, "pattern_scale_mode", 'OBJECT'),
+            float(settings.pattern_length))
 
 
 def continuous_params_from_settings(settings, area):
@@ -717,7 +751,8 @@ def needs_reset(obj):
         return False
     settings = obj.moldtex
     return (entry.config != config_from_settings(settings)
-            or entry.uv_map_setting != settings.uv_map)
+            or entry.uv_map_setting != settings.uv_map
+            or entry.reaction_seeds != reaction_seeds(settings))
 
 
 def _build(entry, obj, mesh, depsgraph=None):
@@ -745,9 +780,11 @@ def _build(entry, obj, mesh, depsgraph=None):
         _check_spawn_map(settings, fields)
         surface_info = surface.info()
         area = surface_info.get("area")
-        continuous = None
+        continuous = reaction = None
         if config["model"] == engine.MODEL_CONTINUOUS:
             continuous = continuous_params_from_settings(settings, area)
+        elif config["model"] == engine.MODEL_GRAY_SCOTT:
+            reaction = reaction_params_from_settings(settings, area)
         map_values, map_keys = {}, {}
         if continuous is not None:
             try:
@@ -761,7 +798,7 @@ def _build(entry, obj, mesh, depsgraph=None):
                                          mesh.signature)
         sim = engine.Simulation(surface, create_config,
                                 params_from_settings(settings, area, config["model"]),
-                                fields, continuous)
+                                fields, continuous, reaction)
     except engine.EngineError as error:
         # The core's message says what failed (out of memory already suggests what to
         # lower); for an unusable device, say where to choose another one.
@@ -781,7 +818,8 @@ def _build(entry, obj, mesh, depsgraph=None):
             for kind, values in map_values.items():
                 if values is not None:
                     sim.set_map(kind, values)
-        _push_species(_Holder(sim), settings)
+        if config["model"] != engine.MODEL_GRAY_SCOTT:  # (no agents there)
+            _push_species(_Holder(sim), settings)
         holder = LiveSim(entry.name)
         holder.sim = sim
         _push_food(holder, obj, fresh=True)
@@ -800,6 +838,7 @@ def _build(entry, obj, mesh, depsgraph=None):
     entry.config = config
     entry.uv_map = mesh.uv_map
     entry.uv_map_setting = settings.uv_map
+    entry.reaction_seeds = reaction_seeds(settings)
     entry.signature = mesh.signature
     entry.surface_info = surface_info
     entry.pixels = sim.new_rgba_buffer()
@@ -910,6 +949,10 @@ def _push_settings(entry, obj):
         entry.sim.set_continuous_params(continuous_params_from_settings(settings, area))
         _push_bias(entry, obj)
         _push_maps(entry, obj, quiet=True)
+    elif model == engine.MODEL_GRAY_SCOTT:
+        # (the seeds' count and radius wait for Reset: needs_reset says so)
+        entry.sim.set_reaction_params(reaction_params_from_settings(settings, area))
+        return  # no agents, so no species
     _push_species(entry, settings)
 
 

@@ -3,7 +3,8 @@
 
 UV Map ▸ Image Texture ▸ Map Range ▸ Color Ramp ▸ Principled BSDF Base Color. The Map
 Range node spans what the image holds: MoMaS pheromone 0..1, the continuous model's
-u / U 0..Display Range (1 = the uniform steady state), so one ramp fits both and the
+u / U 0..Display Range (1 = the uniform steady state), Gray-Scott's V (the image's R
+alone, through a Separate Color node) 0..its Display Range, so one ramp fits all and the
 live image and a baked sequence (the same values) look alike. The user's nodes are
 kept; our nodes are found again by name, so running it twice adds nothing. On the way
 to Base Color the Fields image can be laid over the pheromone (Show Fields: walls
@@ -19,6 +20,7 @@ TEXTURE_NODE = "Moldtex Texture"
 RAMP_NODE = "Moldtex Ramp"
 RANGE_NODE = "Moldtex Range"  # image value 0..display_maximum -> ramp 0..1
 SPECIES_NODE_PREFIX = "Moldtex Species "  # colour by species (2 or more)
+CHANNEL_NODE = "Moldtex V"  # Gray-Scott: the image's R (V) alone into the Range node
 FIELDS_NODE = "Moldtex Fields"
 OVERLAY_NODE = "Moldtex Fields Overlay"  # base colour + fields colour * strength
 OVERLAY_STRENGTH = 0.6
@@ -110,7 +112,7 @@ def setup_material(obj, image, uv_map_name):
     links.new(span.outputs[0], ramp.inputs["Fac"])
     for node in [n for n in nodes if n.name.startswith(SPECIES_NODE_PREFIX)]:
         nodes.remove(node)
-    count = int(obj.moldtex.species_count)
+    count = 1 if _model(obj) == _gray_scott() else int(obj.moldtex.species_count)
     if count >= 2:
         base = _species_mix(tree, obj.moldtex, texture, count, ramp.location).outputs["Vector"]
     else:
@@ -132,18 +134,57 @@ def setup_material(obj, image, uv_map_name):
     return material
 
 
-def display_maximum(obj):
-    """The image value shown at the top of the ramp: 1 for MoMaS (pheromone in [0, 1]),
-    the Display Range for the continuous model (u / U). The model is that of the live
-    simulation (whose image or bake is shown), else the one the settings ask for."""
-    from . import engine, live  # (live does not import this module)
+def _model(obj):
+    """engine.MODEL_* of the image shown: that of the live simulation (whose image or
+    bake is shown), else the one the settings ask for."""
+    from . import live  # (live does not import this module)
     entry = live.get(obj.name)
     model = live.sim_model(entry) if entry is not None and entry.has_sim else None
-    if model is None:
-        model = live.model_of(obj.moldtex)
+    return live.model_of(obj.moldtex) if model is None else model
+
+
+def _gray_scott():
+    from . import engine
+    return engine.MODEL_GRAY_SCOTT
+
+
+def display_maximum(obj):
+    """The image value shown at the top of the ramp: 1 for MoMaS (pheromone in [0, 1]),
+    the Display Range for the continuous model (u / U) and for Gray-Scott (V)."""
+    from . import engine
+    model = _model(obj)
     if model == engine.MODEL_CONTINUOUS:
         return max(1e-6, float(obj.moldtex.continuous.display_range))
+    if model == engine.MODEL_GRAY_SCOTT:
+        return max(1e-6, float(obj.moldtex.reaction.display_range))
     return 1.0
+
+
+def _sync_channel(obj, tree):
+    """Gray-Scott's image holds V in R and U in G: the Range node then reads R alone
+    (through a Separate Color node); the other models' single-species images are grey,
+    read whole. Changes nothing that already matches."""
+    nodes, links = tree.nodes, tree.links
+    texture, span = nodes.get(TEXTURE_NODE), nodes.get(RANGE_NODE)
+    if texture is None or span is None:
+        return
+    channel = nodes.get(CHANNEL_NODE)
+    if _model(obj) == _gray_scott():
+        if channel is None:
+            channel = nodes.new("ShaderNodeSeparateColor")
+            channel.name = CHANNEL_NODE
+            channel.label = "Moldtex V (R)"
+            channel.location = (span.location.x - 180.0, span.location.y - 160.0)
+        if not channel.inputs[0].is_linked:
+            links.new(texture.outputs["Color"], channel.inputs[0])
+        wanted = channel.outputs[0]
+    else:
+        if channel is not None:
+            nodes.remove(channel)
+        wanted = texture.outputs["Color"]
+    source = span.inputs[0].links[0].from_socket if span.inputs[0].is_linked else None
+    if source != wanted:
+        links.new(wanted, span.inputs[0])
 
 
 def sync_display_range(obj):
@@ -154,13 +195,14 @@ def sync_display_range(obj):
     if span is None:
         return False
     maximum = display_maximum(obj)
+    _sync_channel(obj, obj.active_material.node_tree)
     inputs = span.inputs  # Value, From Min, From Max, To Min, To Max (float sockets)
     for index, value in ((1, 0.0), (2, maximum), (3, 0.0), (4, 1.0)):
         if abs(inputs[index].default_value - value) > 1e-9 * max(1.0, value):
             inputs[index].default_value = value
     settings = obj.moldtex
     tree = obj.active_material.node_tree
-    for index in range(int(settings.species_count)):
+    for index in range(1 if _model(obj) == _gray_scott() else int(settings.species_count)):
         node = tree.nodes.get(f"{SPECIES_NODE_PREFIX}{index + 1}")
         if node is None:
             continue

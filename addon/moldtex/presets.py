@@ -18,6 +18,10 @@ Keep U off first and sets it last, and gives a fixed agent count: that model's l
 does not depend on the texture resolution. Its ramp spans u / U from 0 to
 s.continuous.display_range.
 
+A Gray-Scott look sets s.model = 'GRAY_SCOTT' and s.reaction (diffusion rates in
+pattern units² per second, the seed radius in pattern units); its ramp spans V from 0
+to s.reaction.display_range.
+
 Presets neither store nor change the parameter maps (s.maps, maps/): a look is about
 the parameters, while a map names one object's vertex groups and images, which another
 object would not have (applying a look keeps the object's maps as they are).
@@ -62,6 +66,9 @@ CONTINUOUS_PRESET_PROPERTIES = ("move_rate", "turn_rate", "turn_frequency",
                                 "sensor_distance", "sensor_angle", "deposit_rate",
                                 "diffusion_rate", "decay_rate", "mean_lifetime",
                                 "activation_time", "integrator", "display_range")
+# ... and Gray-Scott's (settings.reaction; written as r.<name>).
+REACTION_PRESET_PROPERTIES = ("feed", "kill", "diffusion_u", "diffusion_v", "time_step",
+                              "seed_count", "seed_radius", "display_range")
 
 
 def shipped_directory():
@@ -195,8 +202,11 @@ def preset_text(obj, title=""):
     for name in CONTINUOUS_PRESET_PROPERTIES:
         value = enum_value(cont, name) if name == "integrator" else getattr(cont, name)
         lines.append(f"c.{name} = {_literal(value)}")
-    if model == 'CONTINUOUS':
-        # The continuous model's look does not depend on the resolution.
+    lines.append("r = s.reaction")
+    for name in REACTION_PRESET_PROPERTIES:
+        lines.append(f"r.{name} = {_literal(getattr(settings.reaction, name))}")
+    if model in ('CONTINUOUS', 'GRAY_SCOTT'):
+        # These models' looks do not depend on the resolution.
         lines.append(f"s.agent_count = {int(settings.agent_count)}")
     else:
         resolution = int(enum_value(settings, "resolution"))
@@ -290,10 +300,12 @@ preset, or remove one of your presets"""
     bl_label = "Add Moldtex Preset"
     preset_menu = MENU_IDNAME
     preset_subdir = SUBDIR
-    preset_defines = ["obj = bpy.context.object", "s = obj.moldtex", "c = s.continuous"]
+    preset_defines = ["obj = bpy.context.object", "s = obj.moldtex", "c = s.continuous",
+                      "r = s.reaction"]
     preset_values = (["s.model"] + [f"s.{name}" for name in PRESET_PROPERTIES]
                      + ["s.time_step"]
                      + [f"c.{name}" for name in CONTINUOUS_PRESET_PROPERTIES]
+                     + [f"r.{name}" for name in REACTION_PRESET_PROPERTIES]
                      + ["s.agent_count", "c.keep_u"])
 
     @classmethod

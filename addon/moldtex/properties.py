@@ -286,6 +286,9 @@ MODEL_ITEMS = [
                                  "rates per second, a diffusion-decay PDE, deposits along "
                                  "each path and agent turnover; the image shows u / U "
                                  "(1 = the uniform steady state)", 1),
+    ("GRAY_SCOTT", "Gray-Scott", "Gray-Scott reaction-diffusion: two chemicals U and V "
+                                 "react and diffuse over the surface into spots, stripes "
+                                 "or worms; no agents. The image shows V", 2),
 ]
 
 BOUNDARY_ITEMS = [
@@ -360,6 +363,10 @@ def _model_changed(self, context):
     # Takes effect on Reset (a new simulation); the material's display range follows
     # the simulation's model, so nothing to do here either.
     pass
+
+
+def _reaction_changed(self, context):
+    _push(self.id_data, live.push_params)
 
 
 def _display_range_changed(self, context):
@@ -588,12 +595,65 @@ def _set_backend(self, value):
     self.backend_type = 'AUTO'
 
 
+class MoldtexReaction(bpy.types.PropertyGroup):
+    """Parameters of the Gray-Scott model. Diffusion rates and the seed radius are in
+    pattern units (see Pattern Scale): the classic pixel-unit values (D_u 0.2, D_v 0.1)
+    give the textbook patterns with one pattern unit as the pixel."""
+    feed: FloatProperty(
+        name="Feed", default=0.037, min=0.0, max=1.0, soft_min=0.01, soft_max=0.1,
+        precision=4, step=0.1,
+        description="Feed (F): how fast U is replenished, per second. With Kill it picks "
+                    "the pattern: spots (0.03, 0.062), labyrinth (0.037, 0.06), "
+                    "dividing spots (0.0367, 0.0649), worms (0.078, 0.061)",
+        update=_reaction_changed)
+    kill: FloatProperty(
+        name="Kill", default=0.06, min=0.0, max=1.0, soft_min=0.04, soft_max=0.07,
+        precision=4, step=0.1,
+        description="Kill (k): how fast V is removed, per second",
+        update=_reaction_changed)
+    diffusion_u: FloatProperty(
+        name="Diffusion U", default=0.2, min=0.0, max=1e6, soft_min=0.01, soft_max=1.0,
+        precision=3,
+        description="Diffusion U (D_u): how fast U spreads, in pattern units² per second "
+                    "(see Pattern Scale). Twice Diffusion V in the classic patterns; "
+                    "larger rates give larger features",
+        update=_reaction_changed)
+    diffusion_v: FloatProperty(
+        name="Diffusion V", default=0.1, min=0.0, max=1e6, soft_min=0.005, soft_max=0.5,
+        precision=3,
+        description="Diffusion V (D_v): how fast V spreads, in pattern units² per second",
+        update=_reaction_changed)
+    time_step: FloatProperty(
+        name="Time Step", default=1.0, min=0.01, max=100.0, soft_min=0.1, soft_max=4.0,
+        precision=2, unit='TIME_ABSOLUTE',
+        description="Time Step: simulated seconds per step. The core sub-steps as "
+                    "stability needs, so a larger step only runs the pattern faster "
+                    "(up to its own cost)",
+        update=_reaction_changed)
+    seed_count: IntProperty(
+        name="Seeds", default=64, min=1, max=1024,
+        description="Seeds: how many small disks of V start the pattern (where the "
+                    "Start's Spawn Map says, with that start; else anywhere)." + _RESET_NOTE,
+        update=_config_changed)
+    seed_radius: FloatProperty(
+        name="Seed Radius", default=5.0, min=0.01, max=1e6, soft_min=1.0, soft_max=50.0,
+        description="Seed Radius: radius of each starting disk, in pattern units (see "
+                    "Pattern Scale)." + _RESET_NOTE,
+        update=_config_changed)
+    display_range: FloatProperty(
+        name="Display Range", default=0.5, min=0.01, max=10.0, soft_min=0.1, soft_max=1.0,
+        description="Display Range: the V shown at the top of the colour ramp (0 at its "
+                    "bottom). The live image and baked files hold V itself",
+        update=_display_range_changed)
+
+
 class MoldtexSettings(bpy.types.PropertyGroup):
     model: EnumProperty(
         name="Model", items=MODEL_ITEMS, default='MOMAS',
         description="Model: how the agents and the pheromone behave." + _RESET_NOTE,
         update=_model_changed)
     continuous: PointerProperty(type=MoldtexContinuous)
+    reaction: PointerProperty(type=MoldtexReaction)
     # Parameter maps and stimuli of the continuous model (maps/settings.py; registered
     # by maps.register() before this class).
     maps: PointerProperty(type=MoldtexMaps)
@@ -894,7 +954,7 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         presets.apply_ramp(self.id_data, stops, interpolation)
 
 
-CLASSES = (MoldtexSpecies, MoldtexContinuous, MoldtexSettings)
+CLASSES = (MoldtexSpecies, MoldtexContinuous, MoldtexReaction, MoldtexSettings)
 
 
 def register():

@@ -44,6 +44,12 @@ LABELS = {
     "bake_steps_per_frame": "Per Frame",
     "bake_directory": "Folder",
     "bake_prefix": "Prefix",
+    # Gray-Scott (settings.reaction)
+    "feed": "Feed",
+    "kill": "Kill",
+    "diffusion_u": "Diffusion U",
+    "diffusion_v": "Diffusion V",
+    "seed_count": "Seeds",
     # the continuous model (settings.continuous; time_step is shared)
     "move_rate": "Speed",
     "turn_rate": "Turning",
@@ -109,6 +115,10 @@ def _mesh_object(context):
 
 def _continuous(obj):
     return obj is not None and obj.moldtex.model == 'CONTINUOUS'
+
+
+def _gray_scott(obj):
+    return obj is not None and obj.moldtex.model == 'GRAY_SCOTT'
 
 
 def _scene_length(context, value):
@@ -203,7 +213,8 @@ class MOLDTEX_PT_main(bpy.types.Panel):
         # The controls used every minute (the rest is in the sub-panels below).
         column = _split(layout)
         _prop(column, settings, "resolution")
-        _prop(column, settings, "agent_count")
+        if not _gray_scott(obj):  # (no agents there)
+            _prop(column, settings, "agent_count")
         _prop(column, settings, "steps_per_update")
         if settings.steps_per_update == 0:
             _prop(column, settings, "update_time")
@@ -251,12 +262,20 @@ class MOLDTEX_PT_main(bpy.types.Panel):
                 grid.label(text="Speed")
                 grid.label(text=f"{entry.steps_per_second:,.0f} steps/s")
             continuous = live.sim_model(entry) == engine.MODEL_CONTINUOUS
-            if continuous and not entry.baking:
+            reaction = live.sim_model(entry) == engine.MODEL_GRAY_SCOTT
+            if (continuous or reaction) and not entry.baking:
                 grid.label(text="Time")
                 grid.label(text=f"{stats.get('time', 0.0):,.2f} s")
-            grid.label(text="Agents")
-            grid.label(text=f"{stats['agent_count']:,}")
-            if continuous:
+            if not reaction:
+                grid.label(text="Agents")
+                grid.label(text=f"{stats['agent_count']:,}")
+            if reaction:
+                # coverage = mean V, presence = the area share where V > 0.1.
+                grid.label(text="Mean V")
+                grid.label(text=f"{stats['coverage']:.3f}")
+                grid.label(text="V > 0.1")
+                grid.label(text=f"{100.0 * stats['presence']:.1f} %")
+            elif continuous:
                 # U (Eq. 5) and the mean concentration in units of it (1 = the
                 # uniform steady state, reached after a few 1 / decay rate).
                 u_value = stats.get("u_metric", 0.0)
@@ -295,7 +314,13 @@ class _MomasPanel(_SubPanel):
     @classmethod
     def poll(cls, context):
         obj = _mesh_object(context)
-        return obj is not None and not _continuous(obj)
+        return obj is not None and not _continuous(obj) and not _gray_scott(obj)
+
+
+class _ReactionPanel(_SubPanel):
+    @classmethod
+    def poll(cls, context):
+        return _gray_scott(_mesh_object(context))
 
 
 class _ContinuousPanel(_SubPanel):
@@ -339,6 +364,30 @@ class MOLDTEX_PT_pheromone(_MomasPanel, bpy.types.Panel):
         column = _split(self.layout)
         for name in ("evaporation_rate", "diffusion_rate", "deposit", "substeps"):
             _prop(column, settings, name)
+
+
+class MOLDTEX_PT_reaction(_ReactionPanel, bpy.types.Panel):
+    bl_label = "Reaction"
+    bl_idname = "MOLDTEX_PT_reaction"
+
+    def draw(self, context):
+        obj = context.active_object
+        settings = obj.moldtex
+        reaction = settings.reaction
+        layout = self.layout
+        _draw_pattern_scale(_split(layout), settings)
+        text = _pattern_unit_text(context, obj)
+        if text:
+            _wrapped(layout, text + " (rates below are in units² / s)",
+                     icon='DRIVER_DISTANCE')
+        column = _split(layout)
+        for name in ("feed", "kill", "diffusion_u", "diffusion_v", "time_step"):
+            _prop(column, reaction, name)
+        column = _split(layout)
+        column.label(text="Applied on Reset", icon='FILE_REFRESH')
+        for name in ("seed_count", "seed_radius"):
+            _prop(column, reaction, name)
+        _prop(_split(layout), reaction, "display_range")
 
 
 # The continuous model's sub-panels follow layton-intrinsic-slime.md Table 1: Agent,
@@ -567,7 +616,8 @@ class MOLDTEX_PT_species(_SubPanel, bpy.types.Panel):
         layout = self.layout
         column = _split(layout)
         column.label(text="Applied on Reset", icon='FILE_REFRESH')
-        _prop(column, settings, "species_count")
+        if not _gray_scott(context.active_object):
+            _prop(column, settings, "species_count")
         _prop(column, settings, "seed_shape")
         if settings.seed_shape in {'CIRCLE', 'STARBURST'}:
             _prop(column, settings, "seed_radius")
@@ -577,6 +627,11 @@ class MOLDTEX_PT_species(_SubPanel, bpy.types.Panel):
             _wrapped(layout, "Centre: the surface point nearest the 3D cursor.",
                      icon='PIVOT_CURSOR')
         _draw_fields(layout, context.active_object)
+        if _gray_scott(context.active_object):
+            _wrapped(layout, "Gray-Scott: no agents or species; its seeds start where "
+                             "the Spawn field says (Start: Spawn Map), else anywhere.",
+                     icon='INFO')
+            return
         _draw_food(layout, context.active_object)
         count = settings.species_count
         if count < 2:
@@ -797,7 +852,7 @@ class MOLDTEX_PT_brush(_SubPanel, bpy.types.Panel):
         sub.operator("moldtex.brush_redo", icon='LOOP_FORWARDS', text=f"Redo ({undone})")
 
 
-CLASSES = (MOLDTEX_PT_main, MOLDTEX_PT_agents, MOLDTEX_PT_pheromone,
+CLASSES = (MOLDTEX_PT_main, MOLDTEX_PT_agents, MOLDTEX_PT_pheromone, MOLDTEX_PT_reaction,
            MOLDTEX_PT_continuous_agents, MOLDTEX_PT_continuous_pheromone,
            MOLDTEX_PT_continuous_turnover, MOLDTEX_PT_continuous_bias, MOLDTEX_PT_species, MOLDTEX_PT_brush,
            MOLDTEX_PT_map_tools, MOLDTEX_PT_setup, MOLDTEX_PT_bake)

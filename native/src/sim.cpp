@@ -558,7 +558,19 @@ void append_agents(Agents& to, const Agents& from) {
 
 }  // namespace
 
+namespace {
+
+void refuse_agents_in_gray_scott(const moldtex_sim_config& config) {
+  if (config.model == MOLDTEX_MODEL_GRAY_SCOTT)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "A Gray-Scott simulation has no agents to add or erase: seed it with a spawn map "
+         "(seed_shape MOLDTEX_SEED_SPAWN_MAP and the fields' R) instead");
+}
+
+}  // namespace
+
 void Simulation::add_agents(const moldtex_brush& brush, uint32_t count, uint32_t batch) {
+  refuse_agents_in_gray_scott(config_);
   validate_brush(*surface_, brush);
   check_batch(batch);
   if (brush.channel >= settings_.species_count)
@@ -589,6 +601,7 @@ void Simulation::add_agents(const moldtex_brush& brush, uint32_t count, uint32_t
 }
 
 uint32_t Simulation::erase_agents(const moldtex_brush& brush, uint32_t batch) {
+  refuse_agents_in_gray_scott(config_);
   validate_brush(*surface_, brush);
   check_batch(batch);
   Agents agents;

@@ -337,6 +337,28 @@ TEST(ReactionDiffusion, ExtremeDiffusionRatioStaysFinite) {
   EXPECT_TRUE(std::isfinite(o.stats.coverage));
 }
 
+// The slime brush has nothing to act on in Gray-Scott: it is refused with a message
+// that says how to seed instead, and the simulation steps on unchanged.
+TEST(ReactionDiffusion, SlimeBrushIsRefusedWithAMessage) {
+  RdRun r;
+  r.mesh = &Plane();
+  r.width = r.height = 32;
+  r.p = Params(kSpots, 0.03, 2);
+  auto s = create_surface(*r.mesh);
+  ASSERT_TRUE(s) << LastError();
+  auto sim = MakeSim(s.get(), r);
+  ASSERT_TRUE(sim) << LastError();
+  moldtex_brush b;
+  moldtex_brush_init(&b);
+  b.radius = 0.2f;
+  EXPECT_EQ(moldtex_sim_add_agents(sim.get(), &b, 100, 1), MOLDTEX_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(LastError().find("spawn map"), std::string::npos) << LastError();
+  uint32_t removed = 7;
+  EXPECT_EQ(moldtex_sim_erase_agents(sim.get(), &b, 1, &removed), MOLDTEX_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(moldtex_sim_step(sim.get(), 3), MOLDTEX_OK) << LastError();
+  EXPECT_EQ(get_stats(sim.get()).agent_count, 0u);
+}
+
 TEST(ReactionDiffusion, BadParametersAreRefusedWithMessages) {
   auto s = create_surface(Plane());
   ASSERT_TRUE(s);

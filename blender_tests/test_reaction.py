@@ -1,0 +1,234 @@
+"""Gray-Scott reaction-diffusion from Blender (issue 13): the Model choice makes a
+Gray-Scott simulation with the panel's rates converted to mesh units through the pattern
+unit, the three shipped looks grow their patterns, the material shows V (the image's R)
+over the Display Range, a bake resumes byte for byte, and the panel, presets and command
+line offer it all."""
+
+import math
+import os
+import shutil
+import tempfile
+import unittest
+
+import bpy
+
+import helpers as h
+from test_ui import draw_all, labels
+
+LOOKS = ("reaction_spots", "reaction_labyrinth", "reaction_worms")
+# Suzanne at 128² with Pattern Scale 4: one pattern unit is about one texel, as at the
+# looks' own 512² with Pattern Scale 1, at a sixteenth of the cost.
+SIZE = "128"
+SCALE = 4.0
+
+
+def presets_module():
+    from moldtex import presets
+    return presets
+
+
+def gray_scott(kind="monkey", look=None):
+    obj = h.add_primitive(kind)
+    h.configure(obj, resolution=SIZE)
+    if look:
+        assert bpy.ops.moldtex.preset_apply(filepath=presets_module().find(look)) == {'FINISHED'}
+    obj.moldtex.model = 'GRAY_SCOTT'
+    obj.moldtex.pattern_scale = SCALE
+    return obj
+
+
+def island_v(entry):
+    pixels = entry.sim.read_rgba()
+    classes = entry.sim.read_texel_classes()
+    return [pixels[4 * i] for i, c in enumerate(classes) if c == 1]
+
+
+class ReactionModelTests(unittest.TestCase):
+    def setUp(self):
+        h.clear_scene()
+
+    def test_model_choice_makes_a_gray_scott_simulation(self):
+        engine, live = h.engine(), h.live()
+        obj = gray_scott()
+        entry = h.run(obj, 5)
+        sim = entry.sim
+        self.assertEqual(sim.get_config()["model"], engine.MODEL_GRAY_SCOTT)
+        self.assertEqual(entry.stats["agent_count"], 0)
+        self.assertAlmostEqual(entry.stats["time"], 5.0, places=5)  # 5 steps of 1 s
+        # Rates in pattern units² per second become mesh units² through the unit.
+        unit = live.pattern_unit(obj.moldtex, entry.surface_info["area"])
+        core = sim.get_reaction_params()
+        reaction = obj.moldtex.reaction
+        self.assertAlmostEqual(core["diffusion_u"] / (reaction.diffusion_u * unit * unit),
+                               1.0, places=5)
+        self.assertAlmostEqual(core["diffusion_v"] / (reaction.diffusion_v * unit * unit),
+                               1.0, places=5)
+        self.assertAlmostEqual(core["seed_radius"] / (reaction.seed_radius * unit), 1.0,
+                               places=5)
+        self.assertEqual(core["seed_count"], reaction.seed_count)
+        # The seeds are there: V = 1 in the disks, 0 elsewhere, U = 1 away from them.
+        pixels = sim.read_rgba()
+        self.assertGreater(max(pixels[0::4]), 0.5)
+        self.assertEqual(max(pixels[1::4]), 1.0)
+        # A rate reaches the running simulation at once; the seeds wait for Reset.
+        reaction.feed = 0.05
+        self.assertAlmostEqual(sim.get_reaction_params()["feed"], 0.05, places=6)
+        self.assertFalse(live.needs_reset(obj))
+        reaction.seed_count = 9
+        self.assertTrue(live.needs_reset(obj))
+        entry = h.run(obj, 1)
+        self.assertEqual(entry.sim.get_reaction_params()["seed_count"], 9)
+        self.assertFalse(live.needs_reset(obj))
+
+    def test_the_looks_grow_their_patterns_and_the_material_shows_v(self):
+        # 2500 simulated seconds. Measured (V > 0.1 share of the island area, mean V):
+        # spots 0.36 / 0.105, labyrinth 0.64 / 0.175, worms 0.37 / 0.114 on this
+        # Suzanne; the bands leave about 0.1 either side, and ask for a pattern, not a flat
+        # field: the V of the island texels spreads (std > 0.05) between 0 and V's
+        # ceiling (4, reaction.h).
+        bands = {"reaction_spots": (0.25, 0.65), "reaction_labyrinth": (0.4, 0.8),
+                 "reaction_worms": (0.2, 0.6)}
+        seen = {}
+        for look in LOOKS:
+            h.clear_scene()
+            obj = gray_scott(look=look)
+            self.assertEqual(obj.moldtex.model, 'GRAY_SCOTT')
+            entry = h.run(obj, 2500)
+            values = island_v(entry)
+            mean = sum(values) / len(values)
+            std = math.sqrt(sum((v - mean) ** 2 for v in values) / len(values))
+            presence = entry.stats["presence"]
+            seen[look] = (presence, mean, std)
+            self.assertTrue(all(math.isfinite(v) and 0.0 <= v <= 4.0 for v in values), look)
+            self.assertGreater(std, 0.05, f"{look}: V is flat")
+            low, high = bands[look]
+            self.assertGreater(presence, low, look)
+            self.assertLess(presence, high, look)
+            # The material reads V alone (R: G holds U, near 1 where V is 0) over the
+            # look's display range.
+            self.assertEqual(bpy.ops.moldtex.setup_material(), {'FINISHED'})
+            nodes = obj.active_material.node_tree.nodes
+            span = nodes["Moldtex Range"]
+            self.assertEqual(span.inputs[0].links[0].from_node.name, "Moldtex V")
+            self.assertEqual(span.inputs[0].links[0].from_socket.name, "Red")
+            self.assertAlmostEqual(span.inputs[2].default_value,
+                                   obj.moldtex.reaction.display_range, places=6)
+            # Back to MoMaS: the Range node reads the (grey) image whole again.
+            obj.moldtex.model = 'MOMAS'
+            h.run(obj, 1)
+            bpy.ops.moldtex.step(steps=1)
+            from moldtex import material
+            material.sync_display_range(obj)
+            self.assertNotIn("Moldtex V", nodes)
+            self.assertEqual(span.inputs[0].links[0].from_node.name, "Moldtex Texture")
+        print("  looks (V > 0.1, mean V, std V):",
+              ", ".join(f"{k} {p:.2f}/{m:.3f}/{s:.3f}" for k, (p, m, s) in seen.items()))
+
+    def test_slime_brush_is_refused_with_a_message(self):
+        obj = gray_scott(kind="sphere")
+        entry = h.run(obj, 1)
+        engine = h.engine()
+        with self.assertRaises(engine.EngineError) as caught:
+            entry.sim.add_agents({"triangle": 0, "bary": (1 / 3, 1 / 3, 1 / 3),
+                                 "radius": 0.3}, 10, 1)
+        self.assertIn("spawn map", str(caught.exception))
+        self.assertEqual(bpy.ops.moldtex.step(steps=2), {'FINISHED'})  # steps on
+
+
+class ReactionBakeTests(unittest.TestCase):
+    def setUp(self):
+        h.clear_scene()
+        self.folder = tempfile.mkdtemp(prefix="moldtex_reaction_bake_")
+
+    def tearDown(self):
+        h.clear_scene()
+        shutil.rmtree(self.folder, ignore_errors=True)
+
+    def test_bake_holds_v_and_resumes_byte_for_byte(self):
+        obj = gray_scott(kind="sphere", look="reaction_labyrinth")
+        full = os.path.join(self.folder, "full")
+        cut = os.path.join(self.folder, "cut")
+        h.bake_settings(obj, full, 1, 6, 100, "EXR_HALF")
+        self.assertEqual(bpy.ops.moldtex.bake(), {'FINISHED'})
+        reference = h.comparable_bytes(full)
+        # Frame 6 holds what a fresh simulation holds after 600 steps (half floats).
+        sim = h.fresh_sim(obj)
+        try:
+            sim.step(600)
+            expected = sim.read_rgba()
+        finally:
+            sim.release()
+        pixels, size = h.load_pixels(os.path.join(full, "Sphere_0006.exr"))
+        self.assertEqual(size, (128, 128))
+        worst = max(abs(a - b) for a, b in zip(pixels[0::4], expected[0::4]))
+        self.assertLessEqual(worst, 1.0 / 1024)  # half float: 11 bits on values < 2
+        self.assertGreater(max(pixels[0::4]), 0.2)  # V grew
+        # Three frames, then the rest resumed from their checkpoint: the same files.
+        h.bake_settings(obj, cut, 1, 3, 100, "EXR_HALF")
+        self.assertEqual(bpy.ops.moldtex.bake(), {'FINISHED'})
+        h.bake_settings(obj, cut, 1, 6, 100, "EXR_HALF", resume=True)
+        self.assertEqual(bpy.ops.moldtex.bake(), {'FINISHED'})
+        self.assertEqual(h.comparable_bytes(cut), reference)
+
+    def test_model_and_looks_from_the_command_line(self):
+        from moldtex import cli
+        gray_scott(kind="sphere")
+        bpy.ops.wm.save_as_mainfile(filepath=os.path.join(self.folder, "scene.blend"))
+        out = os.path.join(self.folder, "cli")
+        self.assertEqual(cli.run(["--object", "Sphere", "--out", out, "--frames", "1", "2",
+                                  "--steps-per-frame", "20", "--preset", "reaction_worms",
+                                  "--model", "gray-scott"]), 0)
+        obj = bpy.data.objects["Sphere"]
+        self.assertEqual(obj.moldtex.model, 'GRAY_SCOTT')
+        self.assertAlmostEqual(obj.moldtex.reaction.feed, 0.078, places=6)
+        self.assertEqual(h.live().get("Sphere").sim.get_config()["model"],
+                         h.engine().MODEL_GRAY_SCOTT)
+        pixels, _ = h.load_pixels(os.path.join(out, "Sphere_0002.exr"))
+        self.assertGreater(max(pixels[0::4]), 0.1)
+
+
+class ReactionPanelTests(unittest.TestCase):
+    def setUp(self):
+        h.clear_scene()
+
+    def shown(self, obj):
+        return {name for kind, name in draw_all(self, obj) if kind == "prop"}
+
+    def test_the_panels_follow_the_model(self):
+        obj = gray_scott()
+        shown = self.shown(obj)
+        self.assertLessEqual({"feed", "kill", "diffusion_u", "diffusion_v", "time_step",
+                              "seed_count", "seed_radius", "display_range",
+                              "pattern_scale"}, shown)
+        # No agents: none of the agent models' settings.
+        self.assertEqual(shown & {"agent_count", "species_count", "movement_speed",
+                                  "move_rate", "evaporation_rate", "decay_rate"}, set())
+        entry = h.run(obj, 3)
+        text = labels(draw_all(self, obj))
+        self.assertIn("Mean V", text)
+        self.assertIn(f"{entry.stats['coverage']:.3f}", text)
+        self.assertIn("3.00 s", text)
+        self.assertNotIn("Agents", text.replace("no agents", ""))
+
+    def test_a_saved_look_keeps_the_model_and_its_rates(self):
+        presets = presets_module()
+        obj = gray_scott()
+        obj.moldtex.reaction.feed = 0.0421
+        obj.moldtex.reaction.seed_count = 77
+        text = presets.preset_text(obj, "mine")
+        h.clear_scene()
+        other = h.add_primitive("torus")
+        path = os.path.join(tempfile.mkdtemp(prefix="moldtex_look_"), "mine.py")
+        try:
+            with open(path, "w") as file:
+                file.write(text)
+            self.assertEqual(bpy.ops.moldtex.preset_apply(filepath=path), {'FINISHED'})
+        finally:
+            shutil.rmtree(os.path.dirname(path), ignore_errors=True)
+        self.assertEqual(other.moldtex.model, 'GRAY_SCOTT')
+        self.assertAlmostEqual(other.moldtex.reaction.feed, 0.0421, places=6)
+        self.assertEqual(other.moldtex.reaction.seed_count, 77)
+
+
+if __name__ == "__main__":
+    unittest.main()
