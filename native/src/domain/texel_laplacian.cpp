@@ -464,7 +464,11 @@ const LocalSteppingPlan& local_stepping_plan(const TexelLaplacian& lap, double r
   if (global != UINT32_MAX && global > 1 && !lap.sorted_rate.empty()) {
     const double cells = static_cast<double>(lap.sorted_rate.size());
     double best = static_cast<double>(global) * cells;
-    for (uint32_t n = 1; n < global; ++n) {
+    // Only counts forward Euler may run are worth weighing (a plan of more than
+    // kMaxForwardSubsteps goes to backward Euler or is refused): without this bound a
+    // sliver texel (max_rate ~1e12) made this loop run billions of times.
+    const uint32_t last = std::min(global, kMaxForwardSubsteps + 1);
+    for (uint32_t n = 1; n < last; ++n) {
       const double h = rdt / n;
       const uint32_t fine = substeps_for(lap.max_rate, h);
       if (fine > kMaxFineSubsteps) continue;
