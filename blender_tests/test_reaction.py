@@ -124,15 +124,51 @@ class ReactionModelTests(unittest.TestCase):
         print("  looks (V > 0.1, mean V, std V):",
               ", ".join(f"{k} {p:.2f}/{m:.3f}/{s:.3f}" for k, (p, m, s) in seen.items()))
 
-    def test_slime_brush_is_refused_with_a_message(self):
-        obj = gray_scott(kind="sphere")
+    def test_the_slime_brush_seeds_v_and_undo_takes_it_back(self):
+        # A 2 × 2 plane (UVs fill the square); the labyrinth's seeds are made tiny so
+        # that V comes from the brush: a stroke of two dabs at full strength, no falloff.
+        import importlib
+        test_brush = importlib.import_module("test_brush")
+        obj = h.subdivided_plane()
+        h.configure(obj, resolution=SIZE)
+        obj.moldtex.model = 'GRAY_SCOTT'
+        obj.moldtex.pattern_scale = SCALE
+        obj.moldtex.reaction.seed_count = 1
+        obj.moldtex.reaction.seed_radius = 0.01
         entry = h.run(obj, 1)
-        engine = h.engine()
-        with self.assertRaises(engine.EngineError) as caught:
-            entry.sim.add_agents({"triangle": 0, "bary": (1 / 3, 1 / 3, 1 / 3),
-                                 "radius": 0.3}, 10, 1)
-        self.assertIn("spawn map", str(caught.exception))
-        self.assertEqual(bpy.ops.moldtex.step(steps=2), {'FINISHED'})  # steps on
+        before = entry.sim.read_rgba()
+        test_brush._brush(target='SLIME', radius=0.2, falloff=0.0)
+        self.assertEqual(test_brush._stroke(obj, (0.5, 0.5), (-0.5, -0.5)), {'FINISHED'})
+        seeded = entry.sim.read_rgba()
+        size = int(SIZE)
+
+        def texels_near(pixels, x, y, radius):
+            # V of the texels whose centre (plane coordinates) lies within radius.
+            found = []
+            for j in range(size):
+                for i in range(size):
+                    px, py = (i + 0.5) / size * 2 - 1, (j + 0.5) / size * 2 - 1
+                    if math.dist((px, py), (x, y)) <= radius:
+                        found.append(pixels[4 * (j * size + i)])
+            return found
+
+        for x, y in ((0.5, 0.5), (-0.5, -0.5)):
+            inside = texels_near(seeded, x, y, 0.17)
+            self.assertGreater(len(inside), 50)
+            self.assertEqual(min(inside), 1.0)  # V = 1: a seed
+        self.assertEqual(max(texels_near(seeded, 0.5, -0.5, 0.2)), 0.0)  # not touched
+        self.assertEqual(entry.stats["agent_count"], 0)
+        self.assertEqual(bpy.ops.moldtex.brush_undo(), {'FINISHED'})
+        self.assertEqual(list(entry.sim.read_rgba()), list(before))
+        self.assertEqual(bpy.ops.moldtex.brush_redo(), {'FINISHED'})
+        self.assertEqual(list(entry.sim.read_rgba()), list(seeded))
+        # The seeds grow into the pattern.
+        self.assertEqual(bpy.ops.moldtex.step(steps=400), {'FINISHED'})
+        self.assertGreater(h.live().get(obj.name).stats["presence"], 0.1)
+        # Erasing everywhere clears V.
+        test_brush._brush(target='SLIME', erase=True, radius=3.0, falloff=0.0)
+        self.assertEqual(test_brush._stroke(obj, (0.0, 0.0)), {'FINISHED'})
+        self.assertEqual(max(entry.sim.read_rgba()[0::4]), 0.0)
 
 
 class ReactionBakeTests(unittest.TestCase):

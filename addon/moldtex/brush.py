@@ -38,7 +38,8 @@ TARGETS = (
      "channel of the Fields image)", 'FORCE_MAGNETIC', 1),
     ('SPAWN', "Spawn", "Where agents start with Start = Spawn Map (red channel of the "
      "Fields image; used at the next Reset)", 'OUTLINER_OB_POINTCLOUD', 2),
-    ('SLIME', "Slime", "Adds agents to the live simulation (erase removes them)",
+    ('SLIME', "Slime", "Adds agents to the live simulation (erase removes them); in "
+     "Gray-Scott, which has no agents, seeds V (erase clears it)",
      'OUTLINER_OB_FORCE_FIELD', 3),
     ('FOOD', "Food", "Places food Empties in the Food collection (erase removes them)",
      'FORCE_FORCE', 4),

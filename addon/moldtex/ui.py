@@ -833,6 +833,9 @@ class MOLDTEX_PT_brush(_SubPanel, bpy.types.Panel):
                                  "paints only a Fields image.", icon='ERROR')
             elif obj.moldtex.fields_image is None:
                 _wrapped(layout, "The first stroke makes a Fields image.", icon='INFO')
+        elif settings.target == 'SLIME' and _gray_scott(obj):
+            _wrapped(layout, "Gray-Scott: each dab seeds V in the live simulation (erase "
+                             "clears it; Reset starts over).", icon='INFO')
         elif settings.target == 'SLIME':
             _prop(column, settings, "agents_per_dab")
             if obj.moldtex.species_count > 1:

@@ -733,7 +733,10 @@ MOLDTEX_API moldtex_status moldtex_surface_paint(moldtex_surface surface, uint32
  * k of a batch depends only on (config seed, batch, k) (k counts the batch's agents
  * added before), so re-applying the same dabs after moldtex_sim_undo_agents gives the
  * same agents, on any backend and thread count. The total may not exceed 2^26 agents.
- * moldtex_sim_stats.agent_count reports the live count. */
+ * moldtex_sim_stats.agent_count reports the live count.
+ * Gray-Scott (no agents): each dab moves the disk's texels toward a seed, V = 1 and
+ * U = 0.5, by strength * w(d / radius) (count and channel are ignored); erasing moves
+ * them toward V = 0, U = 1; moldtex_sim_undo_agents puts a stroke's texels back. */
 MOLDTEX_API moldtex_status moldtex_sim_add_agents(moldtex_sim sim, const moldtex_brush* brush,
     uint32_t count, uint32_t batch);
 /* Erase-slime brush: removes each agent standing within the disk (d <= radius) with

@@ -10,6 +10,7 @@
 #include "agents/continuous_rules.h"
 #include "backends/cpu/cpu_backend.h"
 #include "brush/brush.h"
+#include "brush/reaction_paint.h"
 #ifdef MOLDTEX_HAVE_OPENCL
 #include "backends/opencl/opencl_backend.h"
 #endif
@@ -558,21 +559,23 @@ void append_agents(Agents& to, const Agents& from) {
 
 }  // namespace
 
-namespace {
-
-void refuse_agents_in_gray_scott(const moldtex_sim_config& config) {
-  if (config.model == MOLDTEX_MODEL_GRAY_SCOTT)
-    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
-         "A Gray-Scott simulation has no agents to add or erase: seed it with a spawn map "
-         "(seed_shape MOLDTEX_SEED_SPAWN_MAP and the fields' R) instead");
+uint32_t Simulation::paint_reaction_dab(const moldtex_brush& brush, uint32_t batch, bool erase) {
+  SimState state;
+  backend_->export_state(state);
+  ThreadPool pool(settings_.params.thread_count);
+  const uint32_t changed =
+      paint_reaction(*surface_, *domain_, state.pheromone.data(), brush, erase, batches_[batch].reaction, pool);
+  backend_->import_state(state);
+  return changed;
 }
 
-}  // namespace
-
 void Simulation::add_agents(const moldtex_brush& brush, uint32_t count, uint32_t batch) {
-  refuse_agents_in_gray_scott(config_);
   validate_brush(*surface_, brush);
   check_batch(batch);
+  if (gray_scott()) {  // no agents: the dab seeds V instead (brush/reaction_paint.h)
+    paint_reaction_dab(brush, batch, false);
+    return;
+  }
   if (brush.channel >= settings_.species_count)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
          "The brush species (channel) is " + std::to_string(brush.channel) + " but the simulation has " +
@@ -601,9 +604,9 @@ void Simulation::add_agents(const moldtex_brush& brush, uint32_t count, uint32_t
 }
 
 uint32_t Simulation::erase_agents(const moldtex_brush& brush, uint32_t batch) {
-  refuse_agents_in_gray_scott(config_);
   validate_brush(*surface_, brush);
   check_batch(batch);
+  if (gray_scott()) return paint_reaction_dab(brush, batch, true);
   Agents agents;
   backend_->export_agents(agents);
   BrushBatch& record = batches_[batch];
@@ -637,6 +640,16 @@ uint32_t Simulation::erase_agents(const moldtex_brush& brush, uint32_t batch) {
 void Simulation::undo_agents(uint32_t batch) {
   check_batch(batch);
   auto it = batches_.find(batch);
+  if (gray_scott()) {
+    if (it == batches_.end()) return;
+    SimState state;
+    backend_->export_state(state);
+    ThreadPool pool(settings_.params.thread_count);
+    restore_reaction(*domain_, state.pheromone.data(), it->second.reaction, pool);
+    backend_->import_state(state);
+    batches_.erase(it);
+    return;
+  }
   Agents agents;
   backend_->export_agents(agents);
   size_t keep = 0;

@@ -9,6 +9,7 @@
 
 #include "agents/parameter_maps.h"
 #include "backends/backend.h"
+#include "brush/reaction_paint.h"
 #include "domain/texture_domain.h"
 #include "io/checkpoint.h"
 #include "surface/surface.h"
@@ -114,7 +115,9 @@ class Simulation {
     uint64_t added = 0;
     uint64_t erase_dabs = 0;
     Agents erased;
+    ReactionUndo reaction;  // Gray-Scott: the texels the stroke painted, as they were
   };
+  uint32_t paint_reaction_dab(const moldtex_brush& brush, uint32_t batch, bool erase);
   std::map<uint32_t, BrushBatch> batches_;
   std::string why_not_opencl_;  // why Auto chose the CPU
   uint64_t step_count_ = 0;

@@ -337,26 +337,70 @@ TEST(ReactionDiffusion, ExtremeDiffusionRatioStaysFinite) {
   EXPECT_TRUE(std::isfinite(o.stats.coverage));
 }
 
-// The slime brush has nothing to act on in Gray-Scott: it is refused with a message
-// that says how to seed instead, and the simulation steps on unchanged.
-TEST(ReactionDiffusion, SlimeBrushIsRefusedWithAMessage) {
+// The slime brush in Gray-Scott paints the chemicals: a dab seeds the disk (V = 1,
+// U = 0.5 at full weight), and the seed grows into the pattern; an erase takes V away;
+// undo puts the stroke's texels back bit for bit; the same dabs give the same state.
+TEST(ReactionDiffusion, SlimeBrushSeedsAndErasesAndUndoes) {
   RdRun r;
   r.mesh = &Plane();
-  r.width = r.height = 32;
-  r.p = Params(kSpots, 0.03, 2);
+  r.width = r.height = 64;
+  r.p = Params(kLabyrinth, 0.02, 1);
+  r.p.seed_radius = 0.001f;  // (a start with almost no V: the brush makes the seed)
   auto s = create_surface(*r.mesh);
   ASSERT_TRUE(s) << LastError();
   auto sim = MakeSim(s.get(), r);
   ASSERT_TRUE(sim) << LastError();
+  const std::vector<float> before = read_rgba(sim.get(), 64, 64);
+  // The dab at the centroid of the triangle nearest the middle (UV = xy on this plane).
+  const Mesh& m = *r.mesh;
+  uint32_t centre = 0;
+  float cx = 0, cy = 0, best = 1e9f;
+  for (uint32_t t = 0; t < m.triangle_count(); ++t) {
+    float x = 0, y = 0;
+    for (int k = 0; k < 3; ++k)
+      x += m.positions[3 * m.triangles[3 * t + k]] / 3, y += m.positions[3 * m.triangles[3 * t + k] + 1] / 3;
+    const float d = (x - 0.5f) * (x - 0.5f) + (y - 0.5f) * (y - 0.5f);
+    if (d < best) best = d, centre = t, cx = x, cy = y;
+  }
   moldtex_brush b;
   moldtex_brush_init(&b);
-  b.radius = 0.2f;
-  EXPECT_EQ(moldtex_sim_add_agents(sim.get(), &b, 100, 1), MOLDTEX_ERROR_INVALID_ARGUMENT);
-  EXPECT_NE(LastError().find("spawn map"), std::string::npos) << LastError();
-  uint32_t removed = 7;
-  EXPECT_EQ(moldtex_sim_erase_agents(sim.get(), &b, 1, &removed), MOLDTEX_ERROR_INVALID_ARGUMENT);
-  EXPECT_EQ(moldtex_sim_step(sim.get(), 3), MOLDTEX_OK) << LastError();
+  b.center.triangle = centre;
+  b.radius = 0.1f;
+  b.falloff = 0.f;
+  EXPECT_EQ(moldtex_sim_add_agents(sim.get(), &b, 100, 1), MOLDTEX_OK) << LastError();
+  const std::vector<float> seeded = read_rgba(sim.get(), 64, 64);
+  // Texels whose centre is well inside the disk hold the seed; far ones are untouched.
+  int inside = 0, outside_changed = 0;
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) {
+      const size_t i = size_t(y) * 64 + x;
+      const float dx = (x + 0.5f) / 64 - cx, dy = (y + 0.5f) / 64 - cy, d = std::sqrt(dx * dx + dy * dy);
+      if (d < 0.08f) {
+        EXPECT_FLOAT_EQ(seeded[4 * i], 1.f);
+        EXPECT_FLOAT_EQ(seeded[4 * i + 1], 0.5f);
+        ++inside;
+      } else if (d > 0.12f) {
+        outside_changed += seeded[4 * i] != before[4 * i] || seeded[4 * i + 1] != before[4 * i + 1];
+      }
+    }
+  EXPECT_GT(inside, 50);
+  EXPECT_EQ(outside_changed, 0);
+  // Undo: exactly the state before the stroke.
+  EXPECT_EQ(moldtex_sim_undo_agents(sim.get(), 1), MOLDTEX_OK) << LastError();
+  EXPECT_EQ(read_rgba(sim.get(), 64, 64), before);
+  // Redo the same dab, grow: the seed spreads into a pattern; an erase over it removes V.
+  EXPECT_EQ(moldtex_sim_add_agents(sim.get(), &b, 100, 2), MOLDTEX_OK) << LastError();
+  EXPECT_EQ(read_rgba(sim.get(), 64, 64), seeded);
+  EXPECT_EQ(moldtex_sim_step(sim.get(), 400), MOLDTEX_OK) << LastError();
+  const double grown = get_stats(sim.get()).presence;
+  EXPECT_GT(grown, 0.05) << "the brushed seed did not grow";
+  b.radius = 2.f;  // the whole plane
+  uint32_t changed = 0;
+  EXPECT_EQ(moldtex_sim_erase_agents(sim.get(), &b, 3, &changed), MOLDTEX_OK) << LastError();
+  EXPECT_GT(changed, 1000u);
+  EXPECT_EQ(get_stats(sim.get()).presence, 0.0);
   EXPECT_EQ(get_stats(sim.get()).agent_count, 0u);
+  std::printf("seeded %d texels; V > 0.1 on %.3f of the plane after 400 s\n", inside, grown);
 }
 
 TEST(ReactionDiffusion, BadParametersAreRefusedWithMessages) {
