@@ -171,6 +171,42 @@ class ReactionModelTests(unittest.TestCase):
         self.assertEqual(max(entry.sim.read_rgba()[0::4]), 0.0)
 
 
+class ReactionMapTests(unittest.TestCase):
+    def setUp(self):
+        h.clear_scene()
+
+    def test_kill_and_feed_maps_bare_the_painted_half_and_reach_a_running_simulation(self):
+        # The 2 × 2 plane with a "Right" group (x > 0); the labyrinth at 128², Pattern
+        # Scale 4. Kill At 1 = 2 (k 0.12 there) bares the right half: measured mean V
+        # 0.17 left, 1.1e-4 right after 1500 s (the core's own test: 0.19 / 4e-5).
+        import test_maps
+        obj = test_maps.maps_plane()
+        obj.moldtex.model = 'GRAY_SCOTT'
+        obj.moldtex.pattern_scale = SCALE
+        self.assertEqual(bpy.ops.moldtex.preset_apply(
+            filepath=presets_module().find("reaction_labyrinth")), {'FINISHED'})
+        # The Maps panel offers the three maps Gray-Scott reads (diffusion, feed, kill),
+        # not the continuous model's twelve.
+        log = draw_all(self, obj)
+        self.assertEqual(sum(1 for entry in log if entry == ("prop", "enabled")), 3)
+        test_maps.set_map(obj, "kill", "Right", at0=1.0, at1=2.0)
+        entry = h.run(obj, 1500)
+        left, right = test_maps.halves(entry.sim.read_rgba())
+        print(f"  kill map: mean V left {left:.4f}, right {right:.6f}")
+        self.assertGreater(left, 0.1)
+        self.assertLess(right, 1e-3)
+        self.assertIsNotNone(entry.sim.get_map(h.engine().MAP_KILL))
+        # Off, then a feed map of 0 on the left, while it runs: the next steps get it
+        # (no Reset), and the left half starves (the right, bare, stays bare).
+        obj.moldtex.maps.kill.enabled = False
+        test_maps.set_map(obj, "feed", "Left", at0=1.0, at1=0.0)
+        self.assertIsNone(entry.sim.get_map(h.engine().MAP_KILL))
+        self.assertEqual(bpy.ops.moldtex.step(steps=1500), {'FINISHED'})
+        left, right = test_maps.halves(entry.sim.read_rgba())
+        print(f"  then a feed map: mean V left {left:.6f}, right {right:.6f}")
+        self.assertLess(left, 1e-3)
+
+
 class ReactionBakeTests(unittest.TestCase):
     def setUp(self):
         h.clear_scene()

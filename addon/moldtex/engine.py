@@ -494,7 +494,9 @@ MAP_READ_STIMULUS = 8
 MAP_WRITE_STIMULUS = 9
 MAP_DIFFUSION_RATE = 10
 MAP_DECAY_RATE = 11
-MAP_COUNT = 12
+MAP_FEED = 12  # Gray-Scott: multiplies F there (the product capped at 1)
+MAP_KILL = 13  # Gray-Scott: multiplies k there (the product capped at 1)
+MAP_COUNT = 14
 MAP_MULTIPLIER_MAX = 1000.0  # multipliers are in [0, 1000]
 MAP_STIMULUS_MAX = 1e6       # stimuli are within +-1e6
 

@@ -786,16 +786,16 @@ def _build(entry, obj, mesh, depsgraph=None):
         elif config["model"] == engine.MODEL_GRAY_SCOTT:
             reaction = reaction_params_from_settings(settings, area)
         map_values, map_keys = {}, {}
-        if continuous is not None:
+        kinds = map_sampling.kinds_for_model(config["model"])
+        if kinds:
             try:
-                map_values = map_sampling.sample(obj, map_sampling.all_kinds(),
-                                                 config["width"], config["height"], mesh,
-                                                 surface, depsgraph)
+                map_values = map_sampling.sample(obj, kinds, config["width"],
+                                                 config["height"], mesh, surface, depsgraph)
             except engine.EngineError as error:
                 entry.maps_error = str(error)  # (the Maps panel shows it too)
                 raise
             map_keys = map_sampling.keys(settings, config["width"], config["height"],
-                                         mesh.signature)
+                                         mesh.signature, kinds)
         sim = engine.Simulation(surface, create_config,
                                 params_from_settings(settings, area, config["model"]),
                                 fields, continuous, reaction)
@@ -815,9 +815,9 @@ def _build(entry, obj, mesh, depsgraph=None):
         if continuous is not None:
             _note_u_area(sim, settings, surface_info.get("area"))
             bias_key = _push_bias(entry, obj, sim, depsgraph)
-            for kind, values in map_values.items():
-                if values is not None:
-                    sim.set_map(kind, values)
+        for kind, values in map_values.items():
+            if values is not None:
+                sim.set_map(kind, values)
         if config["model"] != engine.MODEL_GRAY_SCOTT:  # (no agents there)
             _push_species(_Holder(sim), settings)
         holder = LiveSim(entry.name)
@@ -952,6 +952,7 @@ def _push_settings(entry, obj):
     elif model == engine.MODEL_GRAY_SCOTT:
         # (the seeds' count and radius wait for Reset: needs_reset says so)
         entry.sim.set_reaction_params(reaction_params_from_settings(settings, area))
+        _push_maps(entry, obj, quiet=True)
         return  # no agents, so no species
     _push_species(entry, settings)
 
@@ -998,7 +999,8 @@ def _push_maps(entry, obj, quiet=False):
     simulation runs on with the maps it has; else it raises engine.EngineError."""
     sim = entry.sim
     settings = obj.moldtex
-    wanted = map_sampling.keys(settings, sim.width, sim.height, entry.signature)
+    wanted = map_sampling.keys(settings, sim.width, sim.height, entry.signature,
+                               map_sampling.kinds_for_model(sim_model(entry)))
     changed = [kind for kind, key in wanted.items() if key != entry.map_keys.get(kind)]
     if not changed or (quiet and wanted == entry.maps_failed):
         return
@@ -1040,7 +1042,7 @@ def push_maps(obj):
     the maps whose settings changed). Raises engine.EngineError in plain words."""
     entry = _registry.get(obj.name) if obj is not None else None
     if (entry is None or entry.sim is None or entry.baking
-            or sim_model(entry) != engine.MODEL_CONTINUOUS):
+            or not map_sampling.kinds_for_model(sim_model(entry))):
         return
     _push_maps(entry, obj)
 

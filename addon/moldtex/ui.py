@@ -527,12 +527,17 @@ class MOLDTEX_PT_map_tools(_SubPanel, bpy.types.Panel):
                  ("gradient_normalize", None), ("gradient_attribute", None)))
 
 
-class MOLDTEX_PT_continuous_maps(_ContinuousPanel, bpy.types.Panel):
-    """Parameter maps and stimuli (maps/): one line per map, its source and factors
-    when it is on."""
+class MOLDTEX_PT_continuous_maps(_SubPanel, bpy.types.Panel):
+    """Parameter maps and stimuli (maps/): one line per map the model reads, its source
+    and factors when it is on."""
     bl_label = "Maps"
     bl_idname = "MOLDTEX_PT_continuous_maps"
     bl_options = {'DEFAULT_CLOSED'}
+
+    @classmethod
+    def poll(cls, context):
+        obj = _mesh_object(context)
+        return _continuous(obj) or _gray_scott(obj)
 
     def draw(self, context):
         obj = context.active_object
@@ -541,7 +546,10 @@ class MOLDTEX_PT_continuous_maps(_ContinuousPanel, bpy.types.Panel):
         if entry is not None and entry.maps_error:
             _wrapped(layout, entry.maps_error, icon='ERROR')
         enabled = 0
+        model = obj.moldtex.model
         for spec, slot in map_slots(obj.moldtex):
+            if model not in spec.models:
+                continue
             enabled += bool(slot.enabled)
             _draw_map(layout, obj, spec, slot)
         if enabled:

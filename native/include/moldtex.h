@@ -396,6 +396,9 @@ MOLDTEX_API moldtex_status moldtex_sim_get_reaction_params(moldtex_sim sim,
  *   WRITE_STIMULUS adds (or, negative, removes) pheromone at value * r_dec * U per second
  *                  in every species' plane, which then diffuses and decays with the rest
  *                  (alone it would hold u / U = value)
+ * Gray-Scott reads DIFFUSION_RATE (both D_u and D_v, per face as above), FEED and KILL
+ * (multipliers of F and k per texel, the products capped at 1); the other models ignore
+ * FEED and KILL.
  * NULL clears a map. Maps are kept across moldtex_sim_reset and in checkpoints; the
  * MoMaS model ignores all but READ_STIMULUS. */
 typedef enum moldtex_map {
@@ -411,7 +414,9 @@ typedef enum moldtex_map {
   MOLDTEX_MAP_WRITE_STIMULUS = 9,
   MOLDTEX_MAP_DIFFUSION_RATE = 10,
   MOLDTEX_MAP_DECAY_RATE = 11,
-  MOLDTEX_MAP_COUNT = 12
+  MOLDTEX_MAP_FEED = 12,
+  MOLDTEX_MAP_KILL = 13,
+  MOLDTEX_MAP_COUNT = 14
 } moldtex_map;
 MOLDTEX_API moldtex_status moldtex_sim_set_map(moldtex_sim sim, uint32_t map, const float* values,
                                                size_t count);

@@ -59,6 +59,7 @@ struct RdRun {
   uint32_t threads = 0;
   Backend backend = Backend::Cpu;
   moldtex_reaction_params p{};
+  std::vector<std::pair<uint32_t, std::vector<float>>> maps;  // (moldtex_map, values)
 };
 
 struct Result {
@@ -78,6 +79,8 @@ SimPtr MakeSim(moldtex_surface s, const RdRun& r) {
   auto sim = create_sim(s, c, mp);
   if (!sim) return sim;
   EXPECT_EQ(moldtex_sim_set_reaction_params(sim.get(), &r.p), MOLDTEX_OK) << LastError();
+  for (const auto& [kind, values] : r.maps)
+    EXPECT_EQ(moldtex_sim_set_map(sim.get(), kind, values.data(), values.size()), MOLDTEX_OK) << LastError();
   EXPECT_EQ(moldtex_sim_reset(sim.get()), MOLDTEX_OK) << LastError();  // seeds from p
   return sim;
 }
@@ -403,6 +406,71 @@ TEST(ReactionDiffusion, SlimeBrushSeedsAndErasesAndUndoes) {
   std::printf("seeded %d texels; V > 0.1 on %.3f of the plane after 400 s\n", inside, grown);
 }
 
+// Parameter maps in Gray-Scott (moldtex_sim_set_map FEED, KILL, DIFFUSION_RATE).
+// A map of ones everywhere is the map-free model, bit for bit.
+TEST(ReactionDiffusion, MapsOfOneChangeNothing) {
+  RdRun r = LabyrinthRun(Plane(), 64, 64, 1.5 / 64, 3);
+  r.steps = 300;
+  const Result plain = Simulate(r);
+  for (uint32_t kind : {MOLDTEX_MAP_FEED, MOLDTEX_MAP_KILL, MOLDTEX_MAP_DIFFUSION_RATE})
+    r.maps.emplace_back(kind, std::vector<float>(64 * 64, 1.f));
+  const Result mapped = Simulate(r);
+  ASSERT_TRUE(plain.ok && mapped.ok);
+  EXPECT_EQ(mapped.rgba, plain.rgba);
+}
+
+// Mean V over the texels of a 64 x 64 plane's image with x in [x0, x1) (texel columns).
+double MeanV(const Result& o, int x0, int x1) {
+  double sum = 0;
+  int n = 0;
+  for (int y = 0; y < 64; ++y)
+    for (int x = x0; x < x1; ++x) sum += o.v[size_t(y) * 64 + x], ++n;
+  return sum / n;
+}
+
+// Kill doubled on the right half (k 0.12: V decays faster than it can grow there) and,
+// in a second run, feed 0 on the right half (U is never replenished, so V starves):
+// the labyrinth fills the left half and nothing lives on the right, a few texels from
+// the border on (V diffuses across it a little). The seeds are spread over the whole
+// plane, so the right half's start is the same as without the map.
+RdRun HalfMapRun(uint32_t kind, float right) {
+  RdRun r = LabyrinthRun(Plane(), 64, 64, 1.5 / 64, 5);
+  r.steps = 1500;
+  std::vector<float> m(64 * 64, 1.f);
+  for (int y = 0; y < 64; ++y)
+    for (int x = 32; x < 64; ++x) m[size_t(y) * 64 + x] = right;
+  r.maps.emplace_back(kind, m);
+  return r;
+}
+
+TEST(ReactionDiffusion, FeedAndKillMapsSwitchThePatternOff) {
+  for (const auto& [kind, right] : {std::pair<uint32_t, float>{MOLDTEX_MAP_KILL, 2.f}, {MOLDTEX_MAP_FEED, 0.f}}) {
+    const Result o = Simulate(HalfMapRun(kind, right));
+    ASSERT_TRUE(o.ok);
+    const double left = MeanV(o, 2, 28), far_right = MeanV(o, 38, 62);
+    std::printf("%s map: mean V left %.4f, right %.6f\n", kind == MOLDTEX_MAP_KILL ? "kill" : "feed", left,
+                far_right);
+    EXPECT_GT(left, 0.1);  // the labyrinth (mean V ~0.2 without maps)
+    EXPECT_LT(far_right, 1e-3);
+  }
+}
+
+// The diffusion map scales both rates where it is: a map of 4 everywhere gives the
+// pattern of D_u, D_v x 4 (the same spacing within 5%: they differ only by float
+// rounding, which the pattern amplifies into another arrangement of the same size).
+TEST(ReactionDiffusion, DiffusionMapScalesLikeTheRates) {
+  RdRun mapped = LabyrinthRun(Plane(), 96, 96, 1.5 / 96, 1);
+  mapped.maps.emplace_back(MOLDTEX_MAP_DIFFUSION_RATE, std::vector<float>(96 * 96, 4.f));
+  RdRun scaled = LabyrinthRun(Plane(), 96, 96, 1.5 / 96, 1);
+  scaled.p.diffusion_u *= 4;
+  scaled.p.diffusion_v *= 4;
+  const Result a = Simulate(mapped), b = Simulate(scaled);
+  ASSERT_TRUE(a.ok && b.ok);
+  const double la = Spacing(mapped, a, 0.5), lb = Spacing(scaled, b, 0.5);
+  std::printf("spacing with the map %.4f, with 4 D %.4f\n", la, lb);
+  EXPECT_NEAR(la / lb, 1.0, 0.05);
+}
+
 TEST(ReactionDiffusion, BadParametersAreRefusedWithMessages) {
   auto s = create_surface(Plane());
   ASSERT_TRUE(s);
@@ -492,6 +560,23 @@ TEST(ReactionDiffusion, SeedsFollowTheSeedAndTheSpawnMap) {
 // CPU and OpenCL run the same shared cell update: the same pattern statistics (mean V
 // within 3%, spacing within 5%) after 2000 s; skipped without an OpenCL device.
 class ReactionDiffusionBackends : public ::testing::TestWithParam<Backend> {};
+TEST_P(ReactionDiffusionBackends, KillMapMatchesTheCpu) {
+  {
+    moldtex_sim_config c = make_config(8, 8, 1, 1);
+    MTX_PIN_BACKEND(c);
+  }
+  RdRun r = HalfMapRun(MOLDTEX_MAP_KILL, 2.f);
+  r.backend = GetParam();
+  const Result o = Simulate(r);
+  ASSERT_TRUE(o.ok);
+  r.backend = Backend::Cpu;
+  const Result cpu = Simulate(r);
+  std::printf("mean V left %.4f (CPU %.4f), right %.6f (CPU %.6f)\n", MeanV(o, 2, 28), MeanV(cpu, 2, 28),
+              MeanV(o, 38, 62), MeanV(cpu, 38, 62));
+  EXPECT_NEAR(MeanV(o, 2, 28) / MeanV(cpu, 2, 28), 1.0, 0.05);
+  EXPECT_LT(MeanV(o, 38, 62), 1e-3);
+}
+
 TEST_P(ReactionDiffusionBackends, MatchTheCpu) {
   RdRun r = LabyrinthRun(Sphere(), 128, 64, 0.03, 1, 200);
   r.steps = 2000;

@@ -46,12 +46,14 @@ def slot_key(spec, slot):
     return (source, where, transform)
 
 
-def keys(settings, width, height, signature):
-    """{engine.MAP_*: key} of every map (None = off) for a simulation of width × height
-    texels on the mesh of `signature` (a new mesh or size needs new values)."""
+def keys(settings, width, height, signature, kinds=None):
+    """{engine.MAP_*: key} of every map (None = off), or of those in `kinds`, for a
+    simulation of width × height texels on the mesh of `signature` (a new mesh or size
+    needs new values)."""
     from .settings import slots
     return {spec.kind: (None if key is None else (width, height, signature, key))
-            for spec, slot in slots(settings) for key in (slot_key(spec, slot),)}
+            for spec, slot in slots(settings) if kinds is None or spec.kind in kinds
+            for key in (slot_key(spec, slot),)}
 
 
 def _describe(spec):
@@ -200,3 +202,10 @@ def sample(obj, kinds, width, height, mesh=None, surface=None, depsgraph=None,
 
 def all_kinds():
     return [spec.kind for spec in MAPS]
+
+
+def kinds_for_model(model):
+    """The maps a simulation of engine.MODEL_* `model` reads (none for MoMaS)."""
+    from .spec import kinds_for
+    names = {engine.MODEL_CONTINUOUS: 'CONTINUOUS', engine.MODEL_GRAY_SCOTT: 'GRAY_SCOTT'}
+    return kinds_for(names[model]) if model in names else []

@@ -82,6 +82,8 @@ const char* map_name(uint32_t kind) {
     case MOLDTEX_MAP_WRITE_STIMULUS: return "write stimulus";
     case MOLDTEX_MAP_DIFFUSION_RATE: return "diffusion rate";
     case MOLDTEX_MAP_DECAY_RATE: return "decay rate";
+    case MOLDTEX_MAP_FEED: return "feed";
+    case MOLDTEX_MAP_KILL: return "kill";
     default: return "unknown";
   }
 }

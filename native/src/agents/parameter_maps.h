@@ -39,6 +39,9 @@ struct ParameterMaps {
   // Per texel multipliers of r_dif and r_dec (empty = none).
   const std::vector<float>& diffusion() const { return given[MOLDTEX_MAP_DIFFUSION_RATE]; }
   const std::vector<float>& decay() const { return given[MOLDTEX_MAP_DECAY_RATE]; }
+  // Gray-Scott's per texel multipliers of F and k (empty = none).
+  const std::vector<float>& feed() const { return given[MOLDTEX_MAP_FEED]; }
+  const std::vector<float>& kill() const { return given[MOLDTEX_MAP_KILL]; }
 };
 
 // Checks values for map `kind` (count floats for width * height texels); throws with a

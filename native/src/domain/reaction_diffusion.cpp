@@ -38,7 +38,23 @@ void validate_reaction_params(const moldtex_reaction_params& p) {
                                              std::to_string(p.seed_count) + ")");
 }
 
-uint32_t reaction_substeps(const TexelLaplacian& lap, const moldtex_reaction_params& p) {
+ReactionMaps reaction_maps(const std::vector<float>& feed_map, const std::vector<float>& kill_map,
+                           const moldtex_reaction_params& p) {
+  ReactionMaps m;
+  m.feed_max = p.feed;
+  m.kill_max = p.kill;
+  if (!feed_map.empty()) {
+    m.feed = feed_map.data();
+    m.feed_max = std::min(1.f, p.feed * *std::max_element(feed_map.begin(), feed_map.end()));
+  }
+  if (!kill_map.empty()) {
+    m.kill = kill_map.data();
+    m.kill_max = std::min(1.f, p.kill * *std::max_element(kill_map.begin(), kill_map.end()));
+  }
+  return m;
+}
+
+uint32_t reaction_substeps(const TexelLaplacian& lap, const moldtex_reaction_params& p, const ReactionMaps& maps) {
   const double dt = p.time_step;
   // Enough for 99% of the cells, but at most 4x what the median cell needs: the stiffer
   // rest (UV poles, where texels get very thin) take their own loss implicitly (see
@@ -51,7 +67,8 @@ uint32_t reaction_substeps(const TexelLaplacian& lap, const moldtex_reaction_par
   }
   const double d_max = std::max(p.diffusion_u, p.diffusion_v) * dt / 0.5;
   const double diffusion = std::min(d_max * typical, 4.0 * std::max(1.0, std::ceil(d_max * median)));
-  const double reaction = (1.0 + p.feed + p.kill) * dt / 0.5;
+  const double feed = maps.feed ? maps.feed_max : p.feed, kill = maps.kill ? maps.kill_max : p.kill;
+  const double reaction = (1.0 + feed + kill) * dt / 0.5;
   const double x = std::max({1.0, diffusion, reaction});
   if (!(x <= kMaxReactionSubsteps)) {
     std::ostringstream m;
@@ -124,8 +141,8 @@ std::vector<float> reaction_initial_state(const Surface& surface, const TextureD
 }
 
 void reaction_step(const TexelLaplacian& lap, const moldtex_reaction_params& p, float* planes,
-                   std::vector<float>& scratch, size_t texels, ThreadPool& pool) {
-  const uint32_t n = reaction_substeps(lap, p);
+                   std::vector<float>& scratch, size_t texels, ThreadPool& pool, const ReactionMaps& maps) {
+  const uint32_t n = reaction_substeps(lap, p, maps);
   if (scratch.size() < texels * kReactionPlanes) scratch.assign(texels * kReactionPlanes, 0.f);
   const float h = static_cast<float>(double(p.time_step) / n);
   const float du = static_cast<float>(double(p.diffusion_u) * p.time_step / n);
@@ -138,7 +155,8 @@ void reaction_step(const TexelLaplacian& lap, const moldtex_reaction_params& p, 
         mtx_gray_scott_cell(lap.rows.data(), lap.start.data(), lap.col.data(), lap.weight.data(),
                             lap.area.data(), lap.rate.data(), in + kReactionV * texels, in + kReactionU * texels,
                             out + kReactionV * texels, out + kReactionU * texels, static_cast<mtx_u32>(r), h,
-                            du, dv, p.feed, p.kill);
+                            du, dv, p.feed, p.kill, maps.feed, maps.kill, maps.feed != nullptr,
+                            maps.kill != nullptr);
     });
     std::swap(in, out);
   }

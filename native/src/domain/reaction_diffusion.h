@@ -25,7 +25,18 @@ void validate_reaction_params(const moldtex_reaction_params& params);
 // Equal sub-steps per step (shared/reaction.h): (1 + F + k) h <= 0.5 and
 // max(D_u, D_v) h rate <= 0.5 for 99% of the cells, but at most 4x what the median cell
 // needs (the stiffer rest take their own loss implicitly and stay stable). Throws INVALID_ARGUMENT beyond kMaxReactionSubsteps.
-uint32_t reaction_substeps(const TexelLaplacian& lap, const moldtex_reaction_params& params);
+// Gray-Scott's feed and kill maps (moldtex_sim_set_map FEED / KILL): per texel
+// multipliers, the products capped at 1. Null = none.
+struct ReactionMaps {
+  const float* feed = nullptr;
+  const float* kill = nullptr;
+  float feed_max = 0, kill_max = 0;  // the largest effective F and k
+};
+ReactionMaps reaction_maps(const std::vector<float>& feed_map, const std::vector<float>& kill_map,
+                           const moldtex_reaction_params& params);
+
+uint32_t reaction_substeps(const TexelLaplacian& lap, const moldtex_reaction_params& params,
+                           const ReactionMaps& maps = {});
 
 // The starting state: 2 planes of width * height (V, then U; gutter filled): U = 1, V = 0,
 // and V = 1, U = 0.5 within params.seed_radius (3D distance from the texel centre) of
@@ -38,6 +49,7 @@ std::vector<float> reaction_initial_state(const Surface& surface, const TextureD
 // One step of dt = params.time_step on planes (2 planes of texel_count, V then U) with
 // scratch of the same size. Deterministic for any thread count. Gutter not filled.
 void reaction_step(const TexelLaplacian& lap, const moldtex_reaction_params& params, float* planes,
-                   std::vector<float>& scratch, size_t texel_count, ThreadPool& pool);
+                   std::vector<float>& scratch, size_t texel_count, ThreadPool& pool,
+                   const ReactionMaps& maps = {});
 
 }  // namespace moldtex

@@ -27,6 +27,8 @@ MTX_BEGIN_NAMESPACE
  * follows its neighbours' mean rather than overshooting; every weight is then
  * non-negative, so U stays in [0, 1] while h (1 + F + k) <= 0.5; V is kept in
  * [0, MTX_REACTION_MAX_V].
+ * With use_feed_map (use_kill_map), F (k) is multiplied by feed_map[i] (kill_map[i]) and
+ * capped at 1, the parameters' own range (moldtex_sim_set_map FEED / KILL).
  * Reads only v_in and u_in and writes only v_out[i] and u_out[i]: every cell is
  * independent of the others and of the order they run in. */
 MTX_FN void mtx_gray_scott_cell(MTX_GLOBAL const mtx_u32* rows, MTX_GLOBAL const mtx_u32* start,
@@ -34,8 +36,18 @@ MTX_FN void mtx_gray_scott_cell(MTX_GLOBAL const mtx_u32* rows, MTX_GLOBAL const
                                 MTX_GLOBAL const float* area, MTX_GLOBAL const float* rate,
                                 MTX_GLOBAL const float* v_in, MTX_GLOBAL const float* u_in,
                                 MTX_GLOBAL float* v_out, MTX_GLOBAL float* u_out, mtx_u32 r, float h,
-                                float du, float dv, float feed, float kill) {
+                                float du, float dv, float feed, float kill,
+                                MTX_GLOBAL const float* feed_map, MTX_GLOBAL const float* kill_map,
+                                mtx_u32 use_feed_map, mtx_u32 use_kill_map) {
   const mtx_u32 i = rows[r];
+  if (use_feed_map) {
+    feed *= feed_map[i];
+    feed = feed < 1.0f ? feed : 1.0f;
+  }
+  if (use_kill_map) {
+    kill *= kill_map[i];
+    kill = kill < 1.0f ? kill : 1.0f;
+  }
   const float ui = u_in[i], vi = v_in[i];
   float flux_u = 0.0f, flux_v = 0.0f;
   for (mtx_u32 k = start[r]; k < start[r + 1]; ++k) {

@@ -151,7 +151,9 @@ void CpuBackend::step_gray_scott(const StepSettings& settings) {
   const size_t texels = d.texel_count();
   if (pheromone_.size() < texels * kReactionPlanes)
     fail(MOLDTEX_ERROR_INTERNAL, "The Gray-Scott model needs two planes");
-  reaction_step(*laplacian_, settings.reaction, pheromone_.data(), scratch_, texels, *pool_);
+  const ParameterMaps& maps = *settings.maps;
+  reaction_step(laplacian_for(maps, *laplacian_, mapped_), settings.reaction, pheromone_.data(), scratch_, texels,
+                *pool_, reaction_maps(maps.feed(), maps.kill(), settings.reaction));
   for (uint32_t k = 0; k < kReactionPlanes; ++k) fill_gutter(d, pheromone_.data() + k * texels, *pool_);
 }
 

@@ -333,9 +333,11 @@ __kernel void gray_scott_substep(__global const uint* rows, __global const uint*
                                  __global const float* in, __global float* out,
                                  const float h, const float du,
                                  const float dv, const float feed, const float kill,
+                                 __global const float* feed_map, __global const float* kill_map,
+                                 const uint use_feed_map, const uint use_kill_map,
                                  const uint count, const uint texels) {
   const uint r = get_global_id(0);
   if (r >= count) return;
   mtx_gray_scott_cell(rows, start, col, weight, area, rate, in, in + texels, out, out + texels, r, h, du, dv,
-                      feed, kill);
+                      feed, kill, feed_map, kill_map, use_feed_map, use_kill_map);
 }

@@ -75,6 +75,10 @@ struct OpenClBackend::State {
             scale_kernel = nullptr;
   cl_kernel gray_scott_kernel = nullptr;  // Gray-Scott's sub-step (shared/reaction.h)
   cl_mem rate = nullptr;                  // and the Laplacian's rate per row
+  // Gray-Scott's feed and kill maps as of reaction_version (4-byte placeholders without).
+  cl_mem feed_map = nullptr, kill_map = nullptr;
+  const void* reaction_source = nullptr;
+  uint64_t reaction_version = 0;
   cl_kernel deposit_kernel = nullptr, gutter_kernel = nullptr, diffuse_kernel = nullptr;
   // Surface units (see domain/surface_diffusion.h).
   cl_kernel surface_kernel = nullptr, seam_kernel = nullptr, fine_kernel = nullptr,
@@ -118,7 +122,7 @@ struct OpenClBackend::State {
                      scratch, marks, field, texels_per_unit, texel_triangle, island, seam_texel,
                      seam_neighbour, bias, texel_island, interior_bits, sums, alias_prob, alias_index, rows, row_start, col, weight,
                      area, reverse, is_fine, fine_rows, fine_cur, fine_next, fine_flux, map_planes,
-                     spawn_max, spawn_prob, spawn_index, write, decay, rate})
+                     spawn_max, spawn_prob, spawn_index, write, decay, rate, feed_map, kill_map})
       if (m) r.clReleaseMemObject(m);
     release_plan();
     for (cl_kernel k : agent_kernels)
@@ -696,7 +700,8 @@ void OpenClBackend::integrate(const moldtex_continuous_params& p, const TexelLap
 void OpenClBackend::step_gray_scott(const StepSettings& settings) {
   prepare_continuous();  // the texel Laplacian's buffers
   State& s = *state_;
-  const TexelLaplacian& lap = *laplacian_;
+  const ParameterMaps& maps = *settings.maps;
+  const TexelLaplacian& lap = laplacian_for(maps, *laplacian_, mapped_);
   const moldtex_reaction_params& p = settings.reaction;
   if (species_count_ < kReactionPlanes) fail(MOLDTEX_ERROR_INTERNAL, "The Gray-Scott model needs two planes");
   if (!s.gray_scott_kernel) {
@@ -704,8 +709,37 @@ void OpenClBackend::step_gray_scott(const StepSettings& settings) {
     s.gray_scott_kernel = s.r.clCreateKernel(s.programs[0], "gray_scott_substep", &err);
     check(err, "creating the Gray-Scott kernel");
     s.rate = s.buffer(lap.rate.size() * 4, lap.rate.empty() ? nullptr : lap.rate.data(), device_bytes_);
+    weights_source_ = nullptr;  // (the buffers hold the base operator's)
+    weights_version_ = 0;
   }
-  const uint32_t n = reaction_substeps(lap, p);
+  const void* weights_source = maps.diffusion().empty() ? nullptr : &maps;
+  if (weights_source != weights_source_ || (weights_source && weights_version_ != maps.version)) {
+    // Another diffusion map (or none): its conductances and rates.
+    check(s.r.clEnqueueWriteBuffer(s.queue, s.weight, CL_TRUE, 0, lap.weight.size() * 4, lap.weight.data(), 0,
+                                   nullptr, nullptr),
+          "uploading the conductances");
+    if (!lap.rate.empty())
+      check(s.r.clEnqueueWriteBuffer(s.queue, s.rate, CL_TRUE, 0, lap.rate.size() * 4, lap.rate.data(), 0,
+                                     nullptr, nullptr),
+            "uploading the rates");
+    s.local_rdt = -1;
+    weights_source_ = weights_source;
+    weights_version_ = maps.version;
+  }
+  if (!s.feed_map || s.reaction_source != &maps || s.reaction_version != maps.version) {
+    for (cl_mem* m : {&s.feed_map, &s.kill_map})
+      if (*m) {
+        s.r.clReleaseMemObject(*m);
+        *m = nullptr;
+      }
+    size_t bytes = 0;
+    s.feed_map = s.buffer(maps.feed().size() * 4, maps.feed().empty() ? nullptr : maps.feed().data(), bytes);
+    s.kill_map = s.buffer(maps.kill().size() * 4, maps.kill().empty() ? nullptr : maps.kill().data(), bytes);
+    s.reaction_source = &maps;
+    s.reaction_version = maps.version;
+  }
+  const ReactionMaps rm = reaction_maps(maps.feed(), maps.kill(), p);
+  const uint32_t n = reaction_substeps(lap, p, rm);
   const float h = static_cast<float>(double(p.time_step) / n);
   const float du = static_cast<float>(double(p.diffusion_u) * p.time_step / n);
   const float dv = static_cast<float>(double(p.diffusion_v) * p.time_step / n);
@@ -713,7 +747,8 @@ void OpenClBackend::step_gray_scott(const StepSettings& settings) {
   const cl_uint texels = static_cast<cl_uint>(domain_->texel_count());
   for (uint32_t j = 0; j < n; ++j) {
     s.args(s.gray_scott_kernel, s.rows, s.row_start, s.col, s.weight, s.area, s.rate, s.pheromone, s.scratch, h, du, dv,
-           p.feed, p.kill, cells, texels);
+           p.feed, p.kill, s.feed_map, s.kill_map, static_cast<cl_uint>(rm.feed != nullptr),
+           static_cast<cl_uint>(rm.kill != nullptr), cells, texels);
     s.run(s.gray_scott_kernel, cells);
     std::swap(s.pheromone, s.scratch);
   }
