@@ -595,6 +595,38 @@ TEST(ContinuousModel, ATinyUKeepsImagesAndStatisticsFinite) {
   EXPECT_TRUE(std::isfinite(st.coverage) && std::isfinite(st.presence)) << st.coverage << " " << st.presence;
 }
 
+// Found by the fuzzer: a quad whose two triangles are degenerate, one in UV (a sliver
+// 1e-10 wide) and one in 3D (its fourth corner on the first): texels over them cover
+// no measurable surface (area 0), which the PDE divided by (NaN everywhere). They are
+// no cells now; every value stays finite and the model, on the plane next to it, runs.
+TEST(ContinuousModel, TexelsOverDegenerateTrianglesAreNoCells) {
+  Mesh m;
+  m.positions = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 0, 1e-30f, /* a normal quad beside it: */ 2, 0, 0, 3, 0, 0, 3, 1, 0,
+                 2, 1, 0};
+  m.triangles = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
+  // (The sliver runs along the diagonal of the left half, through texel centres.)
+  m.uvs = {0, 0, 1e-10f, 0, 0.5f, 0.5f, 0, 0.5f, 0.5f, 0, 1, 0, 1, 1, 0.5f, 1};
+  m.triangle_uvs = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
+  auto s = create_surface(m);
+  ASSERT_TRUE(s) << LastError();
+  moldtex_sim_config c = make_config(32, 32, 500, 1);
+  c.model = MOLDTEX_MODEL_CONTINUOUS;
+  auto sim = create_sim(s.get(), c, default_params());
+  ASSERT_TRUE(sim) << LastError();
+  moldtex_continuous_params p = Look();
+  ASSERT_EQ(moldtex_sim_set_continuous_params(sim.get(), &p), MOLDTEX_OK) << LastError();
+  ASSERT_EQ(moldtex_sim_step(sim.get(), 20), MOLDTEX_OK) << LastError();
+  double right = 0;
+  const std::vector<float> rgba = read_rgba(sim.get(), 32, 32);
+  for (size_t i = 0; i < rgba.size(); ++i) {
+    ASSERT_TRUE(std::isfinite(rgba[i]) && rgba[i] >= 0.f) << "texel " << i / 4 << ": " << rgba[i];
+    if (i % 4 == 0 && (i / 4) % 32 >= 18) right += rgba[i];
+  }
+  EXPECT_GT(right, 0.0);  // the sound quad got pheromone
+  const moldtex_sim_stats st = get_stats(sim.get());
+  EXPECT_TRUE(std::isfinite(st.coverage) && std::isfinite(st.u_metric)) << st.coverage << " " << st.u_metric;
+}
+
 TEST(ContinuousModel, CheckpointResumesExactly) {
   auto s = create_surface(Torus());
   moldtex_sim_config c = make_config(64, 64, 2000, 5);

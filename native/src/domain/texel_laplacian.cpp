@@ -352,10 +352,16 @@ TexelLaplacian build_texel_laplacian(const Surface& s, const TextureDomain& d, T
   // Cells and their lumped areas: the 3D area of the texel under its centre's triangle.
   const double per_texel = 1.0 / (static_cast<double>(d.width) * d.height);
   lap.area.assign(d.texel_count(), 0.f);
+  std::vector<uint8_t> is_cell(d.texel_count(), 0);
   for (uint32_t i = 0; i < d.texel_count(); ++i) {
     if (d.classes[i] != MOLDTEX_TEXEL_INSIDE) continue;
+    const float area = static_cast<float>(s.area_per_uv_area(d.texel_triangle[i]) * per_texel);
+    // A texel whose centre lies on a triangle degenerate in UV (or in 3D) covers no
+    // measurable surface: no cell (it would divide by 0), and no edges below.
+    if (!(area > 0.f && std::isfinite(area))) continue;
+    is_cell[i] = 1;
     lap.rows.push_back(i);
-    lap.area[i] = static_cast<float>(s.area_per_uv_area(d.texel_triangle[i]) * per_texel);
+    lap.area[i] = area;
     lap.total_area += lap.area[i];
   }
 
@@ -367,7 +373,9 @@ TexelLaplacian build_texel_laplacian(const Surface& s, const TextureDomain& d, T
   std::vector<Proposal> proposals;
   for (auto& row : per_row) proposals.insert(proposals.end(), row.begin(), row.end());
   per_row.clear();
-  const std::vector<Edge> edges = merge(proposals);
+  std::vector<Edge> edges = merge(proposals);
+  edges.erase(std::remove_if(edges.begin(), edges.end(), [&](const Edge& e) { return !is_cell[e.lo] || !is_cell[e.hi]; }),
+              edges.end());
 
   // Symmetric CSR: each edge in both rows, each row's columns in texel order.
   const size_t n = lap.rows.size();
