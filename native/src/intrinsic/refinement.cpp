@@ -173,10 +173,14 @@ RefineReport refine(IntrinsicTriangulation& T, const RefineOptions& options) {
   uint64_t cap = options.max_insertions;
   if (cap == 0) cap = uint64_t(20.0 * std::min(m.total_area() / (R * R), 1e12)) + 10ull * m.face_count() + 1000;
 
+  // A face is left alone at a sharp input vertex v once both its edges at v are within
+  // 2 R: its circumradius then comes from the small angle, not from its size.
   auto small_angle = [&](uint32_t f) {
     for (uint32_t h : m.face_halfedges(f)) {
       const uint32_t v = m.tail(h);
-      if (v < T.input_vertex_count && m.angle_sum[v] < options.min_input_angle) return true;
+      if (v < T.input_vertex_count && m.angle_sum[v] < options.min_input_angle && m.len(h) <= 2 * R &&
+          m.len(m.prev(h)) <= 2 * R)
+        return true;
     }
     return false;
   };

@@ -19,8 +19,13 @@
 // Guards against non-termination (each counted in the report):
 //  * Small input angles: Ruppert's termination proof needs input angles >= 60 degrees; no
 //    insertion can widen the angle at an input vertex whose total angle (a cone of the
-//    surface, or a sharp boundary corner) is small, and refining next to it cascades. A
-//    face with a corner at an input vertex of total angle < min_input_angle is skipped.
+//    surface, or a sharp boundary corner) is small. A face at such a vertex v whose
+//    circumradius exceeds the bound although both its edges at v are already no longer
+//    than 2 * bound owes its circumradius to the angle, not to its size: refining it would
+//    only pile vertices up around v (and the disk of radius R around a point near a sharp
+//    cone wraps around it, where the empty-circumcircle spacing argument fails). Such
+//    faces are skipped; larger faces at v are refined as usual, so the skipped ones lie
+//    within 2 * bound of v.
 //  * Floating-point rechecks: each popped face's circumradius is recomputed (flips since
 //    it was queued may have fixed it); a point that lands within kMinInsertionDistance *
 //    bound of an existing vertex (possible only by round-off: the circumcircle of a
