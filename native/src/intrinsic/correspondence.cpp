@@ -5,6 +5,7 @@
 
 #include "common/error.h"
 #include "intrinsic/mollification.h"
+#include "surface/surface.h"
 
 namespace moldtex::intrinsic {
 namespace {
@@ -173,6 +174,11 @@ IntrinsicTriangulation build_intrinsic_triangulation(const std::vector<double>& 
   for (uint32_t h = 0; h < nh; ++h)
     if (T.input.he_face[h] != kInvalid && T.input.he_face[h ^ 1u] == kInvalid) c.boundary_input_he[h] = h;
   return T;
+}
+
+IntrinsicTriangulation build_intrinsic_triangulation(const moldtex::Surface& surface, double margin) {
+  return build_intrinsic_triangulation(std::vector<double>(surface.positions.begin(), surface.positions.end()),
+                                       surface.triangles, margin);
 }
 
 TraceResult trace_input_from_vertex(const IntrinsicTriangulation& T, uint32_t v, double angle, double distance) {

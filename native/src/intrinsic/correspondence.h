@@ -34,6 +34,10 @@
 
 #include "intrinsic/intrinsic_mesh.h"
 
+namespace moldtex {
+struct Surface;
+}
+
 namespace moldtex::intrinsic {
 
 struct TraceResult {
@@ -80,6 +84,11 @@ struct IntrinsicTriangulation {
 IntrinsicTriangulation build_intrinsic_triangulation(const std::vector<double>& positions,
                                                      const std::vector<uint32_t>& triangles,
                                                      double margin = 1e-6);
+
+// The same for a validated Surface (surface/surface.h): its vertices are the mesh's
+// positions, shared by the triangles on both sides of a UV seam (UVs are per corner), so
+// seams do not cut the intrinsic mesh; only open boundaries do.
+IntrinsicTriangulation build_intrinsic_triangulation(const moldtex::Surface& surface, double margin = 1e-6);
 
 // Line from intrinsic vertex v at its tangent angle `angle`, traced over the input mesh.
 TraceResult trace_input_from_vertex(const IntrinsicTriangulation& T, uint32_t v, double angle, double distance);
