@@ -98,6 +98,11 @@ TraceResult trace_from_point(const IntrinsicMesh& m, const SurfacePoint& start, 
 }
 
 TraceResult trace_from_vertex(const IntrinsicMesh& m, uint32_t v, double angle, double distance) {
+  if (m.vertex_he[v] == kInvalid) {  // a vertex no face uses: nowhere to go
+    TraceResult r;
+    r.complete = false;
+    return r;
+  }
   const double total = m.angle_sum[v];
   uint32_t best = kInvalid;
   double best_off = 0, best_miss = HUGE_VAL;

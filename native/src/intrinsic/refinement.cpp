@@ -120,7 +120,8 @@ uint32_t split_boundary_edge(IntrinsicTriangulation& T, uint32_t h) {
     m.he_face.push_back(kInvalid);
     m.signpost.push_back(0.0);
   }
-  const uint32_t vb = 2 * E1, bv = 2 * E1 + 1, vc = 2 * E2, cv = 2 * E2 + 1;
+  // vb = v->b and its outer side b->v (2 E1 + 1, no face); vc = v->c, cv = c->v.
+  const uint32_t vb = 2 * E1, vc = 2 * E2, cv = 2 * E2 + 1;
   m.length[IntrinsicMesh::edge(h)] = half;
   m.he_vertex[t] = v;
   const uint32_t F2 = m.face_count();
@@ -135,7 +136,6 @@ uint32_t split_boundary_edge(IntrinsicTriangulation& T, uint32_t h) {
   m.he_next[hbc] = cv;
   m.he_next[cv] = vb;
   m.he_face[vb] = m.he_face[hbc] = m.he_face[cv] = F2;
-  (void)bv;
   m.vertex_he[v] = vb;
   m.signpost[vb] = 0;
   m.signpost[vc] = angle_from_sides(half, lmc, lbc);

@@ -29,8 +29,8 @@
 //  * Floating-point rechecks: each popped face's circumradius is recomputed (flips since
 //    it was queued may have fixed it); a point that lands within kMinInsertionDistance *
 //    bound of an existing vertex (possible only by round-off: the circumcircle of a
-//    Delaunay face is empty) or a boundary edge shorter than that is not inserted/split:
-//    the face is given up (remembered by its vertex triple).
+//    Delaunay face is empty), or a boundary edge shorter than twice that, is not
+//    inserted/split: the face is given up (remembered by its vertex triple).
 //  * A cap on insertions (default from the expected vertex count, see below): reaching it
 //    stops with StopReason::InsertionCap and a message.
 // Expected size: Chew's triangles have circumradii between about bound/2 and bound, so
