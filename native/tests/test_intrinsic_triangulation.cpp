@@ -122,6 +122,14 @@ Mesh make_collapsed_band(int n) {
   return mesh_from(p, t);
 }
 
+// Both meshes as one (separate components).
+Mesh concatenate(const Mesh& a, const Mesh& b) {
+  Mesh m = a;
+  m.positions.insert(m.positions.end(), b.positions.begin(), b.positions.end());
+  for (uint32_t v : b.triangles) m.triangles.push_back(v + a.vertex_count());
+  return m;
+}
+
 double bbox_diagonal(const Mesh& m) {
   Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
   for (uint32_t v = 0; v < m.vertex_count(); ++v)
@@ -346,10 +354,14 @@ TEST(IntrinsicRefinement, CircumradiusBoundAndVertexCount) {
   };
   const Case cases[] = {{"sliver strip 4x1", make_sliver_strip(40, 4, 1), 0.05},
                         {"twisted band", make_twisted_band(48, 6, 1), 0.08},
-                        {"uv sphere", make_uv_sphere(32, 16, 1.0), 0.08}};
+                        {"uv sphere", make_uv_sphere(32, 16, 1.0), 0.08},
+                        {"zero-area band", make_collapsed_band(16), 0.03},
+                        {"cube + open cylinder (two components)",
+                         concatenate(make_cube(), make_open_cylinder(24, 4, 0.5, 1.0)), 0.05}};
   for (const Case& c : cases) {
     auto T = build(c.mesh);
     const double area = T.mesh.total_area();
+    const int64_t euler = T.mesh.euler_characteristic();
     it::RefineOptions opt;
     opt.max_circumradius = c.bound;
     const auto rep = it::refine(T, opt);
@@ -363,6 +375,7 @@ TEST(IntrinsicRefinement, CircumradiusBoundAndVertexCount) {
     EXPECT_EQ(over, 0u) << c.name;
     EXPECT_EQ(delaunay_violation(T.mesh, 1e-9).second, 0u) << c.name;
     EXPECT_NEAR(T.mesh.total_area(), area, 1e-9 * area) << c.name;
+    EXPECT_EQ(T.mesh.euler_characteristic(), euler) << c.name;  // the same surface
     // Size: circumradii between ~bound/2 and bound give ~[0.4, 1.6] area / bound^2
     // vertices; allow [0.3, 2.0] (boundary vertices and the input's own vertices add).
     const double expected = area / (c.bound * c.bound);
