@@ -46,11 +46,18 @@ TraceResult trace_from_point(const IntrinsicMesh& m, const SurfacePoint& start, 
     // Along p + t d the weights change at the constant rate gamma (they still sum to 1).
     const double area2 = cross(P[1] - P[0], P[2] - P[0]);
     std::array<double, 3> gamma;
-    for (int i = 0; i < 3; ++i) gamma[i] = cross(P[(i + 2) % 3] - P[(i + 1) % 3], d) / area2;
+    double gamma_scale = 0;
+    for (int i = 0; i < 3; ++i) {
+      gamma[i] = cross(P[(i + 2) % 3] - P[(i + 1) % 3], d) / area2;
+      gamma_scale = std::max(gamma_scale, std::abs(gamma[i]));
+    }
+    // A line along an edge (a boundary edge, an edge through the start vertex) has
+    // gamma ~ 0 there, of either sign by round-off: it does not leave through that edge.
+    const double parallel = 1e-12 * gamma_scale;
     int exit = -1;
     double tmin = HUGE_VAL;
     for (int i = 0; i < 3; ++i) {
-      if (!(gamma[i] < 0)) continue;
+      if (!(gamma[i] < -parallel)) continue;
       const double t = std::max(beta[i], 0.0) / -gamma[i];
       if (t < tmin) tmin = t, exit = i;
     }
@@ -108,16 +115,22 @@ TraceResult trace_from_vertex(const IntrinsicMesh& m, uint32_t v, double angle, 
   double best_off = 0, best_miss = HUGE_VAL;
   const uint32_t start = m.vertex_he[v];
   uint32_t h = start;
+  // Angles at a boundary vertex run over [0, total] without wrapping around.
+  if (m.boundary[v]) angle = std::clamp(angle, 0.0, total);
   do {
-    const double off = wrap_angle(angle - m.signpost[h], total);
     const double c = m.corner_angle(h);
-    if (off <= c) {
+    double off = m.boundary[v] ? angle - m.signpost[h] : wrap_angle(angle - m.signpost[h], total);
+    if (m.boundary[v] && off >= -1e-12 && off < 0) off = 0;  // round-off at the first edge
+    if (off >= 0 && off <= c) {
       best = h, best_off = off;
       break;
     }
     // Outside this wedge (round-off, or the gap of a boundary vertex): remember the
     // nearest wedge side.
-    const double miss_end = off - c, miss_start = total - off;
+    // How far the angle lies past this wedge's end or before its start (a boundary
+    // vertex's angles do not wrap around: only the side it is on counts).
+    const double miss_end = off > c ? off - c : HUGE_VAL;
+    const double miss_start = off < 0 ? -off : (m.boundary[v] ? HUGE_VAL : total - off);
     if (std::min(miss_end, miss_start) < best_miss) {
       best_miss = std::min(miss_end, miss_start);
       best = h;
@@ -142,7 +155,11 @@ double tangent_angle(const IntrinsicMesh& m, uint32_t f, int k, Vec2d dir) {
   const auto P = m.layout(f);
   const Vec2d e = P[(k + 1) % 3] - P[k];
   const double a = std::atan2(cross(e, dir), dot(e, dir));
-  return wrap_angle(m.signpost[h] + a, m.angle_sum[m.tail(h)]);
+  const uint32_t v = m.tail(h);
+  // A boundary vertex's angles do not wrap: the direction along its last boundary edge
+  // is angle_sum, not 0.
+  if (m.boundary[v]) return std::clamp(m.signpost[h] + a, 0.0, m.angle_sum[v]);
+  return wrap_angle(m.signpost[h] + a, m.angle_sum[v]);
 }
 
 IntrinsicTriangulation build_intrinsic_triangulation(const std::vector<double>& positions,
