@@ -125,10 +125,9 @@ TraceResult trace_from_vertex(const IntrinsicMesh& m, uint32_t v, double angle, 
       best = h, best_off = off;
       break;
     }
-    // Outside this wedge (round-off, or the gap of a boundary vertex): remember the
-    // nearest wedge side.
-    // How far the angle lies past this wedge's end or before its start (a boundary
-    // vertex's angles do not wrap around: only the side it is on counts).
+    // Outside this wedge (round-off): remember the nearest wedge side, by how far the
+    // angle lies past this wedge's end or before its start (a boundary vertex's angles
+    // do not wrap around: only the side it is on counts).
     const double miss_end = off > c ? off - c : HUGE_VAL;
     const double miss_start = off < 0 ? -off : (m.boundary[v] ? HUGE_VAL : total - off);
     if (std::min(miss_end, miss_start) < best_miss) {
