@@ -215,6 +215,12 @@ def busy_scene_states():
         slot.source = 'IMAGE' if index % 2 else 'ATTRIBUTE'
         slot.attribute = "Group" if index else ""
     yield "CONTINUOUS/maps"
+    # Gray-Scott: its Reaction panel, its three maps on, the Species & Start note and
+    # the slime brush's note.
+    settings.model = 'GRAY_SCOTT'
+    brush.target = 'SLIME'
+    yield "GRAY_SCOTT/maps"
+    brush.target = 'OBSTACLE'
     for slot in slots:
         slot.enabled = False
         slot.attribute = ""

@@ -47,8 +47,8 @@ LABELS = {
     # Gray-Scott (settings.reaction)
     "feed": "Feed",
     "kill": "Kill",
-    "diffusion_u": "Diffusion U",
-    "diffusion_v": "Diffusion V",
+    "diffusion_u": "Spread U",
+    "diffusion_v": "Spread V",
     "seed_count": "Seeds",
     # the continuous model (settings.continuous; time_step is shared)
     "move_rate": "Speed",
@@ -385,8 +385,8 @@ class MOLDTEX_PT_reaction(_ReactionPanel, bpy.types.Panel):
             _prop(column, reaction, name)
         column = _split(layout)
         column.label(text="Applied on Reset", icon='FILE_REFRESH')
-        for name in ("seed_count", "seed_radius"):
-            _prop(column, reaction, name)
+        _prop(column, reaction, "seed_count")
+        _prop(column, reaction, "seed_radius", text="Radius")
         _prop(_split(layout), reaction, "display_range")
 
 
