@@ -151,6 +151,12 @@ TEST(IntrinsicApi, FlipsOnlyKeepsTheInputVertices) {
   EXPECT_NEAR(info.area, m.total_area(), 1e-6 * m.total_area());
   EXPECT_GT(info.build_seconds, 0.0);
   EXPECT_NE(std::string(info.message).find("edge flips"), std::string::npos) << info.message;
+  // The handle keeps working after its surface is released.
+  s.reset();
+  std::vector<moldtex_surface_point> vp(info.vertex_count), vi(info.vertex_count);
+  ASSERT_EQ(moldtex_intrinsic_vertex_points(h.get(), vp.data(), info.vertex_count), MOLDTEX_OK) << LastError();
+  ASSERT_EQ(moldtex_intrinsic_locate(h.get(), vp.data(), info.vertex_count, vi.data()), MOLDTEX_OK) << LastError();
+  for (const auto& p : vi) EXPECT_TRUE(ValidPoint(p, info.triangle_count));
 }
 
 TEST(IntrinsicApi, InfoMatchesTheLibrary) {
