@@ -394,18 +394,30 @@ void fuzz_mesh(Bytes& in) {
       }
       case kIntrinsic: {
         // Intrinsic Delaunay triangulation (issue 11) with a bound from the bytes: raw (NaN,
-        // negative and tiny ones get refused) or area / bound^2 = 1..2000, and at most 2000
-        // insertions, so one op stays well under 0.1 s. Then a few points (raw weights, or
+        // negative and tiny ones get refused) or area / bound^2 = 1..2000, and at most 4000
+        // insertions (about 30 ms in Release), so one op stays under 0.1 s. Then a few points (raw weights, or
         // made valid) located and mapped back: accepted results are valid points.
         const uint8_t how = in.u8();
         const float raw = in.f32();
         const uint16_t target = in.u16();
         moldtex_intrinsic_params ip;
         moldtex_intrinsic_params_init(&ip);
-        ip.max_insertions = 1 + target % 2000;
+        ip.max_insertions = 2 * (1 + target % 2000);
         ip.max_circumradius =
             (how & 1) ? raw : (how & 2) ? 0.f : static_cast<float>(std::sqrt(info.area / (1 + target % 2000)));
         if (how & 4) ip.struct_size = how & 8 ? 4 : 0;  // refused: initialise with _init
+        // The points are read first, so the bytes after this op do not depend on the outcome.
+        const uint32_t k = 1 + in.u8() % 4;
+        std::vector<moldtex_surface_point> pts(k), loc(k), back(k);
+        for (auto& q : pts) {
+          q = point(in);
+          if (how & 16) {  // made valid
+            q.triangle %= info.triangle_count;
+            float sum = 0;
+            for (float& b : q.bary) sum += (b = std::isfinite(b) ? std::fabs(std::fmod(b, 8.f)) : 1.f);
+            for (float& b : q.bary) b = sum > 0 ? b / sum : 1.f / 3;
+          }
+        }
         moldtex_intrinsic intr = nullptr;
         if (check(moldtex_intrinsic_create(surface, &ip, &intr)) != MOLDTEX_OK) {
           if (intr) bug("a failed intrinsic_create handed out a handle");
@@ -438,17 +450,6 @@ void fuzz_mesh(Bytes& in) {
         for (const auto& q : vp)
           if (q.triangle != MOLDTEX_INTRINSIC_NO_TRIANGLE && !valid(q, info.triangle_count))
             bug("an intrinsic vertex's input point is not a valid surface point");
-        const uint32_t k = 1 + in.u8() % 4;
-        std::vector<moldtex_surface_point> pts(k), loc(k), back(k);
-        for (auto& q : pts) {
-          q = point(in);
-          if (how & 16) {  // made valid
-            q.triangle %= info.triangle_count;
-            float sum = 0;
-            for (float& b : q.bary) sum += (b = std::isfinite(b) ? std::fabs(std::fmod(b, 8.f)) : 1.f);
-            for (float& b : q.bary) b = sum > 0 ? b / sum : 1.f / 3;
-          }
-        }
         if (check(moldtex_intrinsic_locate(intr, pts.data(), k, loc.data())) == MOLDTEX_OK) {
           for (const auto& q : loc)
             if (!valid(q, ii.triangle_count)) bug("intrinsic_locate gave an invalid intrinsic point");

@@ -79,7 +79,7 @@ seeds = {
                             set_map(9, 0.5, -0.5) + u8(STEP) + u8(3) + u8(CKPT) + u8(STEP) + u8(2),
     "quad_maps": quad_mesh() + surface_map(0) + surface_map(1) + surface_map(2, scalar=0.05) +
                  surface_map(3) + surface_map(4),
-    "quad_intrinsic": quad_mesh() + intrinsic() + intrinsic(how=2) + intrinsic(how=1 | 16, raw=0.05) +
+    "quad_intrinsic": quad_mesh() + intrinsic() + intrinsic(how=2) + intrinsic(how=1 | 16, raw=0.05, target=1000) +
                       intrinsic(how=0, target=1500),
     "checkpoint_intact": u8(1) + u8(0) + u8(0),
     "checkpoint_patched": u8(1) + u8(2) + u16(300) + u8(2) + bytes([0xff, 0xff, 0x7f]) +

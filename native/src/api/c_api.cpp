@@ -1212,8 +1212,6 @@ moldtex_status moldtex_intrinsic_create(moldtex_surface surface, const moldtex_i
                                std::to_string(T.mesh.face_count()) + " triangles.";
     }
     const mi::IntrinsicMesh& m = T.mesh;
-    if (m.vertex_count() > kMaxIntrinsicPoints * 16u)
-      moldtex::fail(MOLDTEX_ERROR_TOO_LARGE, "The intrinsic triangulation has too many vertices");
     info.vertex_count = m.vertex_count();
     info.triangle_count = m.face_count();
     info.edge_count = m.edge_count();
