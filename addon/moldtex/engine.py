@@ -340,6 +340,47 @@ class ColourRampInfo(ctypes.Structure):
     ]
 
 
+class IntrinsicParams(ctypes.Structure):
+    _fields_ = [
+        ("struct_size", ctypes.c_uint32),
+        ("max_circumradius", ctypes.c_float),
+        ("max_insertions", ctypes.c_uint32),
+    ]
+
+
+class IntrinsicInfo(ctypes.Structure):
+    _fields_ = [
+        ("struct_size", ctypes.c_uint32),
+        ("vertex_count", ctypes.c_uint32),
+        ("triangle_count", ctypes.c_uint32),
+        ("edge_count", ctypes.c_uint32),
+        ("input_vertex_count", ctypes.c_uint32),
+        ("input_triangle_count", ctypes.c_uint32),
+        ("dropped_triangle_count", ctypes.c_uint32),
+        ("stop_reason", ctypes.c_uint32),
+        ("flips", ctypes.c_uint64),
+        ("insertions", ctypes.c_uint64),
+        ("boundary_splits", ctypes.c_uint64),
+        ("given_up", ctypes.c_uint64),
+        ("faces_over_bound_sharp", ctypes.c_uint32),
+        ("faces_over_bound_other", ctypes.c_uint32),
+        ("max_circumradius", ctypes.c_double),
+        ("largest_circumradius", ctypes.c_double),
+        ("area", ctypes.c_double),
+        ("mollify_epsilon", ctypes.c_double),
+        ("build_seconds", ctypes.c_double),
+        ("message", ctypes.c_char * 256),
+    ]
+
+
+# moldtex_intrinsic_stop values (moldtex.h)
+INTRINSIC_STOP_CONVERGED = 0
+INTRINSIC_STOP_INSERTION_CAP = 1
+INTRINSIC_STOP_FLIP_CAP = 2
+INTRINSIC_NO_TRIANGLE = 0xFFFFFFFF  # vertex_points() of an unused input vertex
+MAX_INTRINSIC_POINTS = 1 << 24      # points per locate / to_input call
+
+
 MAX_RAMP_STOPS = 32  # Blender's ColorRamp holds at most 32 elements
 
 
@@ -368,12 +409,15 @@ CONTINUOUS_FIELDS = tuple(name for name, _ in ContinuousParams._fields_
                           if name != "struct_size")
 REACTION_FIELDS = tuple(name for name, _ in ReactionParams._fields_ if name != "struct_size")
 SURFACE_INFO_FIELDS = tuple(name for name, _ in SurfaceInfo._fields_ if name != "struct_size")
+INTRINSIC_INFO_FIELDS = tuple(name for name, _ in IntrinsicInfo._fields_
+                              if name not in ("struct_size", "message"))
 BAKE_PROGRESS_FIELDS = tuple(name for name, _ in BakeProgress._fields_
                              if name not in ("struct_size", "message"))
 
 _Surface = ctypes.c_void_p  # opaque moldtex_surface
 _Sim = ctypes.c_void_p      # opaque moldtex_sim
 _Bake = ctypes.c_void_p     # opaque moldtex_bake
+_Intrinsic = ctypes.c_void_p  # opaque moldtex_intrinsic
 _status = ctypes.c_int      # moldtex_status (a C enum is an int)
 _P = ctypes.POINTER
 
@@ -432,6 +476,17 @@ _SIGNATURES = {
     "moldtex_sim_write_image": (_status, [_Sim, ctypes.c_char_p, ctypes.c_uint32]),
     "moldtex_sim_save_checkpoint": (_status, [_Sim, ctypes.c_char_p]),
     "moldtex_sim_load_checkpoint": (_status, [_Sim, ctypes.c_char_p]),
+    "moldtex_intrinsic_params_init": (None, [_P(IntrinsicParams)]),
+    "moldtex_intrinsic_create": (_status, [_Surface, _P(IntrinsicParams), _P(_Intrinsic)]),
+    "moldtex_intrinsic_release": (None, [_Intrinsic]),
+    "moldtex_intrinsic_info_init": (None, [_P(IntrinsicInfo)]),
+    "moldtex_intrinsic_get_info": (_status, [_Intrinsic, _P(IntrinsicInfo)]),
+    "moldtex_intrinsic_locate": (_status, [_Intrinsic, _P(SurfacePoint), ctypes.c_uint32,
+                                           _P(SurfacePoint)]),
+    "moldtex_intrinsic_to_input": (_status, [_Intrinsic, _P(SurfacePoint), ctypes.c_uint32,
+                                             _P(SurfacePoint)]),
+    "moldtex_intrinsic_vertex_points": (_status, [_Intrinsic, _P(SurfacePoint),
+                                                  ctypes.c_uint32]),
     "moldtex_bake_desc_init": (None, [_P(BakeDesc)]),
     "moldtex_bake_progress_init": (None, [_P(BakeProgress)]),
     "moldtex_bake_start": (_status, [_Sim, _P(BakeDesc), _P(_Bake)]),
@@ -523,6 +578,8 @@ _STRUCT_INITS = (
     ("moldtex_brush_init", Brush),
     ("moldtex_colour_ramp_desc_init", ColourRampDesc),
     ("moldtex_colour_ramp_info_init", ColourRampInfo),
+    ("moldtex_intrinsic_params_init", IntrinsicParams),
+    ("moldtex_intrinsic_info_init", IntrinsicInfo),
 )
 
 ADDON_DIR = os.path.dirname(os.path.abspath(__file__))
@@ -1014,6 +1071,104 @@ class Surface:
     def release(self):
         if self._handle is not None and _lib is not None:
             _lib.moldtex_surface_release(self._handle)
+        self._handle = None
+
+    def __del__(self):
+        try:
+            self.release()
+        except Exception:
+            pass
+
+
+def _points_array(points, what):
+    """A ctypes array of SurfacePoint from (triangle, (b0, b1, b2)) pairs."""
+    points = list(points)
+    if not points:
+        raise EngineError(f"{what}: pass at least one point.", ERROR_INVALID_ARGUMENT)
+    if len(points) > MAX_INTRINSIC_POINTS:
+        raise EngineError(f"{what}: at most {MAX_INTRINSIC_POINTS} points per call, got "
+                          f"{len(points)}.", ERROR_TOO_LARGE)
+    array_type = SurfacePoint * len(points)
+    out = array_type()
+    for i, (triangle, bary) in enumerate(points):
+        if len(bary) != 3:
+            raise EngineError(f"{what}: point {i} needs 3 barycentric weights.",
+                              ERROR_INVALID_ARGUMENT)
+        out[i].triangle = int(triangle)
+        out[i].bary[:] = [float(b) for b in bary]
+    return out
+
+
+def _points_list(points):
+    return [(p.triangle, tuple(p.bary)) for p in points]
+
+
+class Intrinsic:
+    """Intrinsic Delaunay triangulation of a surface (moldtex_intrinsic, issue 11).
+
+    max_circumradius: bound on the triangles' circumradius in mesh units (0: only
+    Delaunay edge flips, no refinement); max_insertions: cap on inserted vertices.
+    Points are (triangle, (b0, b1, b2)) pairs: triangles of the surface for input
+    points, of the intrinsic triangulation for intrinsic ones. Keeps the surface alive."""
+
+    def __init__(self, surface, max_circumradius=0.0, max_insertions=None):
+        lib = _require()
+        self._handle = None
+        params = IntrinsicParams()
+        lib.moldtex_intrinsic_params_init(ctypes.byref(params))
+        params.max_circumradius = float(max_circumradius)
+        if max_insertions is not None:
+            params.max_insertions = int(max_insertions)
+        handle = _Intrinsic()
+        _check(lib.moldtex_intrinsic_create(surface.handle, ctypes.byref(params),
+                                            ctypes.byref(handle)),
+               "Building the intrinsic triangulation")
+        self._handle = handle
+
+    @property
+    def handle(self):
+        if self._handle is None:
+            raise EngineError("This intrinsic triangulation was released.",
+                              ERROR_INVALID_ARGUMENT)
+        return self._handle
+
+    def info(self):
+        info = IntrinsicInfo()
+        _lib.moldtex_intrinsic_info_init(ctypes.byref(info))
+        _check(_lib.moldtex_intrinsic_get_info(self.handle, ctypes.byref(info)),
+               "Reading the intrinsic triangulation's info")
+        result = _struct_to_dict(info, INTRINSIC_INFO_FIELDS)
+        result["message"] = _decode(info.message)
+        return result
+
+    def locate(self, points):
+        """Input surface points -> intrinsic points."""
+        src = _points_array(points, "Locating points")
+        out = (SurfacePoint * len(src))()
+        _check(_lib.moldtex_intrinsic_locate(self.handle, src, len(src), out),
+               "Locating points on the intrinsic triangulation")
+        return _points_list(out)
+
+    def to_input(self, points):
+        """Intrinsic points -> input surface points."""
+        src = _points_array(points, "Mapping intrinsic points")
+        out = (SurfacePoint * len(src))()
+        _check(_lib.moldtex_intrinsic_to_input(self.handle, src, len(src), out),
+               "Mapping intrinsic points to the surface")
+        return _points_list(out)
+
+    def vertex_points(self):
+        """Each intrinsic vertex's point on the input surface (triangle
+        INTRINSIC_NO_TRIANGLE for an input vertex that no triangle uses)."""
+        count = self.info()["vertex_count"]
+        out = (SurfacePoint * count)()
+        _check(_lib.moldtex_intrinsic_vertex_points(self.handle, out, count),
+               "Reading the intrinsic vertices' points")
+        return _points_list(out)
+
+    def release(self):
+        if self._handle is not None and _lib is not None:
+            _lib.moldtex_intrinsic_release(self._handle)
         self._handle = None
 
     def __del__(self):

@@ -22,6 +22,17 @@
 //   PaintDab/<radius in texels>   one moldtex_surface_paint dab into an RGBA image
 //   RayCast                       moldtex_surface_ray_cast of rays through the sphere
 //   AddAgents/1M+2000             one slime dab (2000 agents) on a 1M-agent CPU sim, undone
+//
+// Intrinsic Delaunay triangulation (issue 11), one core, bound = sqrt(area / a) with
+// a = area / bound^2 = 16000 or 160000 (Chew's refinement gives ~0.65 a vertices: ~10k
+// and ~100k):
+//   IntrinsicBuild/<mesh>/<a>     moldtex_intrinsic_create (flips + refinement);
+//                                 counters: vertices, insertions (incl. boundary splits)
+//   IntrinsicLocate/<mesh>/<a>    moldtex_intrinsic_locate of 4096 random input points
+//                                 per call (random input triangle, random weights);
+//                                 counter points_per_s
+// Meshes: sphere (UV sphere 64 x 32), torus (48 x 24, R 1, r 0.35), cube (8 vertices,
+// 12 triangles: refinement from almost nothing, cone vertices of 270 degrees).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -262,7 +273,89 @@ void BM_AddAgents(benchmark::State& state) {
   }
 }
 
+mtx::Mesh IntrinsicMesh(int which) {
+  switch (which) {
+    case 0: return mtx::make_uv_sphere(64, 32, 1.0);
+    case 1: return mtx::make_torus(48, 24, 1.0, 0.35);
+    default: return mtx::make_cube();
+  }
+}
+
+struct IntrinsicCase {
+  mtx::Mesh mesh;
+  mtx::SurfacePtr surface;
+  moldtex_intrinsic_params params;
+};
+
+IntrinsicCase MakeIntrinsicCase(int which, double target) {
+  IntrinsicCase c;
+  c.mesh = IntrinsicMesh(which);
+  moldtex_status st;
+  c.surface = mtx::create_surface(c.mesh, &st);
+  if (!c.surface) std::exit(1);
+  moldtex_intrinsic_params_init(&c.params);
+  c.params.max_circumradius = float(std::sqrt(c.mesh.total_area() / target));
+  return c;
+}
+
+void BM_IntrinsicBuild(benchmark::State& state) {
+  IntrinsicCase c = MakeIntrinsicCase(int(state.range(0)), double(state.range(1)));
+  moldtex_intrinsic_info info;
+  moldtex_intrinsic_info_init(&info);
+  for (auto _ : state) {
+    moldtex_intrinsic h = nullptr;
+    if (moldtex_intrinsic_create(c.surface.get(), &c.params, &h) != MOLDTEX_OK) {
+      state.SkipWithError(moldtex_last_error());
+      break;
+    }
+    state.PauseTiming();
+    moldtex_intrinsic_get_info(h, &info);
+    moldtex_intrinsic_release(h);
+    state.ResumeTiming();
+  }
+  state.counters["vertices"] = info.vertex_count;
+  state.counters["insertions"] = double(info.insertions + info.boundary_splits);
+  state.counters["over_bound"] = info.faces_over_bound_sharp + info.faces_over_bound_other;
+}
+
+void BM_IntrinsicLocate(benchmark::State& state) {
+  IntrinsicCase c = MakeIntrinsicCase(int(state.range(0)), double(state.range(1)));
+  moldtex_intrinsic h = nullptr;
+  if (moldtex_intrinsic_create(c.surface.get(), &c.params, &h) != MOLDTEX_OK) {
+    state.SkipWithError(moldtex_last_error());
+    for (auto _ : state) {
+    }
+    return;
+  }
+  std::vector<moldtex_surface_point> in(4096), out(4096);
+  uint32_t seed = 12345;
+  auto rnd = [&] { return (seed = seed * 1664525u + 1013904223u) >> 8; };
+  for (auto& p : in) {
+    p.triangle = rnd() % c.mesh.triangle_count();
+    float a = float(rnd() % 10000) / 10000.f, b = float(rnd() % 10000) / 10000.f;
+    if (a + b > 1) a = 1 - a, b = 1 - b;
+    p.bary[0] = 1 - a - b;
+    p.bary[1] = a;
+    p.bary[2] = b;
+  }
+  for (auto _ : state) {
+    if (moldtex_intrinsic_locate(h, in.data(), uint32_t(in.size()), out.data()) != MOLDTEX_OK) {
+      state.SkipWithError(moldtex_last_error());
+      break;
+    }
+  }
+  state.counters["points_per_s"] =
+      benchmark::Counter(double(state.iterations()) * double(in.size()), benchmark::Counter::kIsRate);
+  moldtex_intrinsic_release(h);
+}
+
 }  // namespace
+
+BENCHMARK(BM_IntrinsicBuild)->Name("IntrinsicBuild")->ArgNames({"mesh", "area_per_bound2"})
+    ->ArgsProduct({{0, 1, 2}, {16000, 160000}})->Iterations(1)->Repetitions(2)->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_IntrinsicLocate)->Name("IntrinsicLocate")->ArgNames({"mesh", "area_per_bound2"})
+    ->ArgsProduct({{0, 1, 2}, {16000, 160000}})->UseRealTime()->Unit(benchmark::kMillisecond);
 
 BENCHMARK(BM_PaintDab)->Name("PaintDab")->Arg(8)->Arg(32)->Arg(128)
     ->Unit(benchmark::kMillisecond);

@@ -105,7 +105,7 @@ void check_pheromone(moldtex_sim sim, uint32_t width, uint32_t height) {
 enum Op : uint8_t {
   kRayCast, kClosestPoint, kTrace, kPaint, kCreateSim, kStep, kAddAgents, kEraseAgents, kUndo,
   kSetFood, kSetFields, kCheckpoint, kRasterize, kSetParams, kReset, kSetContinuous, kSetBias, kSetMap,
-  kSurfaceMap, kColourRamp, kSetReaction, kOpCount
+  kSurfaceMap, kColourRamp, kSetReaction, kIntrinsic, kOpCount
 };
 
 void fuzz_mesh(Bytes& in) {
@@ -390,6 +390,75 @@ void fuzz_mesh(Bytes& in) {
         if (st == MOLDTEX_OK && which % 4 == 0)
           for (size_t i = 0; i < info.vertex_count; ++i)
             if (out[i] < 0.f && out[i] != -1.f) bug("a negative geodesic distance other than -1 (unreachable)");
+        break;
+      }
+      case kIntrinsic: {
+        // Intrinsic Delaunay triangulation (issue 11) with a bound from the bytes: raw (NaN,
+        // negative and tiny ones get refused) or area / bound^2 = 1..2000, and at most 4000
+        // insertions (about 30 ms in Release), so one op stays under 0.1 s. Then a few points (raw weights, or
+        // made valid) located and mapped back: accepted results are valid points.
+        const uint8_t how = in.u8();
+        const float raw = in.f32();
+        const uint16_t target = in.u16();
+        moldtex_intrinsic_params ip;
+        moldtex_intrinsic_params_init(&ip);
+        ip.max_insertions = 2 * (1 + target % 2000);
+        ip.max_circumradius =
+            (how & 1) ? raw : (how & 2) ? 0.f : static_cast<float>(std::sqrt(info.area / (1 + target % 2000)));
+        if (how & 4) ip.struct_size = how & 8 ? 4 : 0;  // refused: initialise with _init
+        // The points are read first, so the bytes after this op do not depend on the outcome.
+        const uint32_t k = 1 + in.u8() % 4;
+        std::vector<moldtex_surface_point> pts(k), loc(k), back(k);
+        for (auto& q : pts) {
+          q = point(in);
+          if (how & 16) {  // made valid
+            q.triangle %= info.triangle_count;
+            float sum = 0;
+            for (float& b : q.bary) sum += (b = std::isfinite(b) ? std::fabs(std::fmod(b, 8.f)) : 1.f);
+            for (float& b : q.bary) b = sum > 0 ? b / sum : 1.f / 3;
+          }
+        }
+        moldtex_intrinsic intr = nullptr;
+        if (check(moldtex_intrinsic_create(surface, &ip, &intr)) != MOLDTEX_OK) {
+          if (intr) bug("a failed intrinsic_create handed out a handle");
+          break;
+        }
+        moldtex_intrinsic_info ii;
+        moldtex_intrinsic_info_init(&ii);
+        if (check(moldtex_intrinsic_get_info(intr, &ii)) != MOLDTEX_OK) bug("intrinsic_get_info failed");
+        if (trace)
+          std::fprintf(stderr, "intrinsic: bound %g, %u vertices, %u triangles, %s\n", ip.max_circumradius,
+                       ii.vertex_count, ii.triangle_count, ii.message);
+        if (ii.vertex_count < ii.input_vertex_count || ii.input_vertex_count != info.vertex_count ||
+            ii.insertions + ii.boundary_splits > ip.max_insertions ||
+            ii.vertex_count != ii.input_vertex_count + ii.insertions + ii.boundary_splits)
+          bug("intrinsic counts are inconsistent");
+        if (int64_t(ii.triangle_count) * 3 > int64_t(ii.edge_count) * 2 || ii.triangle_count == 0 ||
+            !std::isfinite(ii.area) || !(ii.area > 0) || !std::isfinite(ii.largest_circumradius))
+          bug("intrinsic triangulation with impossible counts or geometry");
+        std::vector<moldtex_surface_point> vp(ii.vertex_count);
+        if (check(moldtex_intrinsic_vertex_points(intr, vp.data(), ii.vertex_count)) != MOLDTEX_OK)
+          bug("intrinsic_vertex_points failed");
+        auto valid = [](const moldtex_surface_point& q, uint32_t triangles) {
+          double sum = 0;
+          for (float b : q.bary) {
+            if (!std::isfinite(b) || b < 0.f) return false;
+            sum += b;
+          }
+          return q.triangle < triangles && std::fabs(sum - 1.0) < 1e-4;
+        };
+        for (const auto& q : vp)
+          if (q.triangle != MOLDTEX_INTRINSIC_NO_TRIANGLE && !valid(q, info.triangle_count))
+            bug("an intrinsic vertex's input point is not a valid surface point");
+        if (check(moldtex_intrinsic_locate(intr, pts.data(), k, loc.data())) == MOLDTEX_OK) {
+          for (const auto& q : loc)
+            if (!valid(q, ii.triangle_count)) bug("intrinsic_locate gave an invalid intrinsic point");
+          if (check(moldtex_intrinsic_to_input(intr, loc.data(), k, back.data())) != MOLDTEX_OK)
+            bug("intrinsic_to_input refused a point that locate gave");
+          for (const auto& q : back)
+            if (!valid(q, info.triangle_count)) bug("intrinsic_to_input gave an invalid input point");
+        }
+        moldtex_intrinsic_release(intr);
         break;
       }
       case kColourRamp: {

@@ -15,12 +15,21 @@ f32 = lambda *v: struct.pack("<%df" % len(v), *v)
 
 # Operation codes (enum Op in fuzz_c_api.cpp).
 (RAY, CLOSEST, TRACE, PAINT, CREATE, STEP, ADD, ERASE, UNDO, FOOD, FIELDS, CKPT, RASTER, PARAMS, RESET,
- CONTINUOUS, BIAS, MAP, SURFACE_MAP, COLOUR_RAMP, SET_REACTION) = range(21)
+ CONTINUOUS, BIAS, MAP, SURFACE_MAP, COLOUR_RAMP, SET_REACTION, INTRINSIC) = range(22)
 
 
 def surface_map(which, pattern=(1.0, 0.0, 0.25, 0.0), scalar=1.0, mask=0b0101):
     """One map tool (0 geodesic, 1 Laplace, 2 diffusion, 3 gradient; +4: count one short)."""
     return u8(SURFACE_MAP) + u8(which) + f32(*pattern) + f32(scalar) + u8(mask)
+
+
+def intrinsic(how=16, raw=0.0, target=200, points=((0, (0.2, 0.3, 0.5)), (1, (1.0, 0.0, 0.0)))):
+    """Intrinsic triangulation: how bit 0 raw bound, bit 1 flips only, bit 2 bad
+    struct_size, bit 4 valid points; target: area / bound^2; then the points."""
+    data = u8(INTRINSIC) + u8(how) + f32(raw) + u16(target) + u8(len(points) - 1)
+    for tri, bary in points:
+        data += point(tri, bary)
+    return data
 
 
 def point(tri=0, bary=(1 / 3, 1 / 3, 1 / 3)):
@@ -70,6 +79,8 @@ seeds = {
                             set_map(9, 0.5, -0.5) + u8(STEP) + u8(3) + u8(CKPT) + u8(STEP) + u8(2),
     "quad_maps": quad_mesh() + surface_map(0) + surface_map(1) + surface_map(2, scalar=0.05) +
                  surface_map(3) + surface_map(4),
+    "quad_intrinsic": quad_mesh() + intrinsic() + intrinsic(how=2) + intrinsic(how=1 | 16, raw=0.05, target=1000) +
+                      intrinsic(how=0, target=1500),
     "checkpoint_intact": u8(1) + u8(0) + u8(0),
     "checkpoint_patched": u8(1) + u8(2) + u16(300) + u8(2) + bytes([0xff, 0xff, 0x7f]) +
                           u16(900) + u8(1) + bytes([0x80]) + u8(0),

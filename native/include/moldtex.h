@@ -52,6 +52,7 @@ typedef enum moldtex_status {
 typedef struct moldtex_surface_t* moldtex_surface;
 typedef struct moldtex_sim_t* moldtex_sim;
 typedef struct moldtex_bake_t* moldtex_bake;
+typedef struct moldtex_intrinsic_t* moldtex_intrinsic;
 
 /* ---- library --------------------------------------------------------------------- */
 
@@ -878,6 +879,105 @@ MOLDTEX_API void moldtex_colour_ramp_info_init(moldtex_colour_ramp_info* info);
 MOLDTEX_API moldtex_status moldtex_colour_ramp_from_pixels(const float* pixels, size_t pixel_count,
     const moldtex_colour_ramp_desc* desc, moldtex_colour_stop* out_stops, uint32_t capacity,
     moldtex_colour_ramp_info* info);
+
+/* ---- intrinsic Delaunay triangulation (issue 11) -------------------------------- */
+
+/* An intrinsic triangulation of a surface's 3D mesh (Sharp, Soliman & Crane 2019): the
+ * same surface, the same metric, but other edges: geodesic segments over the input
+ * triangles, chosen so that every edge is Delaunay (all cotangent weights >= 0) and,
+ * with a bound, every triangle has circumradius <= max_circumradius (Delaunay
+ * refinement by circumcentre insertion and boundary edge splits). Vertices are the
+ * input mesh's vertices (the positions of moldtex_mesh_desc, shared across UV seams:
+ * seams do not cut it, open boundaries do) followed by the inserted ones. Every
+ * intrinsic vertex has a point on the input mesh, and points map both ways.
+ * Not yet a simulation domain: this exposes the triangulation only.
+ * Input triangles that repeat a vertex index have no area and are not part of it.
+ * Memory: about 0.5 KB per vertex. The handle keeps its surface alive. */
+typedef struct moldtex_intrinsic_params {
+  uint32_t struct_size;
+  /* Largest circumradius of a triangle, in mesh units (finite, >= 0). 0: no refinement,
+   * only the Delaunay edge flips of the input mesh; 0 */
+  float max_circumradius;
+  /* Cap on inserted vertices (circumcentres plus boundary splits), 1..16,000,000;
+   * 4,000,000. A bound for which the expected vertex count (area / bound^2) exceeds it
+   * is refused before building; reaching it while refining stops with
+   * MOLDTEX_INTRINSIC_STOP_INSERTION_CAP (not an error: the triangulation is Delaunay,
+   * some triangles are larger than the bound). */
+  uint32_t max_insertions;
+} moldtex_intrinsic_params;
+
+MOLDTEX_API void moldtex_intrinsic_params_init(moldtex_intrinsic_params* params);
+
+typedef enum moldtex_intrinsic_stop {
+  MOLDTEX_INTRINSIC_STOP_CONVERGED = 0,     /* done (with a bound: every triangle within
+                                               it, except those counted in *_left) */
+  MOLDTEX_INTRINSIC_STOP_INSERTION_CAP = 1, /* max_insertions reached */
+  MOLDTEX_INTRINSIC_STOP_FLIP_CAP = 2       /* the edge flips did not settle (a bug) */
+} moldtex_intrinsic_stop;
+
+/* Builds the triangulation: input mesh with mollified edge lengths (a margin of 1e-6 of
+ * the mean edge length makes near-degenerate triangles valid), Delaunay edge flips,
+ * then refinement if max_circumradius > 0. Refuses non-manifold meshes (an edge with
+ * more than two triangles, two triangles winding an edge the same way, a vertex whose
+ * triangles form more than one fan). Single-threaded. */
+MOLDTEX_API moldtex_status moldtex_intrinsic_create(moldtex_surface surface,
+                                                    const moldtex_intrinsic_params* params,
+                                                    moldtex_intrinsic* out_intrinsic);
+MOLDTEX_API void moldtex_intrinsic_release(moldtex_intrinsic intrinsic);
+
+typedef struct moldtex_intrinsic_info {
+  uint32_t struct_size;
+  uint32_t vertex_count;         /* intrinsic vertices: input_vertex_count + inserted */
+  uint32_t triangle_count;
+  uint32_t edge_count;
+  uint32_t input_vertex_count;   /* the surface's vertex_count */
+  uint32_t input_triangle_count; /* input triangles in it (without repeated indices) */
+  uint32_t dropped_triangle_count; /* input triangles that repeat a vertex index */
+  uint32_t stop_reason;          /* moldtex_intrinsic_stop */
+  uint64_t flips;                /* Delaunay edge flips, all stages */
+  uint64_t insertions;           /* circumcentres inserted */
+  uint64_t boundary_splits;      /* encroached boundary edges split at their midpoints */
+  uint64_t given_up;             /* faces given up by round-off rechecks */
+  /* Triangles left with a circumradius above the bound (0 without a bound): at input
+   * corners sharper than 60 degrees (refining them would never end), and others. */
+  uint32_t faces_over_bound_sharp;
+  uint32_t faces_over_bound_other;
+  double max_circumradius;       /* the bound used (0: none) */
+  double largest_circumradius;   /* largest circumradius left */
+  double area;                   /* total area of the intrinsic triangles */
+  double mollify_epsilon;        /* length added to every edge */
+  double build_seconds;          /* wall time of moldtex_intrinsic_create */
+  char message[256];             /* what was done or why it stopped, for the user */
+} moldtex_intrinsic_info;
+
+MOLDTEX_API void moldtex_intrinsic_info_init(moldtex_intrinsic_info* info);
+MOLDTEX_API moldtex_status moldtex_intrinsic_get_info(moldtex_intrinsic intrinsic,
+                                                      moldtex_intrinsic_info* info);
+
+/* Marks an intrinsic vertex without a point on the input mesh: an input vertex that
+ * no triangle uses (moldtex_intrinsic_vertex_points). */
+#define MOLDTEX_INTRINSIC_NO_TRIANGLE 0xffffffffu
+
+/* Maps points on the input surface (triangle = index in moldtex_mesh_desc, barycentric
+ * weights finite, >= 0, summing to 1) to the intrinsic triangulation (triangle = intrinsic
+ * triangle index, weights of its corners). count: 1..16,777,216; out must hold count
+ * points. A point in an input triangle that repeats a vertex index is refused. Nothing
+ * is written on failure. Cost: a short trace per point (about a microsecond). */
+MOLDTEX_API moldtex_status moldtex_intrinsic_locate(moldtex_intrinsic intrinsic,
+                                                    const moldtex_surface_point* input_points,
+                                                    uint32_t count,
+                                                    moldtex_surface_point* out_intrinsic_points);
+/* The inverse: intrinsic points (triangle < triangle_count) to points on the input mesh. */
+MOLDTEX_API moldtex_status moldtex_intrinsic_to_input(moldtex_intrinsic intrinsic,
+                                                      const moldtex_surface_point* intrinsic_points,
+                                                      uint32_t count,
+                                                      moldtex_surface_point* out_input_points);
+/* Each intrinsic vertex's point on the input mesh (vertex_count of them; capacity must
+ * be >= vertex_count, the rest is left alone). An input vertex is at its own corner;
+ * unused input vertices get triangle MOLDTEX_INTRINSIC_NO_TRIANGLE and weights 0. */
+MOLDTEX_API moldtex_status moldtex_intrinsic_vertex_points(moldtex_intrinsic intrinsic,
+                                                           moldtex_surface_point* out_points,
+                                                           uint32_t capacity);
 
 #ifdef __cplusplus
 }

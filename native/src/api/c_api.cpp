@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 #include <algorithm>
+#include <array>
+#include <chrono>
 
 #include <cstddef>
 #include <cstdio>
@@ -23,6 +25,9 @@
 #include "sim.h"
 #include "spatial/spatial.h"
 #include "surface/surface.h"
+#include "intrinsic/correspondence.h"
+#include "intrinsic/delaunay_flip.h"
+#include "intrinsic/refinement.h"
 
 struct moldtex_surface_t {
   std::shared_ptr<const moldtex::Surface> surface;
@@ -1075,3 +1080,249 @@ moldtex_status moldtex_sim_get_reaction_params(moldtex_sim sim, moldtex_reaction
 }
 
 }  // extern "C"
+
+// ---- intrinsic Delaunay triangulation ----------------------------------------------
+
+struct moldtex_intrinsic_t {
+  std::shared_ptr<const moldtex::Surface> surface;
+  moldtex::intrinsic::IntrinsicTriangulation T;
+  std::vector<uint32_t> face_of_triangle;  // per surface triangle: its input face, or kInvalid
+  moldtex_intrinsic_info info;
+};
+
+namespace {
+
+constexpr uint32_t kMaxIntrinsicInsertions = 16000000u;
+constexpr uint32_t kMaxIntrinsicPoints = 1u << 24;
+
+// Weights of a caller's point as doubles: clamped to >= 0 and normalised.
+std::array<double, 3> point_weights(const moldtex_surface_point& p) {
+  std::array<double, 3> b;
+  double sum = 0;
+  for (int k = 0; k < 3; ++k) sum += (b[k] = std::max(0.0, double(p.bary[k])));
+  for (double& w : b) w /= sum;
+  return b;
+}
+
+void require_points(const moldtex_surface_point* in, uint32_t count, const moldtex_surface_point* out,
+                    const char* out_name) {
+  require(in != nullptr, "The input points are NULL");
+  require(out != nullptr, out_name);
+  require(count >= 1, "The point count is 0: pass at least one point");
+  if (count > kMaxIntrinsicPoints)
+    moldtex::fail(MOLDTEX_ERROR_TOO_LARGE, "Too many points in one call (" + std::to_string(count) +
+                                               "): pass at most 16,777,216 at a time");
+}
+
+void require_weights(const moldtex_surface_point& p, uint32_t i) {
+  float sum = 0;
+  for (float b : p.bary) {
+    if (!(std::isfinite(b) && b >= -1e-4f))
+      moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+                    "Point " + std::to_string(i) + ": barycentric weights must be finite and non-negative");
+    sum += b;
+  }
+  if (!(std::fabs(sum - 1.f) < 1e-3f))
+    moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Point " + std::to_string(i) + ": barycentric weights must sum to 1");
+}
+
+void write_point(const moldtex::intrinsic::SurfacePoint& p, uint32_t triangle, moldtex_surface_point* out) {
+  out->triangle = triangle;
+  double sum = 0;
+  std::array<double, 3> b;
+  for (int k = 0; k < 3; ++k) sum += (b[k] = std::isfinite(p.bary[k]) ? std::max(0.0, p.bary[k]) : 0.0);
+  if (!(sum > 0)) b = {1.0 / 3, 1.0 / 3, 1.0 / 3}, sum = 1;
+  for (int k = 0; k < 3; ++k) out->bary[k] = static_cast<float>(b[k] / sum);
+}
+
+}  // namespace
+
+void moldtex_intrinsic_params_init(moldtex_intrinsic_params* params) {
+  if (!params) return;
+  std::memset(params, 0, sizeof(*params));
+  params->struct_size = sizeof(*params);
+  params->max_circumradius = 0.f;
+  params->max_insertions = 4000000u;
+}
+
+void moldtex_intrinsic_info_init(moldtex_intrinsic_info* info) {
+  if (!info) return;
+  std::memset(info, 0, sizeof(*info));
+  info->struct_size = sizeof(*info);
+}
+
+moldtex_status moldtex_intrinsic_create(moldtex_surface surface, const moldtex_intrinsic_params* params,
+                                        moldtex_intrinsic* out) {
+  namespace mi = moldtex::intrinsic;
+  return guarded([&] {
+    require(out != nullptr, "out_intrinsic is NULL");
+    *out = nullptr;
+    require(surface != nullptr, "The surface handle is NULL");
+    const moldtex_intrinsic_params p = read_struct(params, "moldtex_intrinsic_params", moldtex_intrinsic_params_init);
+    const double R = p.max_circumradius;
+    require(std::isfinite(p.max_circumradius) && p.max_circumradius >= 0.f,
+            "The intrinsic triangulation's max_circumradius must be a finite number >= 0 (0: no refinement)");
+    if (p.max_insertions < 1 || p.max_insertions > kMaxIntrinsicInsertions)
+      moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "max_insertions must be between 1 and 16,000,000 (it is " +
+                                                        std::to_string(p.max_insertions) + ")");
+    const std::shared_ptr<const moldtex::Surface>& s = surface->surface;
+    if (R > 0) {
+      const double expected = s->area / (R * R);
+      if (!(expected <= double(p.max_insertions))) {
+        char buf[512];
+        std::snprintf(buf, sizeof buf,
+                      "A circumradius bound of %g on a surface of area %g needs about %.3g vertices (area / bound^2), "
+                      "more than max_insertions (%u): use a bound of at least %.3g, or raise max_insertions "
+                      "(about 0.5 KB of memory per vertex)",
+                      R, s->area, expected, p.max_insertions, std::sqrt(s->area / double(p.max_insertions)));
+        moldtex::fail(MOLDTEX_ERROR_TOO_LARGE, buf);
+      }
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    auto h = std::make_unique<moldtex_intrinsic_t>();
+    h->surface = s;
+    h->T = mi::build_intrinsic_triangulation(*s);
+    mi::IntrinsicTriangulation& T = h->T;
+    moldtex_intrinsic_info& info = h->info;
+    moldtex_intrinsic_info_init(&info);
+    std::string message;
+    if (R > 0) {
+      mi::RefineOptions o;
+      o.max_circumradius = R;
+      o.max_insertions = p.max_insertions;
+      const mi::RefineReport r = mi::refine(T, o);
+      info.stop_reason = r.reason == mi::StopReason::Converged      ? MOLDTEX_INTRINSIC_STOP_CONVERGED
+                         : r.reason == mi::StopReason::InsertionCap ? MOLDTEX_INTRINSIC_STOP_INSERTION_CAP
+                                                                    : MOLDTEX_INTRINSIC_STOP_FLIP_CAP;
+      info.flips = r.flips;
+      info.insertions = r.insertions;
+      info.boundary_splits = r.boundary_splits;
+      info.given_up = r.given_up;
+      info.faces_over_bound_sharp = r.skipped_small_angle;
+      info.faces_over_bound_other = r.skipped_other;
+      message = r.message;
+    } else {
+      const mi::FlipReport r = mi::flip_to_delaunay(T.mesh);
+      info.flips = r.flips;
+      info.stop_reason = r.capped ? MOLDTEX_INTRINSIC_STOP_FLIP_CAP : MOLDTEX_INTRINSIC_STOP_CONVERGED;
+      message = r.capped ? "The Delaunay edge flips of the intrinsic triangulation did not settle (a bug or extreme "
+                           "round-off; please report it)."
+                         : "Intrinsic Delaunay triangulation by " + std::to_string(r.flips) +
+                               " edge flips, no refinement: " + std::to_string(T.mesh.vertex_count()) + " vertices, " +
+                               std::to_string(T.mesh.face_count()) + " triangles.";
+    }
+    const mi::IntrinsicMesh& m = T.mesh;
+    info.vertex_count = m.vertex_count();
+    info.triangle_count = m.face_count();
+    info.edge_count = m.edge_count();
+    info.input_vertex_count = T.input_vertex_count;
+    info.input_triangle_count = T.input.face_count();
+    info.dropped_triangle_count = T.dropped_triangles;
+    info.max_circumradius = R;
+    double largest = 0;
+    for (uint32_t f = 0; f < m.face_count(); ++f) largest = std::max(largest, m.circumradius(f));
+    info.largest_circumradius = largest;
+    info.area = m.total_area();
+    info.mollify_epsilon = T.mollify_epsilon;
+    std::snprintf(info.message, sizeof info.message, "%s", message.c_str());
+    h->face_of_triangle.assign(s->triangle_count(), mi::kInvalid);
+    for (uint32_t f = 0; f < T.input_triangle.size(); ++f) h->face_of_triangle[T.input_triangle[f]] = f;
+    info.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    *out = h.release();
+  });
+}
+
+void moldtex_intrinsic_release(moldtex_intrinsic intrinsic) { delete intrinsic; }
+
+moldtex_status moldtex_intrinsic_get_info(moldtex_intrinsic intrinsic, moldtex_intrinsic_info* info) {
+  return guarded([&] {
+    require(intrinsic != nullptr, "The intrinsic triangulation handle is NULL");
+    read_struct(info, "moldtex_intrinsic_info");
+    *info = intrinsic->info;
+  });
+}
+
+moldtex_status moldtex_intrinsic_locate(moldtex_intrinsic intrinsic, const moldtex_surface_point* input_points,
+                                        uint32_t count, moldtex_surface_point* out_points) {
+  namespace mi = moldtex::intrinsic;
+  return guarded([&] {
+    require(intrinsic != nullptr, "The intrinsic triangulation handle is NULL");
+    require_points(input_points, count, out_points, "out_intrinsic_points is NULL");
+    const uint32_t nt = static_cast<uint32_t>(intrinsic->face_of_triangle.size());
+    for (uint32_t i = 0; i < count; ++i) {
+      const moldtex_surface_point& p = input_points[i];
+      if (p.triangle >= nt)
+        moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Point " + std::to_string(i) + ": triangle " +
+                                                          std::to_string(p.triangle) + " is out of range (the surface has " +
+                                                          std::to_string(nt) + " triangles)");
+      require_weights(p, i);
+      if (intrinsic->face_of_triangle[p.triangle] == mi::kInvalid)
+        moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+                      "Point " + std::to_string(i) + ": triangle " + std::to_string(p.triangle) +
+                          " repeats a vertex index (it has no area and is not part of the intrinsic triangulation)");
+    }
+    std::vector<moldtex_surface_point> out(count);
+    for (uint32_t i = 0; i < count; ++i) {
+      mi::SurfacePoint q;
+      q.face = intrinsic->face_of_triangle[input_points[i].triangle];
+      q.bary = point_weights(input_points[i]);
+      const mi::SurfacePoint r = mi::to_intrinsic(intrinsic->T, q);
+      if (r.face >= intrinsic->T.mesh.face_count())
+        moldtex::fail(MOLDTEX_ERROR_INTERNAL, "Point " + std::to_string(i) + " could not be located");
+      write_point(r, r.face, &out[i]);
+    }
+    std::copy(out.begin(), out.end(), out_points);
+  });
+}
+
+moldtex_status moldtex_intrinsic_to_input(moldtex_intrinsic intrinsic, const moldtex_surface_point* intrinsic_points,
+                                          uint32_t count, moldtex_surface_point* out_points) {
+  namespace mi = moldtex::intrinsic;
+  return guarded([&] {
+    require(intrinsic != nullptr, "The intrinsic triangulation handle is NULL");
+    require_points(intrinsic_points, count, out_points, "out_input_points is NULL");
+    const uint32_t nf = intrinsic->T.mesh.face_count();
+    for (uint32_t i = 0; i < count; ++i) {
+      if (intrinsic_points[i].triangle >= nf)
+        moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+                      "Point " + std::to_string(i) + ": triangle " + std::to_string(intrinsic_points[i].triangle) +
+                          " is out of range (the intrinsic triangulation has " + std::to_string(nf) + " triangles)");
+      require_weights(intrinsic_points[i], i);
+    }
+    std::vector<moldtex_surface_point> out(count);
+    for (uint32_t i = 0; i < count; ++i) {
+      mi::SurfacePoint q;
+      q.face = intrinsic_points[i].triangle;
+      q.bary = point_weights(intrinsic_points[i]);
+      const mi::SurfacePoint r = mi::to_input(intrinsic->T, q);
+      if (r.face >= intrinsic->T.input_triangle.size())
+        moldtex::fail(MOLDTEX_ERROR_INTERNAL, "Point " + std::to_string(i) + " could not be mapped to the input");
+      write_point(r, intrinsic->T.input_triangle[r.face], &out[i]);
+    }
+    std::copy(out.begin(), out.end(), out_points);
+  });
+}
+
+moldtex_status moldtex_intrinsic_vertex_points(moldtex_intrinsic intrinsic, moldtex_surface_point* out_points,
+                                               uint32_t capacity) {
+  namespace mi = moldtex::intrinsic;
+  return guarded([&] {
+    require(intrinsic != nullptr, "The intrinsic triangulation handle is NULL");
+    require(out_points != nullptr, "out_points is NULL");
+    const mi::IntrinsicTriangulation& T = intrinsic->T;
+    const uint32_t nv = T.mesh.vertex_count();
+    if (capacity < nv)
+      moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The output holds " + std::to_string(capacity) +
+                                                        " points but the intrinsic triangulation has " +
+                                                        std::to_string(nv) + " vertices");
+    for (uint32_t v = 0; v < nv; ++v) {
+      const mi::SurfacePoint& p = T.corr.location[v];
+      if (p.face >= T.input_triangle.size()) {
+        out_points[v].triangle = MOLDTEX_INTRINSIC_NO_TRIANGLE;
+        out_points[v].bary[0] = out_points[v].bary[1] = out_points[v].bary[2] = 0.f;
+      } else {
+        write_point(p, T.input_triangle[p.face], &out_points[v]);
+      }
+    }
+  });
+}
