@@ -8,6 +8,7 @@
 // smooth synthetic 3D field sampled at the texel centres (the measure's geometric floor),
 // and against the MoMaS texel units (length_unit 0), which show the defects.
 #include <algorithm>
+#include <cstdlib>
 #include <numeric>
 
 #include "pattern_measures.h"
@@ -35,7 +36,8 @@ moldtex_sim_params SmallCells(double length_unit) {
 // samples every 10 steps (time averaging lowers the pattern's noise in small regions).
 std::vector<double> Grow(const Mesh& m, uint32_t W, uint32_t H, uint32_t agents, uint64_t seed,
                         const moldtex_sim_params& p, uint32_t steps, uint32_t average = 0,
-                        const moldtex_sim_config* pinned = nullptr) {
+                        const moldtex_sim_config* pinned = nullptr,
+                        std::vector<moldtex_surface_point>* agents_at_end = nullptr) {
   auto s = create_surface(m);
   EXPECT_TRUE(s) << LastError();
   moldtex_sim_config c = make_config(W, H, agents, seed);
@@ -60,6 +62,7 @@ std::vector<double> Grow(const Mesh& m, uint32_t W, uint32_t H, uint32_t agents,
     done += 10;
   }
   for (double& v : sum) v /= samples;
+  if (agents_at_end) *agents_at_end = read_agents(sim.get(), agents);
   return sum;
 }
 
@@ -203,6 +206,59 @@ TEST(SurfaceUnits, DISABLED_UvSpherePolesAreAlive) {
       EXPECT_GT(ratio, 0.85);
       EXPECT_LT(ratio, 1.15);
     }
+  }
+}
+
+// Diagnostic (run by hand): on the UV sphere, the pheromone per latitude band relative
+// to the rest of the sphere, (a) for agents that do not steer (vision angle 0: the three
+// sensors read the same point, every step is a random turn), which shows whether the
+// same agent density leaves the same pheromone near a pole, and (b) with the defaults.
+// MOLDTEX_POLE_W, MOLDTEX_POLE_STEPS, MOLDTEX_POLE_SEEDS override size, steps, seeds.
+TEST(SurfaceUnits, DISABLED_UvSpherePoleDiagnostics) {
+  auto env = [](const char* n, int d) { const char* v = std::getenv(n); return v ? std::atoi(v) : d; };
+  const Mesh m = make_uv_sphere(64, 32, 1.0);
+  const uint32_t W = uint32_t(env("MOLDTEX_POLE_W", 256));
+  const uint32_t steps = uint32_t(env("MOLDTEX_POLE_STEPS", 400));
+  const int seeds = env("MOLDTEX_POLE_SEEDS", 1);
+  const TexelGeometry g = Texels(m, W, W);
+  auto polar = [&](uint32_t x, uint32_t y) {
+    return std::acos(std::min(1.0, std::fabs(g.position[size_t(y) * W + x][2]))) * 180 / kPi;
+  };
+  const double unit = TexelLength(m, W);
+  const double bands[] = {0, 4, 5.625, 8, 11.25, 15, 20, 30, 45, 60, 90};
+  const int nb = 10;
+  auto band_of = [&](double a) { int b = 0; while (b + 1 < nb && a >= bands[b + 1]) ++b; return b; };
+  for (int steer = 0; steer <= 1; ++steer) {
+    moldtex_sim_params p = SmallCells(unit);
+    if (!steer) p.vision_angle = 0.f;
+    if (const char* v = std::getenv("MOLDTEX_POLE_DIFFUSION")) p.diffusion_rate = float(std::atof(v));
+    if (env("MOLDTEX_POLE_ONLY_WALK", 0) && steer) break;
+    std::vector<double> pooled(size_t(W) * W, 0.0);
+    std::vector<double> count(nb, 0.0);
+    double total = 0;
+    for (int seed = 1; seed <= seeds; ++seed) {
+      // Few agents for the random walk, so that its pheromone is far from saturated.
+      const uint32_t agents = steer ? W * W : W * W / uint32_t(env("MOLDTEX_POLE_SPARSE", 64));
+      std::vector<moldtex_surface_point> pts;
+      const std::vector<double> f = Grow(m, W, W, agents, seed, p, steps, 150, nullptr, &pts);
+      for (size_t i = 0; i < f.size(); ++i) pooled[i] += f[i] / seeds;
+      for (const moldtex_surface_point& a : pts) {
+        double z = 0;
+        for (int k = 0; k < 3; ++k) z += a.bary[k] * m.corner(a.triangle, k)[2];
+        count[band_of(std::acos(std::min(1.0, std::fabs(z))) * 180 / kPi)] += 1;
+        total += 1;
+      }
+    }
+    const double rest = Mean(g, pooled, [&](uint32_t x, uint32_t y) { return polar(x, y) > 15; });
+    std::printf("  %s: rest %.4f\n", steer ? "steering" : "random walk", rest);
+    for (int b = 0; b < nb; ++b) {
+      const double r = Mean(g, pooled, [&](uint32_t x, uint32_t y) { return band_of(polar(x, y)) == b; });
+      const double share = std::cos(bands[b] * kPi / 180) - std::cos(bands[b + 1] * kPi / 180);
+      std::printf("    %4.1f-%4.1f: pheromone %.3f agents %.3f (%5.0f)\n", bands[b], bands[b + 1], r / rest,
+                  count[b] / total / share, count[b]);
+    }
+    const double cap = Mean(g, pooled, [&](uint32_t x, uint32_t y) { return polar(x, y) < 15; });
+    std::printf("  cap %.3f\n", cap / rest);
   }
 }
 
