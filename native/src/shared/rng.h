@@ -15,9 +15,6 @@ MTX_BEGIN_NAMESPACE
 /* Slime brushes (host only): agents placed by moldtex_sim_add_agents, erase draws. */
 #define MTX_RNG_BRUSH 3
 #define MTX_RNG_ERASE 4
-/* Surface units: which partly covered texels a MoMaS deposit marks (momas.h). 5 and 6
- * are the continuous model's (continuous.h). */
-#define MTX_RNG_FOOTPRINT 7
 
 /* SplitMix64 finaliser: a well-tested 64-bit mixing function. */
 MTX_FN mtx_u64 mtx_mix64(mtx_u64 x) {
