@@ -260,7 +260,9 @@ typedef struct moldtex_sim_params {
    * 3x3 Gaussian's reach in 3D (variance diffusion_rate * time_step / 2 * length_unit^2
    * per axis and step, whatever the texel size, through every UV seam, open boundaries
    * closed); a deposit marks every texel within half a length_unit of the agent (at most
-   * 8 texels each side). So 512^2, 1024^2 and 2048^2 show the same cells, sharper.
+   * 8 texels each side; where part of that square lies off the UV island -- gutter, a UV
+   * pole's teeth, a seam, an open boundary -- it grows until one square length_unit of
+   * island is marked). So 512^2, 1024^2 and 2048^2 show the same cells, sharper.
    * Finite, <= 10 * sqrt(surface area). */
   float length_unit;
 } moldtex_sim_params;

@@ -183,18 +183,73 @@ MTX_FN float mtx_sense(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
   return v;
 }
 
-/* Surface units: marks every texel of the walker's UV island, free of obstacles, whose
- * centre lies within half a length unit of the walker along each texel axis (the
- * footprint has the same 3D size wherever texels are small or large; at most
- * MTX_MAX_FOOTPRINT_TEXELS each side), and always the texel under the walker. */
+/* The texels that the box [x - ex, x + ex] x [y - ey, y + ey] (in texels) overlaps,
+ * clipped to the texture, and its area on island texels of the footprint's island. */
+MTX_FN float mtx_footprint_cover(mtx_surface_tables s, const mtx_momas_constants* k, float x,
+                                 float y, float ex, float ey, mtx_footprint* box) {
+  const int w_ = MTX_CAST(int, k->width), h_ = MTX_CAST(int, k->height);
+  box->x0 = MTX_CAST(int, floor(x - ex));
+  box->x1 = MTX_CAST(int, ceil(x + ex)) - 1;
+  box->y0 = MTX_CAST(int, floor(y - ey));
+  box->y1 = MTX_CAST(int, ceil(y + ey)) - 1;
+  box->x0 = box->x0 < 0 ? 0 : box->x0;
+  box->y0 = box->y0 < 0 ? 0 : box->y0;
+  box->x1 = box->x1 >= w_ ? w_ - 1 : box->x1;
+  box->y1 = box->y1 >= h_ ? h_ - 1 : box->y1;
+  float covered = 0.0f;
+  for (int iy = box->y0; iy <= box->y1; ++iy) {
+    const float oy = fmin(y + ey, MTX_CAST(float, iy + 1)) - fmax(y - ey, MTX_CAST(float, iy));
+    if (!(oy > 0.0f)) continue;
+    for (int ix = box->x0; ix <= box->x1; ++ix) {
+      const float ox = fmin(x + ex, MTX_CAST(float, ix + 1)) - fmax(x - ex, MTX_CAST(float, ix));
+      const mtx_u32 i = MTX_CAST(mtx_u32, iy) * k->width + MTX_CAST(mtx_u32, ix);
+      if (ox > 0.0f && mtx_in_footprint(s, i, box)) covered += ox * oy;
+    }
+  }
+  return covered;
+}
+
+/* Surface units: marks the texel under walker w if it is an island texel, and every
+ * texel of the walker's UV island, free of obstacles, whose centre lies within half a
+ * length unit of the walker along each texel axis (the footprint has the same 3D size
+ * wherever texels are small or large; at most MTX_MAX_FOOTPRINT_TEXELS each side). Where
+ * part of that box lies off the island (gutter between islands or between the teeth of a
+ * UV pole's fan, which are narrower than a texel near the pole; across a seam; off an
+ * open boundary) the box grows until its area on island texels is one square unit, so a
+ * deposit covers the same surface there as anywhere. The texel under the walker need not
+ * be an island texel (next to a pole it seldom is). Marks depend only on where the walker
+ * is, so a trail is the union of its footprints at any substep density. */
 MTX_FN void mtx_mark_footprint(mtx_surface_tables s, MTX_GLOBAL const float* field,
                                MTX_GLOBAL mtx_u8* own_marks, const mtx_walker* w,
                                mtx_u32 texel, const mtx_momas_constants* k) {
-  MTX_MARK(own_marks, texel);
+  if (s.classes[texel] == MTX_TEXEL_INSIDE) MTX_MARK(own_marks, texel);
+  MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * w->triangle;
+  const float limit = MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS);
+  float ex = fmin(0.5f * k->length_unit * tpu[0], limit);
+  float ey = fmin(0.5f * k->length_unit * tpu[1], limit);
+  if (ex < 0.5f && ey < 0.5f) return;
+  MTX_GLOBAL const float* uv = s.corner_uvs + 6 * w->triangle;
+  const float x = (w->bary[0] * uv[0] + w->bary[1] * uv[2] + w->bary[2] * uv[4]) * MTX_CAST(float, k->width);
+  const float y = (w->bary[0] * uv[1] + w->bary[1] * uv[3] + w->bary[2] * uv[5]) * MTX_CAST(float, k->height);
+  const float target = 4.0f * ex * ey;
   mtx_footprint box;
-  if (!mtx_footprint_box(s, w, k, &box)) return;
-  for (int iy = box.y0; iy <= box.y1; ++iy)
-    for (int ix = box.x0; ix <= box.x1; ++ix) {
+  box.island = s.island[w->triangle];
+  float covered = mtx_footprint_cover(s, k, x, y, ex, ey, &box);
+  for (int grow = 0; grow < 3 && covered < 0.999f * target && ex < limit && ey < limit; ++grow) {
+    const float f = covered > 0.0f ? fmin(2.0f, sqrt(target / covered)) : 2.0f;
+    ex = fmin(ex * f, limit);
+    ey = fmin(ey * f, limit);
+    covered = mtx_footprint_cover(s, k, x, y, ex, ey, &box);
+  }
+  const int w_ = MTX_CAST(int, k->width), h_ = MTX_CAST(int, k->height);
+  int x0 = MTX_CAST(int, ceil(x - ex - 0.5f)), x1 = MTX_CAST(int, floor(x + ex - 0.5f));
+  int y0 = MTX_CAST(int, ceil(y - ey - 0.5f)), y1 = MTX_CAST(int, floor(y + ey - 0.5f));
+  x0 = x0 < 0 ? 0 : x0;
+  y0 = y0 < 0 ? 0 : y0;
+  x1 = x1 >= w_ ? w_ - 1 : x1;
+  y1 = y1 >= h_ ? h_ - 1 : y1;
+  for (int iy = y0; iy <= y1; ++iy)
+    for (int ix = x0; ix <= x1; ++ix) {
       const mtx_u32 i = MTX_CAST(mtx_u32, iy) * k->width + MTX_CAST(mtx_u32, ix);
       if (mtx_in_footprint(s, i, &box) && !mtx_is_obstacle(field, i, k)) MTX_MARK(own_marks, i);
     }
@@ -303,11 +358,12 @@ MTX_FN void mtx_momas_agent_step(mtx_surface_tables s, MTX_GLOBAL const float* p
       }
       continue; /* nothing is deposited in an obstacle */
     }
-    if (s.classes[texel] != MTX_TEXEL_INSIDE) continue;
-    if (k->surface_mode)
+    if (k->surface_mode) {
       mtx_mark_footprint(s, field, own_marks, w, texel, k);
-    else
-      MTX_MARK(own_marks, texel);
+      continue;
+    }
+    if (s.classes[texel] != MTX_TEXEL_INSIDE) continue;
+    MTX_MARK(own_marks, texel);
   }
 }
 
