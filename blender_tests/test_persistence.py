@@ -48,13 +48,18 @@ CONTINUOUS_NON_DEFAULTS = {
     "bias_spawn": True, "bias_source": 'ATTRIBUTE', "bias_attribute": "my_bias",
     "boundary": 'ABSORB',
 }
+# Gray-Scott's parameters (obj.moldtex.reaction).
+REACTION_NON_DEFAULTS = {
+    "feed": 0.0425, "kill": 0.0575, "diffusion_u": 0.35, "diffusion_v": 0.15,
+    "time_step": 0.75, "seed_count": 17, "seed_radius": 3.5, "display_range": 0.625,
+}
 # Not stored: shown by get/set from backend_type and the opencl_* properties, and the
 # panel's angle (°) view of vision_angle.
 DERIVED = {"backend", "vision_angle_ui"}
 # A collection and pointers: test_species.py and test_food.py check that they survive;
-# the continuous group is checked here (CONTINUOUS_NON_DEFAULTS); the parameter maps
-# by test_maps.py.
-NOT_SCALAR = {"species", "fields_image", "food_collection", "continuous", "maps"}
+# the continuous and Gray-Scott groups are checked here (CONTINUOUS_NON_DEFAULTS,
+# REACTION_NON_DEFAULTS); the parameter maps by test_maps.py.
+NOT_SCALAR = {"species", "fields_image", "food_collection", "continuous", "maps", "reaction"}
 
 
 class PersistenceTests(unittest.TestCase):
@@ -89,6 +94,13 @@ class PersistenceTests(unittest.TestCase):
             got = tuple(got) if isinstance(value, tuple) else got  # (a Vector)
             self.assertNotEqual(got, value, f"continuous.{key} default")
             setattr(cont, key, value)
+        reaction = settings.reaction
+        names = [p.identifier for p in reaction.bl_rna.properties
+                 if p.identifier not in {"rna_type", "name"}]
+        self.assertEqual(sorted(names), sorted(REACTION_NON_DEFAULTS))
+        for key, value in REACTION_NON_DEFAULTS.items():
+            self.assertNotEqual(getattr(reaction, key), value, f"reaction.{key} default")
+            setattr(reaction, key, value)
         # (Keep U on: the deposit rate set last is the one to keep, so its target is
         # set after it, as a user would find it saved.)
         cont.target_u = CONTINUOUS_NON_DEFAULTS["target_u"]
@@ -125,6 +137,12 @@ class PersistenceTests(unittest.TestCase):
                 self.assertAlmostEqual(got, value, places=5, msg=f"continuous.{key}")
             else:
                 self.assertEqual(got, value, f"continuous.{key}")
+        for key, value in REACTION_NON_DEFAULTS.items():
+            got = getattr(obj.moldtex.reaction, key)
+            if isinstance(value, float):
+                self.assertAlmostEqual(got, value, places=5, msg=f"reaction.{key}")
+            else:
+                self.assertEqual(got, value, f"reaction.{key}")
         image = obj.moldtex.image
         self.assertIsNotNone(image)
         self.assertEqual(image.name, f"Moldtex {name}")

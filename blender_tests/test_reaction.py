@@ -47,6 +47,12 @@ class ReactionModelTests(unittest.TestCase):
     def setUp(self):
         h.clear_scene()
 
+    def tearDown(self):
+        # The scene's brush back to painting obstacles (the brush test leaves it erasing
+        # slime), so later tests start from the defaults.
+        import importlib
+        importlib.import_module("test_brush")._brush()
+
     def test_model_choice_makes_a_gray_scott_simulation(self):
         engine, live = h.engine(), h.live()
         obj = gray_scott()

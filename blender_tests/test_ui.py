@@ -202,8 +202,11 @@ class PanelTests(unittest.TestCase):
         self.assertNotIn("falloff", shown)  # an Empty is placed or removed whole
         self.assertIn("food_strength", shown)
         self.assertIn("food_amount", shown)
-        # A stroke shows up on the Undo button.
+        # A stroke shows up on the Undo button (a painting one: the scene's brush may
+        # have been left erasing by another test).
         settings.target = 'OBSTACLE'
+        settings.erase = False
+        settings.strength = 1.0
         h.activate(obj)
         self.assertEqual(bpy.ops.moldtex.brush_stroke(stroke=[
             {"name": "", "location": (0.0, 0.0, 0.0), "direction": (0.0, 0.0, 0.0)}]),
