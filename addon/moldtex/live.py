@@ -326,17 +326,24 @@ def params_from_settings(settings, area=None, model=None):
     return params
 
 
+def known_pattern_unit(settings, area):
+    """pattern_unit(settings, area), or engine.EngineError when it is not known (no
+    area yet in Pattern Scale Mode Object)."""
+    unit = pattern_unit(settings, area)
+    if not unit > 0.0 or not math.isfinite(unit):
+        raise engine.EngineError(
+            "The pattern unit is not known yet (the surface's area is needed for Pattern "
+            "Scale Mode Object): press Reset.", engine.ERROR_INVALID_ARGUMENT)
+    return unit
+
+
 def reaction_params_from_settings(settings, area):
     """The core's moldtex_reaction_params (Gray-Scott) for settings on a surface of
     `area` mesh units²: diffusion rates from pattern units² to mesh units², the seed
     radius from pattern units. Raises engine.EngineError when the pattern unit is not
     known."""
     reaction = settings.reaction
-    unit = pattern_unit(settings, area)
-    if not unit > 0.0 or not math.isfinite(unit):
-        raise engine.EngineError(
-            "The pattern unit is not known yet (the surface's area is needed for Pattern "
-            "Scale Mode Object): press Reset.", engine.ERROR_INVALID_ARGUMENT)
+    unit = known_pattern_unit(settings, area)
     return {
         "feed": float(reaction.feed),
         "kill": float(reaction.kill),
@@ -349,8 +356,9 @@ def reaction_params_from_settings(settings, area):
 
 
 def reaction_seeds(settings):
-    """What a Gray-Scott simulation takes only at Reset: (seed count, seed radius);
-    None for the other models."""
+    """What a Gray-Scott simulation takes only at Reset: the seeds' count and radius,
+    and what turns the radius into mesh units (the pattern scale settings); None for
+    the other models."""
     if model_of(settings) != engine.MODEL_GRAY_SCOTT:
         return None
     return (int(settings.reaction.seed_count), float(settings.reaction.seed_radius),
@@ -365,11 +373,7 @@ def continuous_params_from_settings(settings, area):
     area in Object mode)."""
     from .properties import enum_value  # (properties imports this module)
     cont = settings.continuous
-    unit = pattern_unit(settings, area)
-    if not unit > 0.0 or not math.isfinite(unit):
-        raise engine.EngineError(
-            "The pattern unit is not known yet (the surface's area is needed for Pattern "
-            "Scale Mode Object): press Reset.", engine.ERROR_INVALID_ARGUMENT)
+    unit = known_pattern_unit(settings, area)
     return {
         "move_rate": float(cont.move_rate) * unit,
         "turn_rate": float(cont.turn_rate),

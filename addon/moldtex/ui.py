@@ -339,6 +339,14 @@ def _draw_pattern_scale(layout, settings, active=True):
         _prop(column, settings, "pattern_scale")
 
 
+def _draw_pattern_unit(layout, context, obj, what):
+    """The pattern scale settings, then the unit on the object and what is in it."""
+    _draw_pattern_scale(_split(layout), obj.moldtex)
+    text = _pattern_unit_text(context, obj)
+    if text:
+        _wrapped(layout, f"{text} ({what})", icon='DRIVER_DISTANCE')
+
+
 class MOLDTEX_PT_agents(_MomasPanel, bpy.types.Panel):
     bl_label = "Agents"
     bl_idname = "MOLDTEX_PT_agents"
@@ -375,11 +383,7 @@ class MOLDTEX_PT_reaction(_ReactionPanel, bpy.types.Panel):
         settings = obj.moldtex
         reaction = settings.reaction
         layout = self.layout
-        _draw_pattern_scale(_split(layout), settings)
-        text = _pattern_unit_text(context, obj)
-        if text:
-            _wrapped(layout, text + " (rates below are in units² / s)",
-                     icon='DRIVER_DISTANCE')
+        _draw_pattern_unit(layout, context, obj, "rates below are in units² / s")
         column = _split(layout)
         for name in ("feed", "kill", "diffusion_u", "diffusion_v", "time_step"):
             _prop(column, reaction, name)
@@ -402,10 +406,7 @@ class MOLDTEX_PT_continuous_agents(_ContinuousPanel, bpy.types.Panel):
         obj = context.active_object
         settings = obj.moldtex
         layout = self.layout
-        _draw_pattern_scale(_split(layout), settings)
-        text = _pattern_unit_text(context, obj)
-        if text:
-            _wrapped(layout, text + " (lengths below are in units)", icon='DRIVER_DISTANCE')
+        _draw_pattern_unit(layout, context, obj, "lengths below are in units")
         column = _split(layout)
         for name in ("move_rate", "turn_rate", "turn_frequency", "sensor_distance",
                      "sensor_angle"):
