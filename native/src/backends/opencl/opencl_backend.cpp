@@ -592,19 +592,28 @@ void OpenClBackend::step_continuous(const StepSettings& settings, uint64_t seed,
   s.run(s.gutter_kernel, gutter);
 }
 
+void OpenClBackend::upload_conductances(const ParameterMaps& maps, const TexelLaplacian& lap) {
+  State& s = *state_;
+  const void* weights_source = maps.diffusion().empty() ? nullptr : &maps;
+  if (weights_source == weights_source_ && (!weights_source || weights_version_ == maps.version)) return;
+  // Another diffusion map (or none): its conductances (and Gray-Scott's rates), and the
+  // local stepping lists anew.
+  check(s.r.clEnqueueWriteBuffer(s.queue, s.weight, CL_TRUE, 0, lap.weight.size() * 4, lap.weight.data(), 0,
+                                 nullptr, nullptr),
+        "uploading the conductances");
+  if (s.rate && !lap.rate.empty())
+    check(s.r.clEnqueueWriteBuffer(s.queue, s.rate, CL_TRUE, 0, lap.rate.size() * 4, lap.rate.data(), 0, nullptr,
+                                   nullptr),
+          "uploading the rates");
+  s.local_rdt = -1;
+  weights_source_ = weights_source;
+  weights_version_ = maps.version;
+}
+
 void OpenClBackend::diffuse_continuous(const moldtex_continuous_params& p, const ParameterMaps& maps) {
   State& s = *state_;
   const TexelLaplacian& lap = laplacian_for(maps, *laplacian_, mapped_);
-  const void* weights_source = maps.diffusion().empty() ? nullptr : &maps;
-  if (weights_source != weights_source_ || (weights_source && weights_version_ != maps.version)) {
-    // Another diffusion map (or none): its conductances, and the local stepping lists anew.
-    check(s.r.clEnqueueWriteBuffer(s.queue, s.weight, CL_TRUE, 0, lap.weight.size() * 4, lap.weight.data(), 0,
-                                   nullptr, nullptr),
-          "uploading the conductances");
-    s.local_rdt = -1;
-    weights_source_ = weights_source;
-    weights_version_ = maps.version;
-  }
+  upload_conductances(maps, lap);
   const std::vector<float>& decay_map = decay_for(maps, double(p.decay_rate) * p.time_step, mapped_);
   if (!decay_map.empty() &&
       (decay_source_ != &maps || decay_version_ != maps.version || decay_key_ != double(p.decay_rate) * p.time_step)) {
@@ -712,20 +721,7 @@ void OpenClBackend::step_gray_scott(const StepSettings& settings) {
     weights_source_ = nullptr;  // (the buffers hold the base operator's)
     weights_version_ = 0;
   }
-  const void* weights_source = maps.diffusion().empty() ? nullptr : &maps;
-  if (weights_source != weights_source_ || (weights_source && weights_version_ != maps.version)) {
-    // Another diffusion map (or none): its conductances and rates.
-    check(s.r.clEnqueueWriteBuffer(s.queue, s.weight, CL_TRUE, 0, lap.weight.size() * 4, lap.weight.data(), 0,
-                                   nullptr, nullptr),
-          "uploading the conductances");
-    if (!lap.rate.empty())
-      check(s.r.clEnqueueWriteBuffer(s.queue, s.rate, CL_TRUE, 0, lap.rate.size() * 4, lap.rate.data(), 0,
-                                     nullptr, nullptr),
-            "uploading the rates");
-    s.local_rdt = -1;
-    weights_source_ = weights_source;
-    weights_version_ = maps.version;
-  }
+  upload_conductances(maps, lap);
   if (!s.feed_map || s.reaction_source != &maps || s.reaction_version != maps.version) {
     for (cl_mem* m : {&s.feed_map, &s.kill_map})
       if (*m) {
@@ -738,7 +734,8 @@ void OpenClBackend::step_gray_scott(const StepSettings& settings) {
     s.reaction_source = &maps;
     s.reaction_version = maps.version;
   }
-  const ReactionMaps rm = reaction_maps(maps.feed(), maps.kill(), p);
+  const ReactionMaps rm = reaction_maps(maps.feed(), maps.largest[MOLDTEX_MAP_FEED], maps.kill(),
+                                       maps.largest[MOLDTEX_MAP_KILL], p);
   const uint32_t n = reaction_substeps(lap, p, rm);
   const float h = static_cast<float>(double(p.time_step) / n);
   const float du = static_cast<float>(double(p.diffusion_u) * p.time_step / n);

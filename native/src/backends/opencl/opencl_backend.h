@@ -56,6 +56,9 @@ class OpenClBackend final : public Backend {
   void prepare_continuous();
   // The PDE's step: forward-Euler sub-steps on the device, or backward Euler on the host.
   void diffuse_continuous(const moldtex_continuous_params& params, const ParameterMaps& maps);
+  // The diffusion map's conductances (and rates, where Gray-Scott made that buffer) on the
+  // device, when the map changed since the last upload.
+  void upload_conductances(const ParameterMaps& maps, const TexelLaplacian& lap);
   void integrate(const moldtex_continuous_params& params, const TexelLaplacian& lap);
 
   struct State;
