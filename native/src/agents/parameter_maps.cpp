@@ -158,8 +158,9 @@ void set_parameter_map(ParameterMaps& m, uint32_t kind, const float* values, con
     m.plane_of[k] = planes++;
     m.agent_planes.insert(m.agent_planes.end(), m.given[k].begin(), m.given[k].end());
   }
-  const std::vector<float>& dep = m.given[MOLDTEX_MAP_DEPOSIT_RATE];
-  m.deposit_max = dep.empty() ? 1.f : std::max(1.f, *std::max_element(dep.begin(), dep.end()));
+  const std::vector<float>& set = m.given[kind];
+  m.largest[kind] = set.empty() ? 0.f : *std::max_element(set.begin(), set.end());
+  m.deposit_max = m.given[MOLDTEX_MAP_DEPOSIT_RATE].empty() ? 1.f : std::max(1.f, m.largest[MOLDTEX_MAP_DEPOSIT_RATE]);
 }
 
 }  // namespace moldtex

@@ -25,6 +25,8 @@ struct ParameterMaps {
   std::vector<float> agent_planes;
   int32_t plane_of[MTX_AGENT_MAPS] = {-1, -1, -1, -1, -1, -1, -1, -1};
   float deposit_max = 1.f;  // the deposit map's largest value (1 without one)
+  // Each map's largest value (0 where not set).
+  std::array<float, MOLDTEX_MAP_COUNT> largest{};
   // With a spawn map: per triangle its largest sampled weight, and an alias table by
   // area times its mean sampled weight.
   std::vector<float> spawn_max;

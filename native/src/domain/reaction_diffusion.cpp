@@ -38,18 +38,18 @@ void validate_reaction_params(const moldtex_reaction_params& p) {
                                              std::to_string(p.seed_count) + ")");
 }
 
-ReactionMaps reaction_maps(const std::vector<float>& feed_map, const std::vector<float>& kill_map,
-                           const moldtex_reaction_params& p) {
+ReactionMaps reaction_maps(const std::vector<float>& feed_map, float feed_largest, const std::vector<float>& kill_map,
+                           float kill_largest, const moldtex_reaction_params& p) {
   ReactionMaps m;
   m.feed_max = p.feed;
   m.kill_max = p.kill;
   if (!feed_map.empty()) {
     m.feed = feed_map.data();
-    m.feed_max = std::min(1.f, p.feed * *std::max_element(feed_map.begin(), feed_map.end()));
+    m.feed_max = std::min(1.f, p.feed * feed_largest);
   }
   if (!kill_map.empty()) {
     m.kill = kill_map.data();
-    m.kill_max = std::min(1.f, p.kill * *std::max_element(kill_map.begin(), kill_map.end()));
+    m.kill_max = std::min(1.f, p.kill * kill_largest);
   }
   return m;
 }

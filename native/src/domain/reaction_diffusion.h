@@ -32,8 +32,9 @@ struct ReactionMaps {
   const float* kill = nullptr;
   float feed_max = 0, kill_max = 0;  // the largest effective F and k
 };
-ReactionMaps reaction_maps(const std::vector<float>& feed_map, const std::vector<float>& kill_map,
-                           const moldtex_reaction_params& params);
+// From the maps as given (empty = none) and their largest values.
+ReactionMaps reaction_maps(const std::vector<float>& feed_map, float feed_largest, const std::vector<float>& kill_map,
+                           float kill_largest, const moldtex_reaction_params& params);
 
 uint32_t reaction_substeps(const TexelLaplacian& lap, const moldtex_reaction_params& params,
                            const ReactionMaps& maps = {});

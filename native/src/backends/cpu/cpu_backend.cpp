@@ -153,7 +153,8 @@ void CpuBackend::step_gray_scott(const StepSettings& settings) {
     fail(MOLDTEX_ERROR_INTERNAL, "The Gray-Scott model needs two planes");
   const ParameterMaps& maps = *settings.maps;
   reaction_step(laplacian_for(maps, *laplacian_, mapped_), settings.reaction, pheromone_.data(), scratch_, texels,
-                *pool_, reaction_maps(maps.feed(), maps.kill(), settings.reaction));
+                *pool_, reaction_maps(maps.feed(), maps.largest[MOLDTEX_MAP_FEED], maps.kill(),
+                                           maps.largest[MOLDTEX_MAP_KILL], settings.reaction));
   for (uint32_t k = 0; k < kReactionPlanes; ++k) fill_gutter(d, pheromone_.data() + k * texels, *pool_);
 }
 
