@@ -42,16 +42,8 @@ bool flip_edge(IntrinsicMesh& m, uint32_t e) {
   // New faces: f1 = (d, c, a) with h = d->c, hca, had; f2 = (c, d, b) with t = c->d, hdb, hbc.
   m.he_vertex[h] = d;
   m.he_vertex[t] = c;
-  m.he_next[h] = hca;
-  m.he_next[hca] = had;
-  m.he_next[had] = h;
-  m.he_next[t] = hdb;
-  m.he_next[hdb] = hbc;
-  m.he_next[hbc] = t;
-  m.he_face[h] = m.he_face[hca] = m.he_face[had] = f1;
-  m.he_face[t] = m.he_face[hdb] = m.he_face[hbc] = f2;
-  m.face_he[f1] = h;
-  m.face_he[f2] = t;
+  m.link_face(f1, h, hca, had);
+  m.link_face(f2, t, hdb, hbc);
   m.length[e] = new_length;
   if (m.vertex_he[a] == h) m.vertex_he[a] = had;
   if (m.vertex_he[b] == t) m.vertex_he[b] = hbc;

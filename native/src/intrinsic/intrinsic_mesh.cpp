@@ -54,6 +54,14 @@ double IntrinsicMesh::face_area(uint32_t f) const {
   return triangle_area(len(h[0]), len(h[1]), len(h[2]));
 }
 
+void IntrinsicMesh::link_face(uint32_t f, uint32_t a, uint32_t b, uint32_t c) {
+  he_next[a] = b;
+  he_next[b] = c;
+  he_next[c] = a;
+  he_face[a] = he_face[b] = he_face[c] = f;
+  face_he[f] = a;
+}
+
 double IntrinsicMesh::corner_angle(uint32_t h) const {
   // Sides a (h) and b (prev(h)) meet at tail(h); c is opposite. tan = 4A / (a^2 + b^2 - c^2).
   const double a = len(h), b = len(prev(h)), c = len(next(h));
@@ -170,11 +178,7 @@ IntrinsicMesh build_input_mesh(const std::vector<double>& positions, const std::
       hs[k] = h;
     }
     if (hs[0] == kInvalid || hs[1] == kInvalid || hs[2] == kInvalid) continue;
-    for (int k = 0; k < 3; ++k) {
-      m.he_next[hs[k]] = hs[(k + 1) % 3];
-      m.he_face[hs[k]] = f;
-    }
-    m.face_he[f] = hs[0];
+    m.link_face(f, hs[0], hs[1], hs[2]);
   }
 
   // Vertex fans: a manifold vertex's triangles form one fan (a disk, or a half-disk

@@ -100,6 +100,9 @@ struct IntrinsicMesh {
   double face_area(uint32_t f) const;
   // Angle at tail(h) inside face(h).
   double corner_angle(uint32_t h) const;
+  // Makes the halfedges a -> b -> c -> a face f: their next links and face, and f's
+  // halfedge (a). Slot f must exist.
+  void link_face(uint32_t f, uint32_t a, uint32_t b, uint32_t c);
   // Cotangent of the angle opposite halfedge h in its face.
   double opposite_cotan(uint32_t h) const;
   double circumradius(uint32_t f) const;

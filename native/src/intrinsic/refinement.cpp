@@ -69,14 +69,7 @@ uint32_t insert_vertex(IntrinsicTriangulation& T, SurfacePoint p) {
   m.face_he.push_back(kInvalid);
   m.face_he.push_back(kInvalid);
   // Face F_k = (c_k, c_k+1, v): hs[k], c_k+1 -> v, v -> c_k.
-  for (int k = 0; k < 3; ++k) {
-    const uint32_t a = hs[k], b = 2 * (E + (k + 1) % 3), d = 2 * (E + k) + 1;
-    m.he_next[a] = b;
-    m.he_next[b] = d;
-    m.he_next[d] = a;
-    m.he_face[a] = m.he_face[b] = m.he_face[d] = F[k];
-    m.face_he[F[k]] = a;
-  }
+  for (int k = 0; k < 3; ++k) m.link_face(F[k], hs[k], 2 * (E + (k + 1) % 3), 2 * (E + k) + 1);
   m.vertex_he[v] = 2 * E + 1;
   for (int k = 0; k < 3; ++k) {
     m.signpost[2 * (E + k)] = wrap_angle(m.signpost[hs[k]] + turn[k], m.angle_sum[c[k]]);
@@ -125,17 +118,10 @@ uint32_t split_boundary_edge(IntrinsicTriangulation& T, uint32_t h) {
   m.length[IntrinsicMesh::edge(h)] = half;
   m.he_vertex[t] = v;
   const uint32_t F2 = m.face_count();
-  m.face_he.push_back(vb);
+  m.face_he.push_back(kInvalid);
   // f = (a, v, c): h, vc, hca. F2 = (v, b, c): vb, hbc, cv.
-  m.he_next[h] = vc;
-  m.he_next[vc] = hca;
-  m.he_next[hca] = h;
-  m.he_face[vc] = f;
-  m.face_he[f] = h;
-  m.he_next[vb] = hbc;
-  m.he_next[hbc] = cv;
-  m.he_next[cv] = vb;
-  m.he_face[vb] = m.he_face[hbc] = m.he_face[cv] = F2;
+  m.link_face(f, h, vc, hca);
+  m.link_face(F2, vb, hbc, cv);
   m.vertex_he[v] = vb;
   m.signpost[vb] = 0;
   m.signpost[vc] = angle_from_sides(half, lmc, lbc);
