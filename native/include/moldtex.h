@@ -187,7 +187,23 @@ typedef struct moldtex_sim_config {
   const float* fields_rgba;
   /* Added for the continuous model; older callers get MOLDTEX_MODEL_MOMAS. */
   uint32_t model;            /* a moldtex_model */
+  /* Added for the intrinsic domain (issue 11); older callers get the texture domain. */
+  uint32_t domain;           /* a moldtex_domain */
+  float intrinsic_bound;     /* MOLDTEX_DOMAIN_INTRINSIC: the largest circumradius of an
+                                intrinsic triangle, in mesh units; 0 (default) = the mean
+                                3D spacing of the island texels, so both domains resolve
+                                the same detail */
 } moldtex_sim_config;
+
+/* Where concentrations live (a config field: changing it needs a new simulation). Both
+ * write the object's UV texture every frame. */
+typedef enum moldtex_domain {
+  MOLDTEX_DOMAIN_TEXTURE = 0,   /* the texels of the UV layout (every model) */
+  MOLDTEX_DOMAIN_INTRINSIC = 1  /* the vertices of an intrinsic Delaunay triangulation of
+                                   the mesh (layton-intrinsic-slime.md §3.1): no UV seams,
+                                   no UV distortion. The continuous model and Gray-Scott
+                                   only; runs on the CPU; the mesh must be manifold */
+} moldtex_domain;
 
 /* The behaviour model, chosen at create (a config field, so changing it needs a new
  * simulation). */
@@ -566,6 +582,27 @@ typedef struct moldtex_sim_stats {
 
 MOLDTEX_API void moldtex_sim_stats_init(moldtex_sim_stats* stats);
 MOLDTEX_API moldtex_status moldtex_sim_get_stats(moldtex_sim sim, moldtex_sim_stats* stats);
+
+/* The simulation's domain (issue 11). For the texture domain only `domain` and
+ * `cell_count` (island texels) are set. */
+typedef struct moldtex_domain_info {
+  uint32_t struct_size;
+  uint32_t domain;            /* a moldtex_domain */
+  uint32_t cell_count;        /* cells the concentration lives in: island texels or
+                                 intrinsic vertices */
+  uint32_t face_count;        /* intrinsic triangles */
+  double bound;               /* circumradius bound used (mesh units) */
+  double build_seconds;       /* wall time of the build: triangulation, operators and
+                                 texel map */
+  uint64_t insertions;        /* circumcentres inserted, boundary splits included */
+  uint32_t skipped_faces;     /* triangles left above the bound by the guards (small
+                                 input angles, round-off) */
+  uint32_t from_cache;        /* 1: this simulation reused a recent build of the same
+                                 mesh, texture size and bound (no build time spent) */
+} moldtex_domain_info;
+
+MOLDTEX_API void moldtex_domain_info_init(moldtex_domain_info* info);
+MOLDTEX_API moldtex_status moldtex_sim_get_domain_info(moldtex_sim sim, moldtex_domain_info* info);
 
 /* ---- images, checkpoints and bakes ------------------------------------------------ */
 

@@ -9,6 +9,7 @@
 
 #include "agents/continuous_rules.h"
 #include "backends/cpu/cpu_backend.h"
+#include "backends/cpu/intrinsic_backend.h"
 #include "brush/brush.h"
 #include "brush/reaction_paint.h"
 #ifdef MOLDTEX_HAVE_OPENCL
@@ -75,6 +76,23 @@ void validate_config(const moldtex_sim_config& c, const Surface& surface) {
   if (c.model > MOLDTEX_MODEL_GRAY_SCOTT)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
          "Unknown model: use 0 (MoMaS), 1 (continuous) or 2 (Gray-Scott reaction-diffusion)");
+  if (c.domain > MOLDTEX_DOMAIN_INTRINSIC)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Unknown domain: use 0 (texture) or 1 (intrinsic triangulation)");
+  if (c.domain == MOLDTEX_DOMAIN_INTRINSIC && c.model == MOLDTEX_MODEL_MOMAS)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "The Intrinsic domain runs the continuous model and Gray-Scott; MoMaS works in texels: choose the "
+         "Texture domain or another model");
+  if (!std::isfinite(c.intrinsic_bound) || c.intrinsic_bound < 0.f || c.intrinsic_bound > 1e30f) {
+    std::ostringstream m;
+    m << "The intrinsic triangulation's circumradius bound must be a length >= 0 in mesh units (0 = from the "
+         "texture resolution), got "
+      << c.intrinsic_bound;
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, m.str());
+  }
+  if (c.domain == MOLDTEX_DOMAIN_INTRINSIC && c.backend == MOLDTEX_BACKEND_OPENCL)
+    fail(MOLDTEX_ERROR_UNAVAILABLE,
+         "The Intrinsic domain runs on the CPU for now: choose the CPU or Auto backend (or the Texture domain "
+         "for OpenCL)");
   if (c.species_count < 1 || c.species_count > MOLDTEX_MAX_SPECIES)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The number of species must be between 1 and 4");
   if (c.seed_shape > MOLDTEX_SEED_STARBURST)
@@ -264,7 +282,21 @@ Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim
       cell_area_ += d.triangle_area_scale[d.texel_triangle[i]];
   cell_area_ /= static_cast<double>(d.width) * d.height;
   std::string why_not;
-  switch (config.backend) {
+  if (config_.domain == MOLDTEX_DOMAIN_INTRINSIC) {
+    const double bound = config_.intrinsic_bound > 0.f ? config_.intrinsic_bound : default_intrinsic_bound(d);
+    if (!(bound > 0))
+      fail(MOLDTEX_ERROR_INVALID_MESH,
+           "The texture has no island texels to derive the intrinsic triangulation's resolution from: set the "
+           "circumradius bound");
+    ThreadPool pool(params.thread_count);
+    intrinsic_ = intrinsic_domain_for(*surface_, d, bound, 0, pool, &intrinsic_from_cache_);
+    config_.intrinsic_bound = static_cast<float>(bound);
+    cell_area_ = intrinsic_->laplacian.total_area;
+    backend_ = std::make_unique<IntrinsicCpuBackend>(surface_, domain_, intrinsic_, config_.species_count,
+                                                     params.thread_count);
+    if (config.backend == MOLDTEX_BACKEND_AUTO) why_not = "the Intrinsic domain runs on the CPU";
+  }
+  switch (backend_ ? static_cast<uint32_t>(MOLDTEX_BACKEND_CPU) : config.backend) {
     case MOLDTEX_BACKEND_OPENCL:
 #ifdef MOLDTEX_HAVE_OPENCL
       backend_ = make_opencl(surface_, domain_, config_);
@@ -916,6 +948,25 @@ moldtex_sim_stats Simulation::stats() const {
     s.presence = measure(*domain_, any.data()).presence;
   }
   return s;
+}
+
+moldtex_domain_info Simulation::domain_info() const {
+  moldtex_domain_info info{};
+  info.struct_size = sizeof(info);
+  info.domain = config_.domain;
+  if (!intrinsic_) {
+    for (uint8_t c : domain_->classes) info.cell_count += c == MOLDTEX_TEXEL_INSIDE;
+    return info;
+  }
+  const IntrinsicDomain& d = *intrinsic_;
+  info.cell_count = static_cast<uint32_t>(d.laplacian.rows.size());
+  info.face_count = d.face_count();
+  info.bound = d.bound;
+  info.build_seconds = d.build_seconds;
+  info.insertions = d.report.insertions + d.report.boundary_splits;
+  info.skipped_faces = d.report.skipped_small_angle + d.report.skipped_other;
+  info.from_cache = intrinsic_from_cache_ ? 1u : 0u;
+  return info;
 }
 
 }  // namespace moldtex

@@ -10,6 +10,7 @@
 #include "agents/parameter_maps.h"
 #include "backends/backend.h"
 #include "brush/reaction_paint.h"
+#include "domain/intrinsic_domain.h"
 #include "domain/texture_domain.h"
 #include "io/checkpoint.h"
 #include "surface/surface.h"
@@ -56,6 +57,10 @@ class Simulation {
   const moldtex_reaction_params& reaction_params() const { return settings_.reaction; }
   const moldtex_sim_config& config() const { return config_; }
   const TextureDomain& domain() const { return *domain_; }
+  // The intrinsic domain (null on the texture domain) and what moldtex_sim_get_domain_info
+  // reports.
+  const IntrinsicDomain* intrinsic() const { return intrinsic_.get(); }
+  moldtex_domain_info domain_info() const;
   const Surface& surface() const { return *surface_; }
   void reset();
   void step(uint32_t steps);
@@ -99,6 +104,8 @@ class Simulation {
 
   std::shared_ptr<const Surface> surface_;
   std::shared_ptr<const TextureDomain> domain_;
+  std::shared_ptr<const IntrinsicDomain> intrinsic_;  // MOLDTEX_DOMAIN_INTRINSIC
+  bool intrinsic_from_cache_ = false;
   moldtex_sim_config config_;  // fields_rgba is always NULL here
   StepSettings settings_;      // params (behaviour = species 0's) and every species
   // Static fields as given (width * height * 4, empty = none), the field plane the agents

@@ -128,6 +128,13 @@ static_assert(kSimConfigV2Size == 40, "moldtex_sim_config's second release was 4
 moldtex_sim_config read_config(const moldtex_sim_config* in) {
   moldtex_sim_config c =
       read_struct(in, "moldtex_sim_config", moldtex_sim_config_init, kSimConfigV1Size);
+  // The release before the intrinsic domain ended with model; its sizeof includes 4
+  // bytes of tail padding where domain now lies.
+  constexpr size_t kV3Fields = offsetof(moldtex_sim_config, domain);
+  if (in->struct_size <= (kV3Fields + 7) / 8 * 8 && in->struct_size > kSimConfigV2Size) {
+    c.domain = MOLDTEX_DOMAIN_TEXTURE;
+    c.intrinsic_bound = 0.f;
+  }
   if (in->struct_size <= kSimConfigV2Size) {
     moldtex_sim_config defaults;
     moldtex_sim_config_init(&defaults);
@@ -571,6 +578,23 @@ moldtex_status moldtex_sim_get_stats(moldtex_sim sim, moldtex_sim_stats* stats) 
     const moldtex_sim_stats out = sim->sim->stats();
     std::memcpy(stats, &out, std::min<size_t>(caller_size, sizeof(out)));
     stats->struct_size = caller_size;
+  });
+}
+
+void moldtex_domain_info_init(moldtex_domain_info* info) {
+  if (!info) return;
+  std::memset(info, 0, sizeof(*info));
+  info->struct_size = sizeof(*info);
+}
+
+moldtex_status moldtex_sim_get_domain_info(moldtex_sim sim, moldtex_domain_info* info) {
+  return guarded([&] {
+    use(sim);
+    read_struct(info, "moldtex_domain_info", moldtex_domain_info_init);
+    const uint32_t caller_size = info->struct_size;
+    const moldtex_domain_info out = sim->sim->domain_info();
+    std::memcpy(info, &out, std::min<size_t>(caller_size, sizeof(out)));
+    info->struct_size = caller_size;
   });
 }
 

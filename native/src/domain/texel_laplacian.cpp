@@ -192,17 +192,13 @@ void propose_row(const Surface& s, const TextureDomain& d, const std::vector<UvT
   }
 }
 
-struct Edge {
-  uint32_t lo, hi;
-  float c;
-};
 
 // One symmetric conductance per pair: a grid edge's two (equal-rule) estimates
 // averaged; across a seam, each side's estimates averaged, then the two sides averaged
 // (the correspondence is not always mutual, so a side may be missing).
-std::vector<Edge> merge(std::vector<Proposal>& proposals) {
+std::vector<CellEdge> merge(std::vector<Proposal>& proposals) {
   std::sort(proposals.begin(), proposals.end());
-  std::vector<Edge> edges;
+  std::vector<CellEdge> edges;
   for (size_t a = 0; a < proposals.size();) {
     size_t b = a;
     bool grid = false;
@@ -344,45 +340,19 @@ void forward_steps(const TexelLaplacian& lap, const LocalSteppingPlan& plan, flo
 
 }  // namespace
 
-TexelLaplacian build_texel_laplacian(const Surface& s, const TextureDomain& d, ThreadPool& pool) {
+TexelLaplacian laplacian_from_edges(std::vector<uint32_t> rows, std::vector<float> area,
+                                    const std::vector<CellEdge>& edges) {
   TexelLaplacian lap;
-  std::vector<UvTo3d> maps(s.triangle_count());
-  for (uint32_t t = 0; t < s.triangle_count(); ++t) maps[t] = uv_to_3d(s, t);
-
-  // Cells and their lumped areas: the 3D area of the texel under its centre's triangle.
-  const double per_texel = 1.0 / (static_cast<double>(d.width) * d.height);
-  lap.area.assign(d.texel_count(), 0.f);
-  std::vector<uint8_t> is_cell(d.texel_count(), 0);
-  for (uint32_t i = 0; i < d.texel_count(); ++i) {
-    if (d.classes[i] != MOLDTEX_TEXEL_INSIDE) continue;
-    const float area = static_cast<float>(s.area_per_uv_area(d.texel_triangle[i]) * per_texel);
-    // A texel whose centre lies on a triangle degenerate in UV (or in 3D) covers no
-    // measurable surface: no cell (it would divide by 0), and no edges below.
-    if (!(area > 0.f && std::isfinite(area))) continue;
-    is_cell[i] = 1;
-    lap.rows.push_back(i);
-    lap.area[i] = area;
-    lap.total_area += lap.area[i];
-  }
-
-  // Proposals per texture row, joined in row order: the same list for any thread count.
-  std::vector<std::vector<Proposal>> per_row(d.height);
-  pool.parallel_for(d.height, 8, [&](size_t begin, size_t end) {
-    for (size_t y = begin; y < end; ++y) propose_row(s, d, maps, static_cast<uint32_t>(y), per_row[y]);
-  });
-  std::vector<Proposal> proposals;
-  for (auto& row : per_row) proposals.insert(proposals.end(), row.begin(), row.end());
-  per_row.clear();
-  std::vector<Edge> edges = merge(proposals);
-  edges.erase(std::remove_if(edges.begin(), edges.end(), [&](const Edge& e) { return !is_cell[e.lo] || !is_cell[e.hi]; }),
-              edges.end());
+  lap.rows = std::move(rows);
+  lap.area = std::move(area);
+  for (uint32_t i : lap.rows) lap.total_area += lap.area[i];
 
   // Symmetric CSR: each edge in both rows, each row's columns in texel order.
   const size_t n = lap.rows.size();
-  std::vector<uint32_t> row_index(d.texel_count(), 0);
+  std::vector<uint32_t> row_index(lap.area.size(), 0);
   for (size_t r = 0; r < n; ++r) row_index[lap.rows[r]] = static_cast<uint32_t>(r);
   lap.start.assign(n + 1, 0);
-  for (const Edge& e : edges) {
+  for (const CellEdge& e : edges) {
     ++lap.start[row_index[e.lo] + 1];
     ++lap.start[row_index[e.hi] + 1];
   }
@@ -390,7 +360,7 @@ TexelLaplacian build_texel_laplacian(const Surface& s, const TextureDomain& d, T
   lap.col.resize(lap.start[n]);
   lap.weight.resize(lap.start[n]);
   std::vector<uint32_t> fill(lap.start.begin(), lap.start.end() - 1);
-  for (const Edge& e : edges) {  // edges are sorted by (lo, hi)
+  for (const CellEdge& e : edges) {  // edges are sorted by (lo, hi)
     uint32_t k = fill[row_index[e.lo]]++;
     lap.col[k] = e.hi;
     lap.weight[k] = e.c;
@@ -422,6 +392,40 @@ TexelLaplacian build_texel_laplacian(const Surface& s, const TextureDomain& d, T
   lap.sorted_rate = lap.rate;
   std::sort(lap.sorted_rate.begin(), lap.sorted_rate.end());
   return lap;
+}
+
+TexelLaplacian build_texel_laplacian(const Surface& s, const TextureDomain& d, ThreadPool& pool) {
+  TexelLaplacian lap;
+  std::vector<UvTo3d> maps(s.triangle_count());
+  for (uint32_t t = 0; t < s.triangle_count(); ++t) maps[t] = uv_to_3d(s, t);
+
+  // Cells and their lumped areas: the 3D area of the texel under its centre's triangle.
+  const double per_texel = 1.0 / (static_cast<double>(d.width) * d.height);
+  lap.area.assign(d.texel_count(), 0.f);
+  std::vector<uint8_t> is_cell(d.texel_count(), 0);
+  for (uint32_t i = 0; i < d.texel_count(); ++i) {
+    if (d.classes[i] != MOLDTEX_TEXEL_INSIDE) continue;
+    const float area = static_cast<float>(s.area_per_uv_area(d.texel_triangle[i]) * per_texel);
+    // A texel whose centre lies on a triangle degenerate in UV (or in 3D) covers no
+    // measurable surface: no cell (it would divide by 0), and no edges below.
+    if (!(area > 0.f && std::isfinite(area))) continue;
+    is_cell[i] = 1;
+    lap.rows.push_back(i);
+    lap.area[i] = area;
+  }
+
+  // Proposals per texture row, joined in row order: the same list for any thread count.
+  std::vector<std::vector<Proposal>> per_row(d.height);
+  pool.parallel_for(d.height, 8, [&](size_t begin, size_t end) {
+    for (size_t y = begin; y < end; ++y) propose_row(s, d, maps, static_cast<uint32_t>(y), per_row[y]);
+  });
+  std::vector<Proposal> proposals;
+  for (auto& row : per_row) proposals.insert(proposals.end(), row.begin(), row.end());
+  per_row.clear();
+  std::vector<CellEdge> edges = merge(proposals);
+  edges.erase(std::remove_if(edges.begin(), edges.end(), [&](const CellEdge& e) { return !is_cell[e.lo] || !is_cell[e.hi]; }),
+              edges.end());
+  return laplacian_from_edges(std::move(lap.rows), std::move(lap.area), edges);
 }
 
 TexelLaplacian with_diffusion_map(const TexelLaplacian& base, const std::vector<float>& factor) {

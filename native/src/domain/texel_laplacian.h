@@ -66,6 +66,18 @@ struct TexelLaplacian {
 TexelLaplacian build_texel_laplacian(const Surface& surface, const TextureDomain& domain,
                                      ThreadPool& pool);
 
+// A face between cells lo and hi with conductance c (each pair once).
+struct CellEdge {
+  uint32_t lo, hi;
+  float c;
+};
+// The operator of any cell graph: `area` per cell index (area.size() indices, 0 for
+// indices that are not cells), `rows` the cells in ascending order, `edges` between
+// cells. The texture domain's texels and the intrinsic domain's vertices
+// (domain/intrinsic_domain.h) both become one.
+TexelLaplacian laplacian_from_edges(std::vector<uint32_t> rows, std::vector<float> area,
+                                    const std::vector<CellEdge>& edges);
+
 // The operator with a diffusion-rate map (Eq. 6's per-element R_dif): each face's
 // conductance times the mean of its two cells' factors (per texel, >= 0); still
 // symmetric, so still conservative. Rates and caches are made anew.

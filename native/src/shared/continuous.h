@@ -142,7 +142,7 @@ MTX_FN void mtx_respawn_weighted(mtx_surface_tables s, MTX_GLOBAL const float* a
     }
     const float top = spawn_max[w->triangle];
     if (!(top > 0.0f)) return;
-    const float here = mtx_map_value(maps, k, MTX_MAP_SPAWN, mtx_walker_texel(s.corner_uvs, w, k->width, k->height));
+    const float here = mtx_map_value(maps, k, MTX_MAP_SPAWN, mtx_point_cell(s, w, k->width, k->height));
     if (mtx_rng_float(rng) * top <= here) return;
     if (here > best_weight) {
       best_weight = here;
@@ -209,7 +209,7 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
   float exposure_step = k->exposure_step;
   int sink = 0;
   if (k->maps_on && k->map_plane[MTX_MAP_LIFETIME] >= 0) {
-    const float m = mtx_map_value(maps, k, MTX_MAP_LIFETIME, mtx_walker_texel(s.corner_uvs, w, k->width, k->height));
+    const float m = mtx_map_value(maps, k, MTX_MAP_LIFETIME, mtx_point_cell(s, w, k->width, k->height));
     if (m > 0.0f)
       exposure_step /= m;
     else
@@ -248,7 +248,7 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
   float activation_time = k->activation_time;
   mtx_i32 deposit_units = k->deposit_units;
   if (k->maps_on) {
-    const mtx_u32 texel = mtx_walker_texel(s.corner_uvs, w, k->width, k->height);
+    const mtx_u32 texel = mtx_point_cell(s, w, k->width, k->height);
     move_length *= mtx_map_value(maps, k, MTX_MAP_MOVE, texel);
     sensor_length *= mtx_map_value(maps, k, MTX_MAP_SENSOR_DISTANCE, texel);
     turn_impulse *= mtx_map_value(maps, k, MTX_MAP_TURN, texel);
@@ -332,9 +332,9 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
       break;
     }
     if (MTX_FIELDS && k->has_fields) {
-      const mtx_u32 texel = mtx_walker_texel(s.corner_uvs, w, k->width, k->height);
+      const mtx_u32 texel = mtx_point_cell(s, w, k->width, k->height);
       if (field[texel] < MTX_OBSTACLE_THRESHOLD) {
-        const mtx_u32 was = mtx_walker_texel(s.corner_uvs, &before, k->width, k->height);
+        const mtx_u32 was = mtx_point_cell(s, &before, k->width, k->height);
         if (!(field[was] < MTX_OBSTACLE_THRESHOLD)) {
           *w = before;
           w->heading.x = -w->heading.x;

@@ -53,6 +53,12 @@ typedef struct mtx_surface_tables {
   /* The island of each island texel, -1 elsewhere (the continuous model's stencils). */
   MTX_GLOBAL const int* texel_island;
   MTX_GLOBAL const mtx_u32* interior_bits; /* see TextureDomain::interior_bits */
+  /* The intrinsic domain (domain/intrinsic_domain.h; vertex_cells = 1): the triangles are
+   * the intrinsic triangulation's faces, the cells its vertices (3 per face here), and a
+   * point's concentration is the barycentric blend of its face's vertex values. 0 and
+   * NULL on the texture domain. */
+  MTX_GLOBAL const mtx_u32* face_vertices;
+  mtx_u32 vertex_cells;
 } mtx_surface_tables;
 
 MTX_FN mtx_u32 mtx_texel_of_uv(float u, float v, mtx_u32 width, mtx_u32 height) {

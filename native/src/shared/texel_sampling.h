@@ -34,6 +34,16 @@ typedef struct mtx_texel_stencil {
 
 MTX_FN void mtx_texel_stencil_of(mtx_surface_tables s, const mtx_walker* w, mtx_u32 width,
                                  mtx_u32 height, int reading, mtx_texel_stencil* st) {
+  if (s.vertex_cells) { /* the intrinsic domain: the face's three vertices, linear hats */
+    for (int c = 0; c < 3; ++c) {
+      st->cell[c] = s.face_vertices[3 * w->triangle + MTX_CAST(mtx_u32, c)];
+      st->weight[c] = w->bary[c];
+    }
+    st->cell[3] = st->cell[0];
+    st->weight[3] = 0.0f;
+    st->count = 3;
+    return;
+  }
   MTX_GLOBAL const float* uv = s.corner_uvs + 6 * w->triangle;
   const float x = (w->bary[0] * uv[0] + w->bary[1] * uv[2] + w->bary[2] * uv[4]) * MTX_CAST(float, width) - 0.5f;
   const float y = (w->bary[0] * uv[1] + w->bary[1] * uv[3] + w->bary[2] * uv[5]) * MTX_CAST(float, height) - 0.5f;
@@ -88,6 +98,16 @@ MTX_FN void mtx_texel_stencil_of(mtx_surface_tables s, const mtx_walker* w, mtx_
     total = MTX_CAST(float, st->count);
   }
   for (int k = 0; k < 4; ++k) st->weight[k] /= total;
+}
+
+/* The cell whose parameter-map values hold at the walker's point: its texel, or on the
+ * intrinsic domain the vertex of its face it is nearest to (the largest weight). */
+MTX_FN mtx_u32 mtx_point_cell(mtx_surface_tables s, const mtx_walker* w, mtx_u32 width, mtx_u32 height) {
+  if (s.vertex_cells) {
+    const int c = w->bary[0] >= w->bary[1] ? (w->bary[0] >= w->bary[2] ? 0 : 2) : (w->bary[1] >= w->bary[2] ? 1 : 2);
+    return s.face_vertices[3 * w->triangle + MTX_CAST(mtx_u32, c)];
+  }
+  return mtx_walker_texel(s.corner_uvs, w, width, height);
 }
 
 /* Adds `units` (a whole number of fixed-point units) to the stencil's cells in

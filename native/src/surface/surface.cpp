@@ -23,22 +23,6 @@ V3 vertex(const Surface& s, uint32_t v) {
   return {s.positions[3 * v], s.positions[3 * v + 1], s.positions[3 * v + 2]};
 }
 
-TriangleFrame make_frame(double a, double bx, double by) {
-  TriangleFrame f{};
-  f.a = static_cast<float>(a);
-  f.bx = static_cast<float>(bx);
-  f.by = static_cast<float>(by);
-  f.inv_a = static_cast<float>(1.0 / a);
-  f.inv_by = static_cast<float>(1.0 / by);
-  const double q[3][2] = {{0, 0}, {a, 0}, {bx, by}};
-  for (int i = 0; i < 3; ++i) {
-    const double* from = q[(i + 1) % 3];
-    const double* to = q[(i + 2) % 3];
-    double dx = to[0] - from[0], dy = to[1] - from[1], n = std::sqrt(dx * dx + dy * dy);
-    f.edge[i] = {static_cast<float>(dx / n), static_cast<float>(dy / n)};
-  }
-  return f;
-}
 
 // UV islands: triangles joined by shared edges that are not seams (union-find).
 void label_islands(Surface& s) {
@@ -135,6 +119,23 @@ void validate(const moldtex_mesh_desc& d) {
 }
 
 }  // namespace
+
+TriangleFrame make_frame(double a, double bx, double by) {
+  TriangleFrame f{};
+  f.a = static_cast<float>(a);
+  f.bx = static_cast<float>(bx);
+  f.by = static_cast<float>(by);
+  f.inv_a = static_cast<float>(1.0 / a);
+  f.inv_by = static_cast<float>(1.0 / by);
+  const double q[3][2] = {{0, 0}, {a, 0}, {bx, by}};
+  for (int i = 0; i < 3; ++i) {
+    const double* from = q[(i + 1) % 3];
+    const double* to = q[(i + 2) % 3];
+    double dx = to[0] - from[0], dy = to[1] - from[1], n = std::sqrt(dx * dx + dy * dy);
+    f.edge[i] = {static_cast<float>(dx / n), static_cast<float>(dy / n)};
+  }
+  return f;
+}
 
 size_t Surface::bytes() const {
   return positions.capacity() * sizeof(float) + triangles.capacity() * sizeof(uint32_t) +

@@ -25,6 +25,9 @@ using Walker = mtx_walker;
 using AdjacencyCode = uint32_t;
 constexpr AdjacencyCode kNoNeighbour = MTX_NO_NEIGHBOUR;
 
+// The frame of a triangle with corners (0, 0), (a, 0), (bx, by), by > 0 (shared/walk.h).
+TriangleFrame make_frame(double a, double bx, double by);
+
 inline Vec2 frame_corner(const TriangleFrame& f, int c) {
   return c == 0 ? Vec2{0.f, 0.f} : (c == 1 ? Vec2{f.a, 0.f} : Vec2{f.bx, f.by});
 }

@@ -89,7 +89,6 @@ void CpuBackend::step(const StepSettings& settings, uint64_t seed, uint64_t step
 
 void CpuBackend::step_continuous(const StepSettings& settings, uint64_t seed, uint64_t step_index) {
   const TextureDomain& d = *domain_;
-  const moldtex_continuous_params& p = settings.continuous;
   const size_t texels = d.texel_count();
   if (!laplacian_) laplacian_ = std::make_unique<TexelLaplacian>(build_texel_laplacian(*surface_, d, *pool_));
   if (alias_.prob.empty()) alias_ = build_area_alias_table(*surface_);
@@ -109,15 +108,24 @@ void CpuBackend::step_continuous(const StepSettings& settings, uint64_t seed, ui
                              c.bias_on || c.bias_spawn ? settings.bias.data() : nullptr, maps.agent_planes.data(),
                              maps.spawn_max.data(), agents_, begin, end);
   });
-  // 2. Per species: the deposits become concentration (amount / cell area), then the PDE
-  //    advances by dt; the gutter shows what lies across each seam (for Blender only).
-  const float amount = deposit_unit_amount(p, c.deposit_units);
-  const TexelLaplacian& lap = laplacian_for(maps, *laplacian_, mapped_);
-  const std::vector<float>& decay = decay_for(maps, double(p.decay_rate) * p.time_step, mapped_);
-  for (uint32_t k = 0; k < species_count_; ++k) {
-    float* plane = pheromone_.data() + k * texels;
-    int32_t* sums = sums_.data() + k * texels;
-    pool_->parallel_for(lap.rows.size(), 4096, [&](size_t begin, size_t end) {
+  // 2. Per species: the deposits become concentration, then the PDE advances by dt; the
+  //    gutter shows what lies across each seam (for Blender only).
+  settle_continuous_step(settings, maps, laplacian_for(maps, *laplacian_, mapped_), mapped_, c.deposit_units,
+                         pheromone_.data(), sums_.data(), pde_scratch_, species_count_, *pool_);
+  for (uint32_t k = 0; k < species_count_; ++k) fill_gutter(d, pheromone_.data() + k * texels, *pool_);
+}
+
+void settle_continuous_step(const StepSettings& settings, const ParameterMaps& maps, const TexelLaplacian& lap,
+                            MappedLaplacian& mapped, int32_t deposit_units, float* planes, int32_t* all_sums,
+                            std::vector<float>& scratch, uint32_t species_count, ThreadPool& pool) {
+  const moldtex_continuous_params& p = settings.continuous;
+  const size_t cells = lap.area.size();
+  const float amount = deposit_unit_amount(p, deposit_units);
+  const std::vector<float>& decay = decay_for(maps, double(p.decay_rate) * p.time_step, mapped);
+  for (uint32_t k = 0; k < species_count; ++k) {
+    float* plane = planes + k * cells;
+    int32_t* sums = all_sums + k * cells;
+    pool.parallel_for(lap.rows.size(), 4096, [&](size_t begin, size_t end) {
       for (size_t r = begin; r < end; ++r) {
         const uint32_t i = lap.rows[r];
         if (sums[i] == 0 || !(lap.area[i] > 0.f)) continue;
@@ -127,20 +135,18 @@ void CpuBackend::step_continuous(const StepSettings& settings, uint64_t seed, ui
     });
     if (!maps.write().empty()) {
       const float rate = write_stimulus_amount(p, k < settings.u_metric.size() ? settings.u_metric[k] : 0.0);
-      pool_->parallel_for(lap.rows.size(), 4096, [&](size_t begin, size_t end) {
+      pool.parallel_for(lap.rows.size(), 4096, [&](size_t begin, size_t end) {
         for (size_t r = begin; r < end; ++r) {
           const uint32_t i = lap.rows[r];
           plane[i] = mtx_write_stimulus(plane[i], maps.write()[i], rate);
         }
       });
     }
-    advance_diffusion_decay(lap, plane, pde_scratch_, p.diffusion_rate, p.decay_rate, p.time_step,
-                            p.integrator, *pool_);
+    advance_diffusion_decay(lap, plane, scratch, p.diffusion_rate, p.decay_rate, p.time_step, p.integrator, pool);
     if (!decay.empty())  // the decay map: each cell's own e^(-r_dec m dt)
-      pool_->parallel_for(lap.rows.size(), 4096, [&](size_t begin, size_t end) {
+      pool.parallel_for(lap.rows.size(), 4096, [&](size_t begin, size_t end) {
         for (size_t r = begin; r < end; ++r) plane[lap.rows[r]] *= decay[lap.rows[r]];
       });
-    fill_gutter(d, plane, *pool_);
   }
 }
 

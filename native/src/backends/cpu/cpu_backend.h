@@ -14,6 +14,14 @@
 
 namespace moldtex {
 
+// The continuous model's step after the agents (both domains): per species, the
+// fixed-point deposit sums (one plane of `lap.area.size()` cells per species) become
+// concentration (amount / cell area) and are cleared, the write stimulus adds, the PDE
+// advances by dt, and the decay map applies.
+void settle_continuous_step(const StepSettings& settings, const ParameterMaps& maps, const TexelLaplacian& lap,
+                            MappedLaplacian& mapped, int32_t deposit_units, float* planes, int32_t* sums,
+                            std::vector<float>& scratch, uint32_t species_count, ThreadPool& pool);
+
 class CpuBackend final : public Backend {
  public:
   CpuBackend(std::shared_ptr<const Surface> surface, std::shared_ptr<const TextureDomain> domain,

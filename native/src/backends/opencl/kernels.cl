@@ -53,6 +53,8 @@ __kernel void momas_agents(__global const mtx_frame* frames, __global const uint
   s.island = island;
   s.texel_island = 0;
   s.interior_bits = 0;
+  s.face_vertices = 0;
+  s.vertex_cells = 0u;
   mtx_walker w = load_walker(triangle, b1, b2, hx, hy, i);
   /* Per-agent hunger and species are loaded only by the variants that use them. */
   float h = MTX_FOOD ? hunger[i] : 0.0f;
@@ -269,6 +271,8 @@ __kernel void continuous_agents(__global const mtx_frame* frames, __global const
   s.island = island;
   s.texel_island = texel_island;
   s.interior_bits = interior_bits;
+  s.face_vertices = 0;
+  s.vertex_cells = 0u;
   mtx_walker w = load_walker(triangle, b1, b2, hx, hy, i);
   const float4 l = lives[i];
   mtx_agent_life life;

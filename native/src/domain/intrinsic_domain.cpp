@@ -1,0 +1,400 @@
+#include "domain/intrinsic_domain.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <list>
+#include <mutex>
+#include <sstream>
+
+#include "common/error.h"
+
+namespace moldtex {
+
+using intrinsic::kInvalid;
+using intrinsic::SurfacePoint;
+using intrinsic::Vec2d;
+
+namespace {
+
+// Intrinsic vertices above this are refused before refining (each costs ~0.5 KiB with
+// the operator, the correspondence and the tables).
+constexpr double kMaxVertices = 16e6;
+
+double angle_of(Vec2d d) { return std::atan2(d.y, d.x); }
+
+Vec2d rotate(Vec2d d, double a) {
+  const double c = std::cos(a), s = std::sin(a);
+  return {c * d.x - s * d.y, s * d.x + c * d.y};
+}
+
+Vec2d point_in(const std::array<Vec2d, 3>& P, const std::array<double, 3>& b) {
+  return b[0] * P[0] + b[1] * P[1] + b[2] * P[2];
+}
+
+// A point of one mesh found on the other, with the angle that turns a direction in the
+// first face's frame into one in the found face's frame.
+struct Located {
+  SurfacePoint point;
+  double turn = 0;
+};
+
+// The trace from the nearest corner of `from_face` (on `from`) to the point q of that
+// face, replayed on the other mesh by `trace` (vertex, tangent angle, distance). A point
+// within round-off of its corner is moved a hair toward the face's centre, so the
+// trace has a direction (and the turn is defined).
+template <class Trace>
+Located locate_by_corner(const intrinsic::IntrinsicMesh& from, uint32_t from_face, std::array<double, 3> bary,
+                         double scale, Trace trace) {
+  const auto P = from.layout(from_face);
+  Vec2d q = point_in(P, bary);
+  int k = 0;
+  for (int i = 1; i < 3; ++i)
+    if (intrinsic::norm(P[i] - q) < intrinsic::norm(P[k] - q)) k = i;
+  Vec2d d = q - P[k];
+  if (!(intrinsic::norm(d) > 1e-9 * scale)) {
+    const Vec2d centre = (1.0 / 3.0) * (P[0] + P[1] + P[2]);
+    d = 1e-6 * (centre - P[k]);
+    q = P[k] + d;
+  }
+  const uint32_t v = from.tail(from.face_halfedges(from_face)[k]);
+  const intrinsic::TraceResult r = trace(v, intrinsic::tangent_angle(from, from_face, k, d), intrinsic::norm(d));
+  return {r.point, angle_of(r.direction) - angle_of(d)};
+}
+
+std::array<double, 3> clean_bary(std::array<double, 3> b) {
+  double s = 0;
+  for (double& x : b) {
+    x = std::isfinite(x) ? std::max(x, 0.0) : 0.0;
+    s += x;
+  }
+  if (!(s > 0)) return {1.0 / 3, 1.0 / 3, 1.0 / 3};
+  for (double& x : b) x /= s;
+  return b;
+}
+
+Walker make_walker(const SurfacePoint& p, Vec2d heading) {
+  Walker w{};
+  w.triangle = p.face;
+  const auto b = clean_bary(p.bary);
+  for (int k = 0; k < 3; ++k) w.bary[k] = static_cast<float>(b[k]);
+  const double n = intrinsic::norm(heading);
+  w.heading = n > 0 ? Vec2{static_cast<float>(heading.x / n), static_cast<float>(heading.y / n)} : Vec2{1.f, 0.f};
+  return w;
+}
+
+// Barycentrics of the UV point (u, v) in triangle t's UV corners (clamped onto it).
+std::array<double, 3> uv_bary(const Surface& s, uint32_t t, double u, double v) {
+  const float* c = s.corner_uvs.data() + 6ull * t;
+  const double x0 = c[0], y0 = c[1], x1 = c[2], y1 = c[3], x2 = c[4], y2 = c[5];
+  const double det = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0);
+  if (!(std::fabs(det) > 0)) return {1.0 / 3, 1.0 / 3, 1.0 / 3};
+  const double b1 = ((u - x0) * (y2 - y0) - (x2 - x0) * (v - y0)) / det;
+  const double b2 = ((x1 - x0) * (v - y0) - (u - x0) * (y1 - y0)) / det;
+  return clean_bary({1 - b1 - b2, b1, b2});
+}
+
+void build_tables(IntrinsicDomain& d) {
+  const intrinsic::IntrinsicMesh& m = d.tri.mesh;
+  const uint32_t nf = m.face_count();
+  d.frames.resize(nf);
+  d.adjacency.assign(3ull * nf, MTX_NO_NEIGHBOUR);
+  d.face_vertices.resize(3ull * nf);
+  d.cells_per_unit.resize(2ull * nf);
+  d.face_area.resize(nf);
+  for (uint32_t f = 0; f < nf; ++f) {
+    const auto P = m.layout(f);
+    d.frames[f] = make_frame(P[1].x, P[2].x, std::max(P[2].y, 1e-30));
+    const auto hs = m.face_halfedges(f);
+    double perimeter = 0;
+    for (int k = 0; k < 3; ++k) {
+      d.face_vertices[3ull * f + k] = m.tail(hs[k]);
+      perimeter += m.len(hs[k]);
+      // Walker edge i (opposite corner i) is halfedge i + 1 (corner i+1 -> i+2).
+      const uint32_t h = hs[(k + 1) % 3], tw = intrinsic::IntrinsicMesh::twin(h);
+      const uint32_t g = m.he_face[tw];
+      if (g == kInvalid) continue;
+      // tw is halfedge j of g, opposite corner j + 2: g's walker edge j + 2. The mesh is
+      // consistently oriented, so the neighbour runs the edge the other way round.
+      const int edge = (m.corner_index(tw) + 2) % 3;
+      d.adjacency[3ull * f + k] = (g << 3) | (static_cast<uint32_t>(edge) << 1);
+    }
+    // A deposit every half edge: the three hats of the pieces overlap enough to lay an
+    // even line.
+    const float per_unit = static_cast<float>(6.0 / std::max(perimeter, 1e-30));
+    d.cells_per_unit[2ull * f] = d.cells_per_unit[2ull * f + 1] = per_unit;
+    d.face_area[f] = static_cast<float>(m.face_area(f));
+  }
+  std::vector<double> weights(d.face_area.begin(), d.face_area.end());
+  d.alias = build_alias_table(weights);
+}
+
+void build_laplacian(IntrinsicDomain& d) {
+  const intrinsic::IntrinsicMesh& m = d.tri.mesh;
+  const uint32_t nv = m.vertex_count();
+  std::vector<double> mass(nv, 0.0);
+  for (uint32_t f = 0; f < m.face_count(); ++f) {
+    const double third = m.face_area(f) / 3.0;
+    for (uint32_t h : m.face_halfedges(f)) mass[m.tail(h)] += third;
+  }
+  // Edge conductances (cot alpha + cot beta) / 2, >= 0 on a Delaunay triangulation up
+  // to round-off; a negative one (a flip the round-off kept) is clamped to 0 so the
+  // operator stays an M-matrix (a maximum principle for the explicit steps).
+  std::vector<CellEdge> edges;
+  edges.reserve(m.edge_count());
+  for (uint32_t e = 0; e < m.edge_count(); ++e) {
+    const uint32_t h = 2 * e;
+    const uint32_t a = m.tail(h), b = m.head(h);
+    if (a == b) continue;  // a loop edge exchanges nothing
+    double c = 0;
+    for (uint32_t s : {h, h ^ 1u})
+      if (m.he_face[s] != kInvalid) c += 0.5 * m.opposite_cotan(s);
+    if (!(c > 0) || !std::isfinite(c)) continue;
+    edges.push_back({std::min(a, b), std::max(a, b), static_cast<float>(c)});
+  }
+  // Parallel edges (a non-simplicial triangulation joins two vertices twice) add up.
+  std::sort(edges.begin(), edges.end(), [](const CellEdge& x, const CellEdge& y) {
+    return x.lo != y.lo ? x.lo < y.lo : x.hi < y.hi;
+  });
+  std::vector<CellEdge> merged;
+  for (const CellEdge& e : edges) {
+    if (!merged.empty() && merged.back().lo == e.lo && merged.back().hi == e.hi)
+      merged.back().c += e.c;
+    else
+      merged.push_back(e);
+  }
+  std::vector<uint32_t> rows;
+  std::vector<float> area(nv, 0.f);
+  for (uint32_t v = 0; v < nv; ++v)
+    if (mass[v] > 0) {
+      rows.push_back(v);
+      area[v] = static_cast<float>(mass[v]);
+    }
+  d.laplacian = laplacian_from_edges(std::move(rows), std::move(area), merged);
+}
+
+// Every island texel located on the intrinsic triangulation. Texels are grouped by their
+// triangle; the first of a triangle is located from a corner, each next one by a short
+// trace from the one before (the input triangle is flat, so the displacement between
+// them is a straight line there and on the intrinsic faces alike).
+void build_texel_map(IntrinsicDomain& d, const Surface& s, const TextureDomain& td, ThreadPool& pool) {
+  const size_t texels = td.texel_count();
+  d.texel_face.assign(texels, IntrinsicDomain::kNone);
+  d.texel_bary.assign(3 * texels, 0.f);
+  const uint32_t nt = s.triangle_count();
+  std::vector<uint32_t> first(nt + 1, 0), order(texels);
+  for (size_t i = 0; i < texels; ++i)
+    if (td.classes[i] == MOLDTEX_TEXEL_INSIDE && td.texel_triangle[i] >= 0) ++first[td.texel_triangle[i] + 1];
+  for (uint32_t t = 0; t < nt; ++t) first[t + 1] += first[t];
+  std::vector<uint32_t> fill(first.begin(), first.end() - 1);
+  for (size_t i = 0; i < texels; ++i)
+    if (td.classes[i] == MOLDTEX_TEXEL_INSIDE && td.texel_triangle[i] >= 0)
+      order[fill[td.texel_triangle[i]]++] = static_cast<uint32_t>(i);
+  const intrinsic::IntrinsicTriangulation& T = d.tri;
+  const double scale = T.mean_edge;
+  auto locate = [&](uint32_t face, const std::array<double, 3>& b) {
+    return locate_by_corner(T.input, face, b, scale, [&](uint32_t v, double angle, double dist) {
+      return intrinsic::trace_from_vertex(T.mesh, v, angle, dist);
+    });
+  };
+  pool.parallel_for(nt, 64, [&](size_t begin, size_t end) {
+    for (size_t t = begin; t < end; ++t) {
+      if (first[t] == first[t + 1]) continue;
+      const uint32_t face = d.input_face[t];
+      if (face == kInvalid) continue;
+      const auto P = T.input.layout(face);
+      Located at;
+      Vec2d at_q{};
+      bool have = false;
+      for (uint32_t k = first[t]; k < first[t + 1]; ++k) {
+        const uint32_t i = order[k];
+        const double u = (i % td.width + 0.5) / td.width, v = (i / td.width + 0.5) / td.height;
+        const auto b = uv_bary(s, static_cast<uint32_t>(t), u, v);
+        const Vec2d q = point_in(P, b);
+        const Vec2d step = q - at_q;
+        const double dist = intrinsic::norm(step);
+        Located next;
+        bool ok = false;
+        if (have && dist < 1e-12 * scale) {
+          next = at;
+          ok = true;
+        } else if (have) {
+          const intrinsic::TraceResult r =
+              intrinsic::trace_from_point(T.mesh, at.point, rotate(step, at.turn), dist);
+          if (r.complete && r.boundary_he == kInvalid) {
+            next = {r.point, angle_of(r.direction) - angle_of(step)};
+            ok = true;
+          }
+        }
+        if (!ok) next = locate(face, b);  // the first texel, or a trace that met the boundary
+        at = next;
+        at_q = q;
+        have = true;
+        d.texel_face[i] = at.point.face;
+        const auto c = clean_bary(at.point.bary);
+        for (int j = 0; j < 3; ++j) d.texel_bary[3ull * i + j] = static_cast<float>(c[j]);
+      }
+    }
+  });
+}
+
+void build_vertex_texels(IntrinsicDomain& d, const Surface& s, const TextureDomain& td) {
+  const intrinsic::IntrinsicTriangulation& T = d.tri;
+  d.vertex_texel.assign(T.mesh.vertex_count(), 0);
+  for (uint32_t v = 0; v < T.mesh.vertex_count(); ++v) {
+    const SurfacePoint& p = T.corr.location[v];
+    if (p.face == kInvalid) continue;
+    const uint32_t t = T.input_triangle[p.face];
+    const float* c = s.corner_uvs.data() + 6ull * t;
+    const double u = p.bary[0] * c[0] + p.bary[1] * c[2] + p.bary[2] * c[4];
+    const double w = p.bary[0] * c[1] + p.bary[1] * c[3] + p.bary[2] * c[5];
+    d.vertex_texel[v] = td.texel_of_uv(static_cast<float>(u), static_cast<float>(w));
+  }
+}
+
+std::shared_ptr<const IntrinsicDomain> build_intrinsic_domain(const Surface& s, const TextureDomain& td, double bound,
+                                                              uint64_t max_insertions, ThreadPool& pool) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (!(bound > 0) || !std::isfinite(bound))
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "The circumradius bound of the intrinsic triangulation must be a positive length in mesh units");
+  const double expected = 1.6 * s.area / (bound * bound);
+  if (expected > kMaxVertices) {
+    std::ostringstream m;
+    m.precision(3);
+    m << "The intrinsic triangulation at a circumradius bound of " << bound << " mesh units would have about "
+      << expected << " vertices, more than the limit of " << kMaxVertices
+      << ": raise the bound or lower the texture resolution";
+    fail(MOLDTEX_ERROR_TOO_LARGE, m.str());
+  }
+  auto d = std::make_shared<IntrinsicDomain>();
+  d->bound = bound;
+  d->tri = intrinsic::build_intrinsic_triangulation(s);
+  intrinsic::RefineOptions options;
+  options.max_circumradius = bound;
+  options.max_insertions = max_insertions;
+  d->report = intrinsic::refine(d->tri, options);
+  if (d->report.reason != intrinsic::StopReason::Converged)
+    fail(MOLDTEX_ERROR_TOO_LARGE, "The intrinsic triangulation could not be refined to the bound " +
+                                      std::to_string(bound) + ": " + d->report.message +
+                                      " Raise the bound (a coarser triangulation) or use the Texture domain.");
+  d->input_face.assign(s.triangle_count(), kInvalid);
+  for (uint32_t f = 0; f < d->tri.input_triangle.size(); ++f) d->input_face[d->tri.input_triangle[f]] = f;
+  build_tables(*d);
+  build_laplacian(*d);
+  build_texel_map(*d, s, td, pool);
+  build_vertex_texels(*d, s, td);
+  d->build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return d;
+}
+
+}  // namespace
+
+mtx_surface_tables IntrinsicDomain::tables() const {
+  mtx_surface_tables t{};
+  t.frames = frames.data();
+  t.adjacency = adjacency.data();
+  t.texels_per_unit = cells_per_unit.data();
+  t.face_vertices = face_vertices.data();
+  t.vertex_cells = 1u;
+  return t;
+}
+
+void IntrinsicDomain::gather(const float* values, float* texels, ThreadPool& pool) const {
+  pool.parallel_for(texel_face.size(), 4096, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      const uint32_t f = texel_face[i];
+      if (f == kNone) continue;
+      const uint32_t* v = face_vertices.data() + 3ull * f;
+      const float* b = texel_bary.data() + 3 * i;
+      texels[i] = b[0] * values[v[0]] + b[1] * values[v[1]] + b[2] * values[v[2]];
+    }
+  });
+}
+
+std::vector<float> IntrinsicDomain::sample_texels(const float* texels) const {
+  std::vector<float> out(vertex_texel.size());
+  for (size_t v = 0; v < out.size(); ++v) out[v] = texels[vertex_texel[v]];
+  return out;
+}
+
+Walker IntrinsicDomain::to_intrinsic(const Walker& w) const {
+  const uint32_t face = w.triangle < input_face.size() ? input_face[w.triangle] : kInvalid;
+  if (face == kInvalid) {  // a dropped triangle (no area, never spawned on): face 0
+    SurfacePoint p;
+    p.face = 0;
+    p.bary = {1.0 / 3, 1.0 / 3, 1.0 / 3};
+    return make_walker(p, {1, 0});
+  }
+  const Located at = locate_by_corner(tri.input, face, {w.bary[0], w.bary[1], w.bary[2]}, tri.mean_edge,
+                                      [&](uint32_t v, double angle, double dist) {
+                                        return intrinsic::trace_from_vertex(tri.mesh, v, angle, dist);
+                                      });
+  return make_walker(at.point, rotate({w.heading.x, w.heading.y}, at.turn));
+}
+
+Walker IntrinsicDomain::to_input(const Walker& w) const {
+  const Located at = locate_by_corner(tri.mesh, w.triangle, {w.bary[0], w.bary[1], w.bary[2]}, tri.mean_edge,
+                                      [&](uint32_t v, double angle, double dist) {
+                                        return intrinsic::trace_input_from_vertex(tri, v, angle, dist);
+                                      });
+  SurfacePoint p = at.point;
+  p.face = tri.input_triangle[p.face];
+  return make_walker(p, rotate({w.heading.x, w.heading.y}, at.turn));
+}
+
+size_t IntrinsicDomain::bytes() const {
+  const intrinsic::IntrinsicMesh& m = tri.mesh;
+  const size_t mesh = m.halfedge_count() * (4 * 3 + 8) + m.edge_count() * 8 + m.face_count() * 4 +
+                      m.vertex_count() * (4 + 8 + 1);
+  return 2 * mesh + tri.corr.location.size() * 32 + frames.size() * sizeof(mtx_frame) +
+         (adjacency.size() + face_vertices.size() + cells_per_unit.size() + face_area.size()) * 4 +
+         laplacian.bytes() + texel_face.size() * 16 + vertex_texel.size() * 4 + alias.prob.size() * 8;
+}
+
+double default_intrinsic_bound(const TextureDomain& d) {
+  double area = 0;
+  size_t cells = 0;
+  const double per_texel = 1.0 / (static_cast<double>(d.width) * d.height);
+  for (size_t i = 0; i < d.texel_count(); ++i)
+    if (d.classes[i] == MOLDTEX_TEXEL_INSIDE && d.texel_triangle[i] >= 0) {
+      area += d.triangle_area_scale[d.texel_triangle[i]] * per_texel;
+      ++cells;
+    }
+  return cells > 0 && area > 0 ? std::sqrt(area / static_cast<double>(cells)) : 0.0;
+}
+
+std::shared_ptr<const IntrinsicDomain> intrinsic_domain_for(const Surface& surface, const TextureDomain& domain,
+                                                            double bound, uint64_t max_insertions,
+                                                            ThreadPool& pool, bool* from_cache) {
+  if (from_cache) *from_cache = false;
+  // The last few domains built, most recent first: a new simulation on the same mesh
+  // (Reset in the add-on makes one when the resolution or the model changes) reuses it.
+  struct Entry {
+    uint64_t fingerprint;
+    uint32_t width, height;
+    double bound;
+    uint64_t max_insertions;
+    std::shared_ptr<const IntrinsicDomain> domain;
+  };
+  static std::mutex mutex;
+  static std::list<Entry> cache;
+  constexpr size_t kCacheEntries = 2;
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    for (auto it = cache.begin(); it != cache.end(); ++it)
+      if (it->fingerprint == surface.fingerprint && it->width == domain.width && it->height == domain.height &&
+          it->bound == bound && it->max_insertions == max_insertions) {
+        cache.splice(cache.begin(), cache, it);
+        if (from_cache) *from_cache = true;
+        return cache.front().domain;
+      }
+  }
+  auto built = build_intrinsic_domain(surface, domain, bound, max_insertions, pool);
+  std::lock_guard<std::mutex> lock(mutex);
+  cache.push_front({surface.fingerprint, domain.width, domain.height, bound, max_insertions, built});
+  while (cache.size() > kCacheEntries) cache.pop_back();
+  return built;
+}
+
+}  // namespace moldtex

@@ -1,0 +1,98 @@
+// The intrinsic domain (issue 11, layton-intrinsic-slime.md §3.1): concentrations live at
+// the vertices of an intrinsic Delaunay triangulation of the mesh (intrinsic/), refined
+// until no triangle's circumradius exceeds a bound. No UV layout enters the simulation:
+// no seams, no UV distortion, no dependence on how the artist's mesh is triangulated.
+//
+// What the simulation needs from it, all built once per mesh and bound:
+//  * walker tables over the intrinsic faces (frames from the edge lengths, adjacency by
+//    halfedge twins), so agents walk the intrinsic faces with the same straightest-path
+//    walk as on the input mesh (shared/walk.h), and read and deposit through the face's
+//    three vertex hats (shared/texel_sampling.h, vertex_cells);
+//  * the diffusion operator: the cotangent Laplacian with barycentric lumped mass, as a
+//    cell graph (domain/texel_laplacian.h) whose cells are the vertices, so both
+//    integrators, maps and Gray-Scott run on it unchanged;
+//  * the way into the texture: each island texel located once on the intrinsic
+//    triangulation (face + barycentrics), so a frame is a gather; the gutter is filled as
+//    on the texture domain;
+//  * conversions of agents between the input mesh and the intrinsic faces (the host
+//    spawns, brushes and reports agents on the input mesh).
+//
+// Why agents walk the intrinsic faces (the paper's way) rather than the input mesh with
+// each sensor point located on the fine mesh: a location is a trace over many intrinsic
+// faces on a coarse input mesh (docs/PERFORMANCE.md: 22 k points/s on a cube), while a
+// walk over the intrinsic faces costs what a walk over the input mesh costs per crossing,
+// and the intrinsic faces are well shaped (no needles to cross many times).
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "agents/continuous_rules.h"
+#include "backends/cpu/thread_pool.h"
+#include "domain/texel_laplacian.h"
+#include "domain/texture_domain.h"
+#include "intrinsic/refinement.h"
+#include "shared/momas.h"
+#include "surface/surface.h"
+
+namespace moldtex {
+
+struct IntrinsicDomain {
+  intrinsic::IntrinsicTriangulation tri;
+  intrinsic::RefineReport report;
+  double bound = 0;          // the circumradius bound it was refined to (mesh units)
+  double build_seconds = 0;  // triangulation, operators and texel map
+
+  // Walker tables over the intrinsic faces.
+  std::vector<mtx_frame> frames;
+  std::vector<uint32_t> adjacency;       // 3 per face, shared/walk.h's packing
+  std::vector<uint32_t> face_vertices;   // 3 per face, in corner order
+  std::vector<float> cells_per_unit;     // 2 per face: deposit pieces per mesh unit
+  std::vector<float> face_area;
+  // Per surface triangle: its input face of the triangulation (kInvalid: dropped, a
+  // triangle that repeats a vertex).
+  std::vector<uint32_t> input_face;
+
+  TexelLaplacian laplacian;  // cells = vertices, area = lumped mass
+  AliasTable alias;          // faces by area (respawns)
+
+  // Per texel: the intrinsic face under the texel centre (kNone for texels that are not
+  // island cells) and its barycentrics (3 per texel).
+  static constexpr uint32_t kNone = 0xffffffffu;
+  std::vector<uint32_t> texel_face;
+  std::vector<float> texel_bary;
+  // Per vertex: the texel under its point on the input mesh (parameter maps and static
+  // fields are given per texel and read there).
+  std::vector<uint32_t> vertex_texel;
+
+  uint32_t vertex_count() const { return tri.mesh.vertex_count(); }
+  uint32_t face_count() const { return tri.mesh.face_count(); }
+  mtx_surface_tables tables() const;
+  // Island texels of `texels` (width * height) from the vertex values (vertex_count);
+  // other texels are left as they are (the caller fills the gutter).
+  void gather(const float* values, float* texels, ThreadPool& pool) const;
+  // Per vertex, the value of the texel under it.
+  std::vector<float> sample_texels(const float* texels) const;
+  // An agent on the input mesh (surface triangle numbering) on the intrinsic faces, its
+  // heading turned into the face's frame; and back.
+  Walker to_intrinsic(const Walker& w) const;
+  Walker to_input(const Walker& w) const;
+  size_t bytes() const;
+};
+
+// The default bound: the mean 3D spacing of the island texels, so that the intrinsic
+// triangulation has about as many vertices as the texture has island texels and both
+// domains resolve the same detail.
+double default_intrinsic_bound(const TextureDomain& domain);
+
+// Builds the domain (throws moldtex::Error for meshes it refuses: non-manifold, or a
+// refinement that cannot finish within max_insertions, 0 = automatic). Kept in a small
+// cache keyed by the mesh (its fingerprint), the texture size and the bound, so a new
+// simulation on the same mesh does not rebuild it.
+// from_cache (optional) says whether it came from the cache.
+std::shared_ptr<const IntrinsicDomain> intrinsic_domain_for(const Surface& surface, const TextureDomain& domain,
+                                                            double bound, uint64_t max_insertions,
+                                                            ThreadPool& pool, bool* from_cache = nullptr);
+
+}  // namespace moldtex

@@ -1,0 +1,346 @@
+// The intrinsic domain (issue 11): concentrations at the vertices of an intrinsic
+// Delaunay triangulation, diffused by the cotangent Laplacian, read by agents that walk
+// the intrinsic faces, and gathered into the UV texture.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "backends/cpu/intrinsic_backend.h"
+#include "domain/intrinsic_domain.h"
+#include "domain/texel_laplacian.h"
+#include "intrinsic/correspondence.h"
+#include "pattern_measures.h"
+#include "surface/surface.h"
+#include "test_util.h"
+
+namespace mtx {
+namespace {
+
+namespace it = moldtex::intrinsic;
+
+struct Domain {
+  moldtex::Surface surface;
+  moldtex::TextureDomain texture;
+  std::shared_ptr<const moldtex::IntrinsicDomain> d;
+  Domain(const Mesh& m, uint32_t size, double bound) {
+    moldtex::ThreadPool pool(2);
+    surface = moldtex::build_surface(m.desc());
+    texture = moldtex::build_texture_domain(surface, size, size, pool);
+    d = moldtex::intrinsic_domain_for(surface, texture, bound > 0 ? bound : moldtex::default_intrinsic_bound(texture),
+                                      0, pool);
+  }
+  Vec3 position(uint32_t v) const {
+    const auto p = it::input_position(d->tri, d->tri.corr.location[v]);
+    return {p[0], p[1], p[2]};
+  }
+  // The vertex nearest to x.
+  uint32_t nearest(const Vec3& x) const {
+    uint32_t best = 0;
+    double bd = 1e300;
+    for (uint32_t v : d->laplacian.rows) {
+      const double dist = norm(sub(position(v), x));
+      if (dist < bd) bd = dist, best = v;
+    }
+    return best;
+  }
+};
+
+// Amount sum_i M_i u_i and the spread sum_i M_i u_i dist(x_i)^2 / amount.
+struct Moments {
+  double amount = 0, variance = 0;
+};
+Moments moments(const Domain& dom, const std::vector<float>& u, const std::function<double(const Vec3&)>& dist) {
+  Moments m;
+  for (uint32_t v : dom.d->laplacian.rows) {
+    const double a = double(dom.d->laplacian.area[v]) * u[v];
+    m.amount += a;
+    const double r = dist(dom.position(v));
+    m.variance += a * r * r;
+  }
+  m.variance /= m.amount;
+  return m;
+}
+
+// A unit amount at one vertex spreads like the heat kernel: on a plane E|x - x0|^2 =
+// 4 r_dif t. With r_dec = 0 the total is conserved (the operator is symmetric and every
+// row sums to 0): within 1e-6 relative (float values, double sums).
+TEST(IntrinsicDomain, PointSourceOnAPlaneSpreadsLikeTheHeatKernel) {
+  const Mesh m = make_plane(8, 8, -2, -2, 2, 2, [](double x, double y) { return Vec2{(x + 2) / 4, (y + 2) / 4}; });
+  Domain dom(m, 128, 0.03);
+  const Vec3 x0{0, 0, 0};
+  const uint32_t v0 = dom.nearest(x0);
+  const Vec3 c = dom.position(v0);
+  std::vector<float> u(dom.d->vertex_count(), 0.f), scratch;
+  u[v0] = float(1.0 / dom.d->laplacian.area[v0]);
+  const double D = 0.01, t = 1.0, dt = 0.05;
+  moldtex::ThreadPool pool(2);
+  for (int s = 0; s < int(std::lround(t / dt)); ++s)
+    moldtex::advance_diffusion_decay(dom.d->laplacian, u.data(), scratch, D, 0.0, dt, MOLDTEX_INTEGRATOR_FORWARD, pool);
+  const Moments mo = moments(dom, u, [&](const Vec3& x) { return norm(sub(x, c)); });
+  std::printf("vertices %u, amount %.9f, variance %.5f (heat kernel %.5f)\n", dom.d->vertex_count(), mo.amount,
+              mo.variance, 4 * D * t);
+  EXPECT_NEAR(mo.amount, 1.0, 1e-6);
+  EXPECT_NEAR(mo.variance / (4 * D * t), 1.0, 0.05);
+}
+
+// On the unit sphere the geodesic spread of a point source for a short time (4 r_dif t =
+// 0.01, a spread of 0.1 radii: curvature changes E d^2 by ~ r_dif t / 3 relative, 0.1%) is
+// the plane's 4 r_dif t within 5%; backward Euler conserves the total within 1e-6 (the
+// conjugate gradients' tolerance, relative).
+TEST(IntrinsicDomain, PointSourceOnASphereSpreadsLikeTheHeatKernel) {
+  const Mesh m = make_uv_sphere(48, 24, 1.0);
+  Domain dom(m, 256, 0.02);
+  const Vec3 x0 = normalized(Vec3{0.3, 0.5, 0.2});
+  const uint32_t v0 = dom.nearest(x0);
+  const Vec3 c = normalized(dom.position(v0));
+  for (uint32_t integrator : {MOLDTEX_INTEGRATOR_FORWARD, MOLDTEX_INTEGRATOR_BACKWARD}) {
+    std::vector<float> u(dom.d->vertex_count(), 0.f), scratch;
+    u[v0] = float(1.0 / dom.d->laplacian.area[v0]);
+    const double D = 0.005, t = 0.5, dt = 0.05;
+    moldtex::ThreadPool pool(2);
+    for (int s = 0; s < int(std::lround(t / dt)); ++s)
+      moldtex::advance_diffusion_decay(dom.d->laplacian, u.data(), scratch, D, 0.0, dt, integrator, pool);
+    const Moments mo = moments(dom, u, [&](const Vec3& x) {
+      return std::acos(std::clamp(dot(normalized(x), c), -1.0, 1.0));
+    });
+    std::printf("%s: vertices %u, amount %.9f, variance %.5f (heat kernel %.5f)\n",
+                integrator == MOLDTEX_INTEGRATOR_FORWARD ? "forward" : "backward", dom.d->vertex_count(), mo.amount,
+                mo.variance, 4 * D * t);
+    EXPECT_NEAR(mo.amount, 1.0, 1e-5);
+    EXPECT_NEAR(mo.variance / (4 * D * t), 1.0, 0.05);
+  }
+}
+
+// Agents convert to the intrinsic faces and back to where they were (the walker's point
+// within 1e-4 of the object's size, its heading within 1e-3 radians): the host spawns,
+// brushes and reports agents on the input mesh.
+TEST(IntrinsicDomain, AgentsConvertBothWays) {
+  const Mesh m = make_torus(32, 16, 1.0, 0.4);
+  Domain dom(m, 128, 0);
+  uint64_t rng = 12345;
+  auto uniform = [&] {
+    rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+    return double(rng >> 11) * (1.0 / 9007199254740992.0);
+  };
+  double worst_point = 0, worst_angle = 0;
+  for (int i = 0; i < 2000; ++i) {
+    moldtex::Walker w{};
+    w.triangle = uint32_t(uniform() * m.triangle_count()) % m.triangle_count();
+    const double a = std::sqrt(uniform()), b = uniform();
+    w.bary[0] = float(1 - a);
+    w.bary[1] = float(a * (1 - b));
+    w.bary[2] = float(a * b);
+    const double angle = 2 * M_PI * uniform();
+    w.heading = {float(std::cos(angle)), float(std::sin(angle))};
+    const moldtex::Walker there = dom.d->to_intrinsic(w);
+    const moldtex::Walker back = dom.d->to_input(there);
+    const Vec3 p = add(add(scale(m.corner(w.triangle, 0), w.bary[0]), scale(m.corner(w.triangle, 1), w.bary[1])),
+                       scale(m.corner(w.triangle, 2), w.bary[2]));
+    const Vec3 q = add(add(scale(m.corner(back.triangle, 0), back.bary[0]), scale(m.corner(back.triangle, 1), back.bary[1])),
+                       scale(m.corner(back.triangle, 2), back.bary[2]));
+    worst_point = std::max(worst_point, norm(sub(p, q)));
+    if (back.triangle == w.triangle)
+      worst_angle = std::max(worst_angle, std::fabs(std::remainder(
+                                              std::atan2(back.heading.y, back.heading.x) - angle, 2 * M_PI)));
+  }
+  std::printf("round trip: worst point %.3g, worst heading %.3g rad\n", worst_point, worst_angle);
+  EXPECT_LT(worst_point, 1e-4 * 2.8);
+  EXPECT_LT(worst_angle, 1e-3);
+}
+
+// ---- the simulation on the intrinsic domain, through the C API --------------------
+
+moldtex_continuous_params Look() {
+  moldtex_continuous_params p;
+  moldtex_continuous_params_init(&p);
+  p.mean_lifetime = 0.5f;
+  p.activation_time = 0.2f;
+  return p;
+}
+
+struct RunSpec {
+  const Mesh* mesh = nullptr;
+  uint32_t size = 128, agents = 20000, threads = 0, domain = MOLDTEX_DOMAIN_INTRINSIC;
+  uint64_t seed = 1;
+  double seconds = 2.0;
+  uint32_t snapshots = 0;  // extra ones, 0.5 s apart, ending at `seconds`
+  moldtex_continuous_params p = Look();
+};
+
+struct Result {
+  std::vector<std::vector<double>> shown;  // u / U per snapshot (channel R)
+  moldtex_sim_stats stats{};
+  moldtex_domain_info info{};
+  std::string backend;
+};
+
+Result Simulate(const RunSpec& r) {
+  Result out;
+  auto s = create_surface(*r.mesh);
+  EXPECT_TRUE(s) << LastError();
+  if (!s) return out;
+  moldtex_sim_config c = make_config(r.size, r.size, r.agents, r.seed);
+  c.model = MOLDTEX_MODEL_CONTINUOUS;
+  c.domain = r.domain;
+  moldtex_sim_params mp = default_params();
+  mp.thread_count = r.threads;
+  auto sim = create_sim(s.get(), c, mp);
+  EXPECT_TRUE(sim) << LastError();
+  if (!sim) return out;
+  EXPECT_EQ(moldtex_sim_set_continuous_params(sim.get(), &r.p), MOLDTEX_OK) << LastError();
+  moldtex_domain_info_init(&out.info);
+  EXPECT_EQ(moldtex_sim_get_domain_info(sim.get(), &out.info), MOLDTEX_OK) << LastError();
+  char name[256] = {0};
+  moldtex_sim_get_backend_name(sim.get(), name, sizeof name);
+  out.backend = name;
+  for (int k = int(r.snapshots); k >= 0; --k) {
+    const double t = r.seconds - 0.5 * k;
+    const uint32_t steps = uint32_t(std::lround(t / r.p.time_step)) - uint32_t(get_stats(sim.get()).step_count);
+    EXPECT_EQ(moldtex_sim_step(sim.get(), steps), MOLDTEX_OK) << LastError();
+    const std::vector<float> rgba = read_rgba(sim.get(), r.size, r.size);
+    std::vector<double> f(size_t(r.size) * r.size);
+    for (size_t i = 0; i < f.size(); ++i) f[i] = rgba[4 * i];
+    out.shown.push_back(std::move(f));
+  }
+  out.stats = get_stats(sim.get());
+  return out;
+}
+
+const Mesh& Torus() {
+  static const Mesh m = make_torus(64, 32, 1.0, 0.4);
+  return m;
+}
+
+// The continuous model runs on the intrinsic domain: the domain reports its size (about
+// as many vertices as island texels: Chew's bound gives 0.4-1.6 vertices per bound^2 of
+// area), the backend says where it runs, and the mean concentration settles at U
+// (Eq. 5; the same 3% as the texture domain's MeanConcentrationSettlesAtU: binomial
+// noise of the live agents, 5 samples).
+TEST(IntrinsicSimulation, RunsTheContinuousModelAndSettlesAtU) {
+  RunSpec r;
+  r.mesh = &Torus();
+  r.p.mean_lifetime = 0.f;
+  r.p.activation_time = 0.f;
+  const Result o = Simulate(r);
+  std::printf("%s: %u vertices, %u faces, bound %.4f, built in %.2f s (cache %u); mean %.4f U\n", o.backend.c_str(),
+              o.info.cell_count, o.info.face_count, o.info.bound, o.info.build_seconds, o.info.from_cache,
+              o.stats.mean_concentration / o.stats.u_metric);
+  EXPECT_EQ(o.info.domain, uint32_t(MOLDTEX_DOMAIN_INTRINSIC));
+  EXPECT_NE(o.backend.find("intrinsic"), std::string::npos) << o.backend;
+  const double island_texels = double(r.size) * r.size;  // the torus' UVs fill the texture
+  EXPECT_GT(o.info.cell_count, 0.4 * island_texels);
+  EXPECT_LT(o.info.cell_count, 1.6 * island_texels);
+  const double area = 4 * M_PI * M_PI * 0.4;
+  EXPECT_NEAR(o.stats.u_metric / (r.agents * r.p.deposit_rate / (r.p.decay_rate * area)), 1.0, 0.01);
+  EXPECT_NEAR(o.stats.mean_concentration / o.stats.u_metric, 1.0, 0.03);
+}
+
+TEST(IntrinsicSimulation, SameSeedSameTextureForAnyThreadCount) {
+  RunSpec r;
+  r.mesh = &Torus();
+  r.seconds = 0.5;
+  r.threads = 1;
+  const Result one = Simulate(r);
+  r.threads = 2;
+  const Result two = Simulate(r);
+  ASSERT_EQ(one.shown.back().size(), two.shown.back().size());
+  EXPECT_TRUE(std::equal(one.shown.back().begin(), one.shown.back().end(), two.shown.back().begin()));
+}
+
+// The square [0, 4]^2 in 64 x 64 cells, its UVs cut into 16 islands (one per unit
+// square, each in its own tile of a 4 x 4 grid, inset so gutter fits between them, every
+// other one turned half a turn): UV seams run across a flat surface where nothing else
+// changes, so any difference near them is the seams' doing.
+Mesh make_cut_plane() {
+  Mesh m = make_plane(64, 64, 0, 0, 4, 4, [](double x, double y) { return Vec2{x / 4, y / 4}; });
+  std::vector<float> uvs;
+  for (uint32_t t = 0; t < m.triangle_count(); ++t) {
+    const Vec3 c = scale(add(add(m.corner(t, 0), m.corner(t, 1)), m.corner(t, 2)), 1.0 / 3);
+    const int bx = std::min(3, int(c[0])), by = std::min(3, int(c[1]));
+    const bool turned = (bx + by) % 2 == 1;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 p = m.corner(t, k);
+      double lx = p[0] - bx, ly = p[1] - by;
+      if (turned) lx = 1 - lx, ly = 1 - ly;
+      uvs.push_back(float((bx + 0.04 + 0.92 * lx) / 4));
+      uvs.push_back(float((by + 0.04 + 0.92 * ly) / 4));
+    }
+  }
+  m.uvs = uvs;
+  m.triangle_uvs.clear();
+  return m;
+}
+
+// Fig. 12: pheromone in the texels within 2 texels of a UV seam against the texels
+// farther from every seam, both away from the plane's open boundary (0.5 units, where
+// the walls change the pattern): on the intrinsic domain the ratio is within [0.9, 1.1]
+// (the issue's bound; measured 0.96), over 2 seeds x 7 snapshots 0.5 s apart. The texture
+// domain's ratio is printed beside it (one seed): 1.88 on this layout, issue 9's to fix.
+TEST(IntrinsicSimulation, NoTraceOfTheUvSeams) {
+  const Mesh plane = make_cut_plane();
+  RunSpec r;
+  r.mesh = &plane;
+  r.size = 256;
+  r.seconds = 4.0;
+  r.snapshots = 6;
+  r.agents = 40000;
+  const TexelGeometry g = Texels(plane, r.size, r.size);
+  const uint32_t n = r.size;
+  auto away_from_walls = [&](size_t i) {
+    const Vec3& p = g.position[i];
+    return std::min({p[0], p[1], 4 - p[0], 4 - p[1]}) > 0.5;
+  };
+  auto near_seam = [&](uint32_t x, uint32_t y) {
+    for (int dy = -2; dy <= 2; ++dy)
+      for (int dx = -2; dx <= 2; ++dx) {
+        const int xx = int(x) + dx, yy = int(y) + dy;
+        if (xx < 0 || yy < 0 || xx >= int(n) || yy >= int(n) || !g.inside(size_t(yy) * n + xx)) return true;
+      }
+    return false;
+  };
+  for (uint32_t domain : {MOLDTEX_DOMAIN_TEXTURE, MOLDTEX_DOMAIN_INTRINSIC}) {
+    r.domain = domain;
+    double seam = 0, inner = 0, samples = 0;
+    for (uint64_t seed : {1, 2}) {
+      if (domain == MOLDTEX_DOMAIN_TEXTURE && seed > 1) break;  // for comparison only
+      r.seed = seed;
+      const Result o = Simulate(r);
+      for (const auto& f : o.shown) {
+        seam += Mean(g, f, [&](uint32_t x, uint32_t y) { return away_from_walls(size_t(y) * n + x) && near_seam(x, y); });
+        inner += Mean(g, f, [&](uint32_t x, uint32_t y) { return away_from_walls(size_t(y) * n + x) && !near_seam(x, y); });
+        samples += 1;
+      }
+    }
+    std::printf("%s domain: within 2 texels of a seam %.4f U, elsewhere %.4f U, ratio %.3f\n",
+                domain == MOLDTEX_DOMAIN_TEXTURE ? "texture" : "intrinsic", seam / samples, inner / samples, seam / inner);
+    if (domain == MOLDTEX_DOMAIN_INTRINSIC) {
+      EXPECT_GT(seam / inner, 0.9);
+      EXPECT_LT(seam / inner, 1.1);
+    }
+  }
+}
+
+// MoMaS works in texels; OpenCL does not run the intrinsic domain yet: both refused with
+// a message that says what to choose instead.
+TEST(IntrinsicSimulation, RefusesWhatItDoesNotRun) {
+  auto s = create_surface(Torus());
+  ASSERT_TRUE(s);
+  moldtex_sim_config c = make_config(64, 64, 100, 1);
+  c.domain = MOLDTEX_DOMAIN_INTRINSIC;
+  moldtex_status status;
+  EXPECT_FALSE(create_sim(s.get(), c, default_params(), &status));
+  EXPECT_NE(LastError().find("Texture domain"), std::string::npos) << LastError();
+  c.model = MOLDTEX_MODEL_CONTINUOUS;
+  c.intrinsic_bound = std::nanf("");
+  EXPECT_FALSE(create_sim(s.get(), c, default_params(), &status));
+  EXPECT_NE(LastError().find("bound"), std::string::npos) << LastError();
+  c.intrinsic_bound = 0;
+  c.domain = 7;
+  EXPECT_FALSE(create_sim(s.get(), c, default_params(), &status));
+  EXPECT_NE(LastError().find("Unknown domain"), std::string::npos) << LastError();
+}
+
+}  // namespace
+}  // namespace mtx
