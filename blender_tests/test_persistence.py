@@ -33,6 +33,8 @@ NON_DEFAULTS = {
     "pattern_scale_mode": "LENGTH", "pattern_length": 0.0375,
     # The behaviour model (its parameters: CONTINUOUS_NON_DEFAULTS).
     "model": "CONTINUOUS",
+    # Where it runs (issue 11): the intrinsic triangulation and its triangle size.
+    "domain": "INTRINSIC", "intrinsic_size": 0.0625,
     "ramp_stops": '{"stops": [[0.0, [0.1, 0.2, 0.3, 1.0]], [1.0, [0.9, 0.8, 0.7, 1.0]]], '
                   '"interpolation": "EASE"}',
     # The look last applied (the preset menu's label for this object).

@@ -4,7 +4,7 @@
 Any Blender (3.4+):
     blender -b scene.blend -P <add-on folder>/moldtex/cli.py -- --object Rock \\
         --out /farm/rock_bake --frames 1 250 --steps-per-frame 2 --format exr-half \\
-        --preset marble [--model continuous|gray-scott] [--resume]
+        --preset marble [--model continuous|gray-scott] [--domain intrinsic] [--resume]
 Blender 4.2+ with the add-on enabled in the preferences:
     blender --command moldtex bake --blend scene.blend --object Rock --out ... (same)
 Blender as a Python module (pip install bpy):
@@ -34,6 +34,7 @@ EXIT_USAGE = 2
 FORMATS = {"exr-half": "EXR_HALF", "exr-float": "EXR_FLOAT", "png8": "PNG8",
            "png16": "PNG16"}
 MODELS = {"momas": "MOMAS", "continuous": "CONTINUOUS", "gray-scott": "GRAY_SCOTT"}
+DOMAINS = {"texture": "TEXTURE", "intrinsic": "INTRINSIC"}
 ADDON_DIR = os.path.dirname(os.path.abspath(__file__))
 
 
@@ -79,6 +80,10 @@ def build_parser(prog):
                              "layton-intrinsic-slime.md) or gray-scott (reaction-"
                              "diffusion, no agents); applied after --preset "
                              "(default: the object's, or the preset's)")
+    parser.add_argument("--domain", choices=sorted(DOMAINS),
+                        help="where the pheromone lives: texture (the UV layout's "
+                             "texels) or intrinsic (a triangulation of the surface: no "
+                             "UV seams or stretch; continuous and gray-scott models)")
     parser.add_argument("--resume", action="store_true",
                         help="continue an interrupted bake from its checkpoint")
     parser.add_argument("--save-as", metavar="FILE",
@@ -174,6 +179,8 @@ def run(argv, prog="cli.py"):
         settings = obj.moldtex
         if args.model:
             settings.model = MODELS[args.model]
+        if args.domain:
+            settings.domain = DOMAINS[args.domain]
         if args.out:
             # "//..." stays relative to the .blend (and so does the image the material
             # plays: portable between machines); anything else is made absolute.

@@ -134,6 +134,9 @@ class SimConfig(ctypes.Structure):
         ("fields_rgba", ctypes.c_void_p),
         # appended for the continuous model (a moldtex_model)
         ("model", ctypes.c_uint32),
+        # appended for the intrinsic domain (a moldtex_domain; mesh units, 0 = auto)
+        ("domain", ctypes.c_uint32),
+        ("intrinsic_bound", ctypes.c_float),
     ]
 
 
@@ -181,6 +184,20 @@ class FoodSource(ctypes.Structure):
 
 
 MAX_FOOD_SOURCES = 64  # MOLDTEX_MAX_FOOD_SOURCES
+
+
+class DomainInfo(ctypes.Structure):
+    _fields_ = [
+        ("struct_size", ctypes.c_uint32),
+        ("domain", ctypes.c_uint32),
+        ("cell_count", ctypes.c_uint32),
+        ("face_count", ctypes.c_uint32),
+        ("bound", ctypes.c_double),
+        ("build_seconds", ctypes.c_double),
+        ("insertions", ctypes.c_uint64),
+        ("skipped_faces", ctypes.c_uint32),
+        ("from_cache", ctypes.c_uint32),
+    ]
 
 
 class SimStats(ctypes.Structure):
@@ -395,6 +412,10 @@ MODEL_MOMAS = 0       # momas-paper.md Algorithm 1 (SimParams)
 MODEL_CONTINUOUS = 1  # layton-intrinsic-slime.md §3.2 (ContinuousParams)
 MODEL_GRAY_SCOTT = 2  # Gray-Scott reaction-diffusion (ReactionParams); no agents
 
+# moldtex_domain values (moldtex.h): where concentrations live (a config field)
+DOMAIN_TEXTURE = 0    # the texels of the UV layout
+DOMAIN_INTRINSIC = 1  # vertices of an intrinsic Delaunay triangulation (continuous, Gray-Scott)
+
 # moldtex_integrator values (moldtex.h): how the continuous model's PDE is stepped
 INTEGRATOR_AUTO = 0      # forward Euler while 64 sub-steps suffice, else backward
 INTEGRATOR_FORWARD = 1   # forward Euler (Eq. 2), sub-stepped for stability
@@ -405,6 +426,7 @@ CONFIG_FIELDS = tuple(name for name, _ in SimConfig._fields_ if name != "struct_
 SPECIES_FIELDS = tuple(name for name, _ in SpeciesParams._fields_ if name != "struct_size")
 PARAM_FIELDS = tuple(name for name, _ in SimParams._fields_ if name != "struct_size")
 STATS_FIELDS = tuple(name for name, _ in SimStats._fields_ if name != "struct_size")
+DOMAIN_INFO_FIELDS = tuple(name for name, _ in DomainInfo._fields_ if name != "struct_size")
 CONTINUOUS_FIELDS = tuple(name for name, _ in ContinuousParams._fields_
                           if name != "struct_size")
 REACTION_FIELDS = tuple(name for name, _ in ReactionParams._fields_ if name != "struct_size")
@@ -472,6 +494,8 @@ _SIGNATURES = {
     "moldtex_sim_read_agents": (_status, [_Sim, _P(SurfacePoint), ctypes.c_uint32]),
     "moldtex_sim_stats_init": (None, [_P(SimStats)]),
     "moldtex_sim_get_stats": (_status, [_Sim, _P(SimStats)]),
+    "moldtex_domain_info_init": (None, [_P(DomainInfo)]),
+    "moldtex_sim_get_domain_info": (_status, [_Sim, _P(DomainInfo)]),
     "moldtex_sim_get_backend_name": (_status, [_Sim, _P(ctypes.c_char), ctypes.c_size_t]),
     "moldtex_sim_write_image": (_status, [_Sim, ctypes.c_char_p, ctypes.c_uint32]),
     "moldtex_sim_save_checkpoint": (_status, [_Sim, ctypes.c_char_p]),
@@ -1466,6 +1490,16 @@ class Simulation:
         _lib.moldtex_sim_stats_init(ctypes.byref(s))
         _check(_lib.moldtex_sim_get_stats(self.handle, ctypes.byref(s)), "Reading statistics")
         return _struct_to_dict(s, STATS_FIELDS)
+
+    def domain_info(self):
+        """The domain (DOMAIN_*) and its size: cell_count (island texels or intrinsic
+        vertices), face_count, bound (mesh units), build_seconds, insertions,
+        skipped_faces, from_cache (1: a recent build of the same mesh was reused)."""
+        info = DomainInfo()
+        _lib.moldtex_domain_info_init(ctypes.byref(info))
+        _check(_lib.moldtex_sim_get_domain_info(self.handle, ctypes.byref(info)),
+               "Reading the domain")
+        return _struct_to_dict(info, DOMAIN_INFO_FIELDS)
 
     def write_image(self, path, image_format=IMAGE_EXR_HALF):
         """Writes the pheromone to `path` (IMAGE_* format; one channel "Y" per species,

@@ -65,6 +65,7 @@ class LiveSim:
         self.notice = ""          # last thing worth telling the user (panel)
         self.warning = ""         # same, but reported as a warning
         self.backend_name = ""    # moldtex_sim_get_backend_name of the running sim
+        self.domain_info = None   # Simulation.domain_info() of the running sim
         self.backend_note = ""    # why the sim does not run on the chosen backend
         self.create_config = None  # config given to the core (seed centre, radius)
         # Bake (bake.py): the core's bake worker owns self.sim while it runs.
@@ -258,10 +259,26 @@ def sim_model(entry):
     return entry.config.get("model", engine.MODEL_MOMAS)
 
 
+DOMAINS = {"TEXTURE": engine.DOMAIN_TEXTURE, "INTRINSIC": engine.DOMAIN_INTRINSIC}
+
+
+def domain_of(settings):
+    """engine.DOMAIN_* the settings ask for: Intrinsic only for the models that run on
+    it (MoMaS works in texels, so a MoMaS simulation keeps the texture whatever the
+    setting says)."""
+    from .properties import enum_value  # (properties imports this module)
+    if model_of(settings) == engine.MODEL_MOMAS:
+        return engine.DOMAIN_TEXTURE
+    return DOMAINS.get(enum_value(settings, "domain"), engine.DOMAIN_TEXTURE)
+
+
 def config_from_settings(settings):
     from .properties import enum_value  # (properties imports this module)
     size = int(enum_value(settings, "resolution"))
-    config = {"model": model_of(settings),
+    domain = domain_of(settings)
+    config = {"model": model_of(settings), "domain": domain,
+              "intrinsic_bound": (float(settings.intrinsic_size)
+                                  if domain == engine.DOMAIN_INTRINSIC else 0.0),
               "width": size, "height": size, "agent_count": int(settings.agent_count),
               "seed": int(settings.seed), "species_count": int(settings.species_count),
               "seed_shape": SEED_SHAPES[enum_value(settings, "seed_shape")],
@@ -772,6 +789,7 @@ def _build(entry, obj, mesh, depsgraph=None):
         ensure_species(settings)
     create_config = dict(config)
     create_config["seed_radius"] = length_in_mesh_units(obj, config["seed_radius"])
+    create_config["intrinsic_bound"] = length_in_mesh_units(obj, config["intrinsic_bound"])
     _check_seed_radius(obj, settings, create_config["seed_radius"], mesh)
     surface = engine.Surface(mesh.positions, mesh.triangles, mesh.uvs, mesh.triangle_uvs)
     try:
@@ -850,6 +868,7 @@ def _build(entry, obj, mesh, depsgraph=None):
     entry.dirty = False
     entry.stats = sim.get_stats()
     entry.backend_name = sim.backend_name()
+    entry.domain_info = sim.domain_info()
     entry.backend_note = device_note
     entry.warning = note
     entry.food_key, entry.food_names = holder.food_key, holder.food_names

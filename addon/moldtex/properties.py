@@ -647,11 +647,33 @@ class MoldtexReaction(bpy.types.PropertyGroup):
         update=_display_range_changed)
 
 
+DOMAIN_ITEMS = [
+    ('TEXTURE', "Texture", "The texels of the UV layout (every model)"),
+    ('INTRINSIC', "Intrinsic", "An intrinsic Delaunay triangulation of the surface "
+                               "(layton-intrinsic-slime.md §3.1): no UV seams or stretch; "
+                               "continuous and Gray-Scott models, on the CPU"),
+]
+
+
 class MoldtexSettings(bpy.types.PropertyGroup):
     model: EnumProperty(
         name="Model", items=MODEL_ITEMS, default='MOMAS',
         description="Model: how the agents and the pheromone behave." + _RESET_NOTE,
         update=_model_changed)
+    domain: EnumProperty(
+        name="Domain", items=DOMAIN_ITEMS, default='TEXTURE',
+        description="Domain: where the pheromone (or the chemicals) live. The texture's "
+                    "texels follow the UV layout; Intrinsic uses a triangulation of the "
+                    "surface itself (no UV seams, no UV stretch), still written into the "
+                    "same texture. Continuous and Gray-Scott models; CPU only." + _RESET_NOTE,
+        update=_config_changed)
+    intrinsic_size: FloatProperty(
+        name="Triangle Size", default=0.0, min=0.0, max=1e6, soft_max=1.0,
+        subtype='DISTANCE',
+        description="Triangle Size: the largest circumradius of an intrinsic triangle, a "
+                    "length in the scene. 0 = from the texture resolution (about one "
+                    "vertex per texel). Smaller: finer and slower." + _RESET_NOTE,
+        update=_config_changed)
     continuous: PointerProperty(type=MoldtexContinuous)
     reaction: PointerProperty(type=MoldtexReaction)
     # Parameter maps and stimuli of the continuous model (maps/settings.py; registered

@@ -188,6 +188,9 @@ class MOLDTEX_PT_main(bpy.types.Panel):
         # The model comes first: every setting below depends on it.
         row = layout.row(align=True)
         row.prop(settings, "model", expand=True)
+        if settings.model != 'MOMAS':  # (MoMaS works in texels)
+            row = layout.row(align=True)
+            row.prop(settings, "domain", expand=True)
         row = layout.row(align=True)
         # The look last applied to this object (not the last one picked anywhere).
         row.menu(presets.MENU_IDNAME, text=presets.menu_label(obj), icon='PRESET')
@@ -233,7 +236,7 @@ class MOLDTEX_PT_main(bpy.types.Panel):
         row.operator("moldtex.reset", icon='FILE_REFRESH')
 
         if live.needs_reset(obj):
-            _wrapped(layout, "Model, resolution, agents, seed, backend, UV map, species "
+            _wrapped(layout, "Model, domain, resolution, agents, seed, backend, UV map, species "
                              "or start changed: press Reset (or Start) to apply.",
                      icon='INFO')
         if entry is not None and entry.notice:
@@ -294,9 +297,26 @@ class MOLDTEX_PT_main(bpy.types.Panel):
             grid.label(text=f"{stats['bytes_in_use'] / 2**20:.1f} MiB")
             # e.g. "OpenCL: <device> (<platform>)", or for Auto "CPU (2 threads);
             # OpenCL not used: <why>".
+            text = _domain_text(entry.domain_info)
+            if text:
+                _wrapped(box, text, icon='MESH_DATA')
             _wrapped(box, f"Backend: {entry.backend_name}", icon='SETTINGS')
             if entry.backend_note:
                 _wrapped(box, entry.backend_note, icon='ERROR')
+
+
+def _domain_text(info):
+    """The intrinsic triangulation's size and build, e.g. "Intrinsic: 61,204 vertices,
+    121,980 triangles (1.3 s)", or "" on the texture domain."""
+    if not info or info.get("domain") != engine.DOMAIN_INTRINSIC:
+        return ""
+    built = ("reused" if info.get("from_cache")
+             else f"built in {info.get('build_seconds', 0.0):.1f} s")
+    text = (f"Intrinsic: {info.get('cell_count', 0):,} vertices, "
+            f"{info.get('face_count', 0):,} triangles ({built})")
+    if info.get("skipped_faces"):
+        text += f"; {info['skipped_faces']:,} left above the size at sharp corners"
+    return text
 
 
 class _SubPanel:
@@ -603,6 +623,8 @@ class MOLDTEX_PT_setup(_SubPanel, bpy.types.Panel):
         column = _split(layout)
         column.label(text="Applied on Reset", icon='FILE_REFRESH')
         _prop(column, settings, "seed")
+        if settings.model != 'MOMAS' and settings.domain == 'INTRINSIC':
+            _prop(column, settings, "intrinsic_size")
         _prop(column, settings, "backend")
         note = live.backend_note(settings)
         if note:  # e.g. a file saved on a machine with another GPU

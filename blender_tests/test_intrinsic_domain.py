@@ -1,0 +1,149 @@
+"""The Intrinsic domain (issue 11) from Blender: Suzanne with a Subdivision modifier
+(Blender's own UVs: many islands and seams), the continuous model on an intrinsic
+Delaunay triangulation of the surface, live and baked. The texture it writes shows no
+seam lines: the pheromone within 2 texels of an island's border is, on average, what it
+is farther in. The panel shows the triangulation; the settings are saved (the
+persistence test covers the two properties)."""
+
+import math
+import os
+import shutil
+import tempfile
+import unittest
+
+import bpy
+
+import helpers as h
+from test_ui import draw_all, labels
+
+
+def intrinsic_suzanne(resolution="256", agents=60000, seed=h.SEED):
+    """Suzanne, Subdivision level 1, the continuous model with turnover (a network that
+    renews itself within a second, so snapshots 0.5 s apart are nearly independent) at
+    half the default pattern scale (many trails, so a mean over a band of texels is
+    steady), on the Intrinsic domain."""
+    obj = h.add_primitive("monkey")
+    modifier = obj.modifiers.new("Subdivision", 'SUBSURF')
+    modifier.levels = 1
+    h.configure(obj, resolution=resolution, agents=agents, seed=seed)
+    obj.moldtex.model = 'CONTINUOUS'
+    obj.moldtex.pattern_scale = 0.5
+    obj.moldtex.continuous.mean_lifetime = 0.5
+    obj.moldtex.continuous.activation_time = 0.2
+    obj.moldtex.domain = 'INTRINSIC'
+    return obj
+
+
+def near_border_masks(classes, width):
+    """Per island texel: True within 2 texels (Chebyshev) of a texel outside the islands."""
+    height = len(classes) // width
+    inside = [c == 1 for c in classes]
+    near = {}
+    for i, c in enumerate(inside):
+        if not c:
+            continue
+        x, y = i % width, i // width
+        near[i] = any(not (0 <= x + dx < width and 0 <= y + dy < height)
+                      or not inside[(y + dy) * width + x + dx]
+                      for dy in range(-2, 3) for dx in range(-2, 3))
+    return near
+
+
+class IntrinsicDomainTests(unittest.TestCase):
+    def setUp(self):
+        h.clear_scene()
+        self.folder = tempfile.mkdtemp(prefix="moldtex_intrinsic_")
+
+    def tearDown(self):
+        h.clear_scene()
+        shutil.rmtree(self.folder, ignore_errors=True)
+
+    def test_live_on_suzanne_has_no_seam_lines(self):
+        engine = h.engine()
+        obj = intrinsic_suzanne(seed=1)
+        entry = h.run(obj, 60)
+        self.assertEqual(entry.sim.get_config()["domain"], engine.DOMAIN_INTRINSIC)
+        self.assertIn("intrinsic", entry.backend_name)
+        info = entry.domain_info
+        classes = entry.sim.read_texel_classes()
+        island = sum(1 for c in classes if c == 1)
+        # About one vertex per island texel (Chew's bound: 0.4 - 1.6 per bound²).
+        self.assertGreater(info["cell_count"], 0.3 * island, info)
+        self.assertLess(info["cell_count"], 2.0 * island, info)
+        print(f"    Suzanne: {info['cell_count']:,} vertices for {island:,} island texels, "
+              f"built in {info['build_seconds']:.2f} s")
+        # The panel says so.
+        text = labels(draw_all(self, obj))
+        self.assertIn(f"Intrinsic: {info['cell_count']:,} vertices", text)
+        # No seam lines: texels within 2 of an island border hold what the others hold,
+        # within 10% (the issue's bound), over 2 seeds x 6 snapshots 0.5 s apart from
+        # 1 s on. One seed's ratio spreads about 4% (seeds 1-4: 0.94, 1.01, 0.96, 1.04);
+        # on Suzanne the seams also follow its rims and eye sockets, so part of that is
+        # geometry. The texture domain's ratio (seed 1) is printed beside it.
+        border, inner = self.seam_sums(obj)
+        obj.moldtex.seed = 2
+        h.run(obj, 60)
+        b2, i2 = self.seam_sums(obj)
+        ratio = (border + b2) / (inner + i2)
+        print(f"    intrinsic domain, seeds 1 and 2: ratio {ratio:.3f}")
+        self.assertGreater(ratio, 0.9)
+        self.assertLess(ratio, 1.1)
+        obj.moldtex.domain = 'TEXTURE'
+        obj.moldtex.seed = 1
+        h.run(obj, 60)
+        self.seam_sums(obj)
+
+    def seam_sums(self, obj):
+        """Sums over 6 snapshots of the mean u / U near island borders and elsewhere."""
+        entry = h.live().get(obj.name)
+        classes = entry.sim.read_texel_classes()
+        width = int(obj.moldtex.resolution)
+        near = near_border_masks(classes, width)
+        border = inner = 0.0
+        for _ in range(6):
+            self.assertEqual(bpy.ops.moldtex.step(steps=30), {'FINISHED'})
+            pixels = h.image_pixels(obj)
+            values = {i: pixels[4 * i] for i in near}
+            self.assertTrue(all(math.isfinite(v) and v >= 0.0 for v in values.values()))
+            b = [v for i, v in values.items() if near[i]]
+            n = [v for i, v in values.items() if not near[i]]
+            border += sum(b) / len(b)
+            inner += sum(n) / len(n)
+        self.assertGreater(max(values.values()), 1.5, "trails stand above U")
+        print(f"    {obj.moldtex.domain.lower()} domain, seed {obj.moldtex.seed}: near seams "
+              f"{border / 6:.3f} U, elsewhere {inner / 6:.3f} U, ratio {border / inner:.3f}")
+        return border, inner
+
+    def test_bake_writes_what_a_fresh_simulation_holds(self):
+        obj = intrinsic_suzanne(resolution="128", agents=8000)
+        h.bake_settings(obj, self.folder, 1, 2, 20, "EXR_HALF")
+        self.assertEqual(bpy.ops.moldtex.bake(), {'FINISHED'})
+        sim = h.fresh_sim(obj)
+        try:
+            self.assertEqual(sim.domain_info()["domain"], h.engine().DOMAIN_INTRINSIC)
+            for frame in (1, 2):
+                sim.step(20)
+                expected = sim.read_rgba()[0::4]
+                path = os.path.join(self.folder, f"{obj.name}_{frame:04d}.exr")
+                pixels, size = h.load_pixels(path)
+                self.assertEqual(size, (128, 128))
+                values = pixels[0::4]
+                worst = max(abs(a - b) / max(1.0, b) for a, b in zip(values, expected))
+                self.assertLessEqual(worst, 1.0 / 2048, f"frame {frame}")
+        finally:
+            sim.release()
+
+    def test_momas_keeps_the_texture_gray_scott_runs_intrinsic(self):
+        engine = h.engine()
+        obj = intrinsic_suzanne(resolution="128", agents=500)
+        obj.moldtex.model = 'MOMAS'  # works in texels: the setting does not apply
+        entry = h.run(obj, 1)
+        self.assertEqual(entry.sim.get_config()["domain"], engine.DOMAIN_TEXTURE)
+        obj.moldtex.model = 'GRAY_SCOTT'  # runs on the intrinsic domain too
+        entry = h.run(obj, 2)
+        self.assertEqual(entry.sim.get_config()["domain"], engine.DOMAIN_INTRINSIC)
+        self.assertGreater(entry.stats["coverage"], 0.0)
+
+
+if __name__ == "__main__":
+    unittest.main()
