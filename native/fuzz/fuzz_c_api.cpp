@@ -221,12 +221,17 @@ void fuzz_mesh(Bytes& in) {
         c.seed_radius = in.f32();
         c.seed_rays = in.u16() % 1100;
         c.model = in.u8() % 4;  // 3 is not a model
+        // The domain from bits the inputs already hold (the corpus keeps its meaning):
+        // the seed's top bit; its next bit gives the bound the seed radius (any float).
+        c.domain = (c.seed & 0x80) ? MOLDTEX_DOMAIN_INTRINSIC : MOLDTEX_DOMAIN_TEXTURE;
+        c.intrinsic_bound = (c.seed & 0x40) ? c.seed_radius : 0.f;
         moldtex_sim_params p;
         moldtex_sim_params_init(&p);
         p.thread_count = 1;
         if (trace)
-          std::fprintf(stderr, "sim: %u x %u, %u agents, %u species, shape %u, radius %g, model %u\n", c.width,
-                       c.height, c.agent_count, c.species_count, c.seed_shape, c.seed_radius, c.model);
+          std::fprintf(stderr, "sim: %u x %u, %u agents, %u species, shape %u, radius %g, model %u, domain %u, bound %g\n",
+                       c.width, c.height, c.agent_count, c.species_count, c.seed_shape, c.seed_radius, c.model,
+                       c.domain, c.intrinsic_bound);
         if (check(moldtex_sim_create(surface, &c, &p, &sim)) == MOLDTEX_OK) {
           width = c.width;
           height = c.height;

@@ -604,6 +604,20 @@ typedef struct moldtex_domain_info {
 MOLDTEX_API void moldtex_domain_info_init(moldtex_domain_info* info);
 MOLDTEX_API moldtex_status moldtex_sim_get_domain_info(moldtex_sim sim, moldtex_domain_info* info);
 
+/* The intrinsic domain's vertices (tests and tools; MOLDTEX_ERROR_INVALID_ARGUMENT on the
+ * texture domain). vertex_count must be moldtex_domain_info.cell_count. xyz_area (NULL:
+ * skipped) receives 4 floats per vertex: its 3D position on the mesh and its lumped area
+ * (a third of its triangles' areas; 0 for a vertex no triangle uses); values (NULL:
+ * skipped) receives species_count planes of vertex_count concentrations as the
+ * simulation holds them (the image shows them divided by U under the continuous model;
+ * Gray-Scott's planes are V, then U). */
+MOLDTEX_API moldtex_status moldtex_sim_read_intrinsic_vertices(moldtex_sim sim, float* xyz_area, float* values,
+                                                             uint32_t vertex_count);
+/* The intrinsic triangles: 3 vertex indices each, counter-clockwise; face_count must be
+ * moldtex_domain_info.face_count. */
+MOLDTEX_API moldtex_status moldtex_sim_read_intrinsic_faces(moldtex_sim sim, uint32_t* corners,
+                                                          uint32_t face_count);
+
 /* ---- images, checkpoints and bakes ------------------------------------------------ */
 
 typedef enum moldtex_image_format {

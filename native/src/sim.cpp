@@ -959,7 +959,7 @@ moldtex_domain_info Simulation::domain_info() const {
     return info;
   }
   const IntrinsicDomain& d = *intrinsic_;
-  info.cell_count = static_cast<uint32_t>(d.laplacian.rows.size());
+  info.cell_count = d.vertex_count();
   info.face_count = d.face_count();
   info.bound = d.bound;
   info.build_seconds = d.build_seconds;
@@ -967,6 +967,42 @@ moldtex_domain_info Simulation::domain_info() const {
   info.skipped_faces = d.report.skipped_small_angle + d.report.skipped_other;
   info.from_cache = intrinsic_from_cache_ ? 1u : 0u;
   return info;
+}
+
+namespace {
+const IntrinsicDomain& require_intrinsic(const IntrinsicDomain* d) {
+  if (!d) fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "This simulation runs on the texture domain: it has no intrinsic vertices");
+  return *d;
+}
+void require_count(uint32_t given, uint32_t expected, const char* what) {
+  if (given != expected)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, std::string("The ") + what + " count must be " + std::to_string(expected) +
+                                             " (moldtex_domain_info), got " + std::to_string(given));
+}
+}  // namespace
+
+void Simulation::read_intrinsic_vertices(float* xyz_area, float* values, uint32_t count) const {
+  const IntrinsicDomain& d = require_intrinsic(intrinsic_.get());
+  require_count(count, d.vertex_count(), "vertex");
+  if (xyz_area)
+    for (uint32_t v = 0; v < count; ++v) {
+      const intrinsic::SurfacePoint& p = d.tri.corr.location[v];
+      const auto x = p.face == intrinsic::kInvalid ? std::array<double, 3>{0, 0, 0} : intrinsic::input_position(d.tri, p);
+      for (int k = 0; k < 3; ++k) xyz_area[4ull * v + k] = static_cast<float>(x[k]);
+      xyz_area[4ull * v + 3] = d.laplacian.area[v];
+    }
+  if (values) {
+    const std::vector<float>* cells = backend_->cell_values();
+    if (!cells || cells->size() != size_t(count) * settings_.species_count)
+      fail(MOLDTEX_ERROR_INTERNAL, "The backend holds no vertex values");
+    std::copy(cells->begin(), cells->end(), values);
+  }
+}
+
+void Simulation::read_intrinsic_faces(uint32_t* corners, uint32_t count) const {
+  const IntrinsicDomain& d = require_intrinsic(intrinsic_.get());
+  require_count(count, d.face_count(), "face");
+  std::copy(d.face_vertices.begin(), d.face_vertices.end(), corners);
 }
 
 }  // namespace moldtex

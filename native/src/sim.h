@@ -61,6 +61,9 @@ class Simulation {
   // reports.
   const IntrinsicDomain* intrinsic() const { return intrinsic_.get(); }
   moldtex_domain_info domain_info() const;
+  // See moldtex_sim_read_intrinsic_vertices / _faces (count checked there).
+  void read_intrinsic_vertices(float* xyz_area, float* values, uint32_t count) const;
+  void read_intrinsic_faces(uint32_t* corners, uint32_t count) const;
   const Surface& surface() const { return *surface_; }
   void reset();
   void step(uint32_t steps);

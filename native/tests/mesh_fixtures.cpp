@@ -282,6 +282,57 @@ Mesh make_nonmanifold_fan() {
   return m;
 }
 
+// A mesh from double positions (no UVs: the intrinsic code never reads them).
+Mesh mesh_from(const std::vector<Vec3>& points, const std::vector<uint32_t>& triangles) {
+  Mesh m;
+  for (const Vec3& p : points)
+    for (double x : p) m.positions.push_back(float(x));
+  m.triangles = triangles;
+  return m;
+}
+
+// Unit sphere from `rings` latitude bands and `n` segments, poles as fans; band r joins
+// ring vertex j to vertex j + shift of the next ring, so with shift > 0 the bands are made
+// of long twisted slivers (with obtuse angles). shift 0 is the ordinary UV sphere.
+Mesh make_twisted_sphere(int n, int rings, int shift) {
+  std::vector<Vec3> p;
+  p.push_back({0, 0, 1});
+  for (int r = 1; r < rings; ++r) {
+    const double th = M_PI * r / rings;
+    for (int j = 0; j < n; ++j) {
+      const double ph = 2 * M_PI * j / n;
+      p.push_back({std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)});
+    }
+  }
+  p.push_back({0, 0, -1});
+  const uint32_t south = uint32_t(p.size() - 1);
+  auto V = [&](int r, int j) { return uint32_t(1 + (r - 1) * n + ((j % n) + n) % n); };
+  std::vector<uint32_t> t;
+  for (int j = 0; j < n; ++j) t.insert(t.end(), {0u, V(1, j), V(1, j + 1)});
+  for (int r = 1; r + 1 < rings; ++r)
+    for (int j = 0; j < n; ++j) {
+      t.insert(t.end(), {V(r, j), V(r + 1, j + shift), V(r + 1, j + shift + 1)});
+      t.insert(t.end(), {V(r, j), V(r + 1, j + shift + 1), V(r, j + 1)});
+    }
+  for (int j = 0; j < n; ++j) t.insert(t.end(), {V(rings - 1, j + 1), V(rings - 1, j), south});
+  return mesh_from(p, t);
+}
+
+void give_atlas_uvs(Mesh& m) {
+  const uint32_t n = m.triangle_count();
+  const uint32_t g = uint32_t(std::ceil(std::sqrt(double(n))));
+  m.uvs.clear();
+  m.triangle_uvs.clear();
+  for (uint32_t t = 0; t < n; ++t) {
+    const double x = double(t % g) / g, y = double(t / g) / g, c = 1.0 / g;
+    const double corner[3][2] = {{0.1, 0.1}, {0.9, 0.1}, {0.1, 0.9}};
+    for (const auto& k : corner) {
+      m.uvs.push_back(float(x + k[0] * c));
+      m.uvs.push_back(float(y + k[1] * c));
+    }
+  }
+}
+
 // ---- geometry -----------------------------------------------------------------------------
 
 Vec3 barycentric(const Mesh& m, uint32_t t, const Vec3& p) {

@@ -86,6 +86,15 @@ Mesh make_torus(int nu, int nv, double R, double r);
 Mesh make_open_cylinder(int segments, int rings, double radius, double height);
 // Three triangles sharing the edge (v0, v1): refused as non-manifold.
 Mesh make_nonmanifold_fan();
+// A mesh from double positions, without UVs (the intrinsic code never reads them).
+Mesh mesh_from(const std::vector<Vec3>& points, const std::vector<uint32_t>& triangles);
+// Unit sphere from `rings` latitude bands and `n` segments, poles as fans; band r joins
+// ring vertex j to vertex j + shift of the next ring, so with shift > 0 the bands are made
+// of long twisted slivers (with obtuse angles). shift 0 is the ordinary UV sphere. No UVs.
+Mesh make_twisted_sphere(int n, int rings, int shift);
+// Per-corner UVs that give every triangle its own small island in a grid (a layout for
+// meshes that have none, where the UV layout does not matter).
+void give_atlas_uvs(Mesh& m);
 
 // ---- geometry against a mesh --------------------------------------------------------
 

@@ -32,15 +32,6 @@ std::vector<double> positions_of(const Mesh& m) { return std::vector<double>(m.p
 
 it::IntrinsicTriangulation build(const Mesh& m) { return it::build_intrinsic_triangulation(positions_of(m), m.triangles); }
 
-// A mesh from double positions (no UVs: the intrinsic code never reads them).
-Mesh mesh_from(const std::vector<Vec3>& points, const std::vector<uint32_t>& triangles) {
-  Mesh m;
-  for (const Vec3& p : points)
-    for (double x : p) m.positions.push_back(float(x));
-  m.triangles = triangles;
-  return m;
-}
-
 // Rectangle [0, W] x [0, H] with N + 1 vertices on the bottom and top sides, triangulated
 // as two fans: the bottom vertices all joined to the top-left corner, the top ones to the
 // bottom-right corner. Every triangle is a long sliver (angles down to ~atan(W/N / H)
@@ -69,33 +60,6 @@ Mesh make_twisted_band(int n, int shift, double H) {
     t.insert(t.end(), {B(j), B(j + 1), T(j + shift)});
     t.insert(t.end(), {B(j + 1), T(j + shift + 1), T(j + shift)});
   }
-  return mesh_from(p, t);
-}
-
-// Unit sphere from `rings` latitude bands and `n` segments, poles as fans; band r joins
-// ring vertex j to vertex j + shift of the next ring, so with shift > 0 the bands are made
-// of long twisted slivers (with obtuse angles). shift 0 is the ordinary UV sphere.
-Mesh make_twisted_sphere(int n, int rings, int shift) {
-  std::vector<Vec3> p;
-  p.push_back({0, 0, 1});
-  for (int r = 1; r < rings; ++r) {
-    const double th = M_PI * r / rings;
-    for (int j = 0; j < n; ++j) {
-      const double ph = 2 * M_PI * j / n;
-      p.push_back({std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)});
-    }
-  }
-  p.push_back({0, 0, -1});
-  const uint32_t south = uint32_t(p.size() - 1);
-  auto V = [&](int r, int j) { return uint32_t(1 + (r - 1) * n + ((j % n) + n) % n); };
-  std::vector<uint32_t> t;
-  for (int j = 0; j < n; ++j) t.insert(t.end(), {0u, V(1, j), V(1, j + 1)});
-  for (int r = 1; r + 1 < rings; ++r)
-    for (int j = 0; j < n; ++j) {
-      t.insert(t.end(), {V(r, j), V(r + 1, j + shift), V(r + 1, j + shift + 1)});
-      t.insert(t.end(), {V(r, j), V(r + 1, j + shift + 1), V(r, j + 1)});
-    }
-  for (int j = 0; j < n; ++j) t.insert(t.end(), {V(rings - 1, j + 1), V(rings - 1, j), south});
   return mesh_from(p, t);
 }
 

@@ -598,6 +598,18 @@ moldtex_status moldtex_sim_get_domain_info(moldtex_sim sim, moldtex_domain_info*
   });
 }
 
+moldtex_status moldtex_sim_read_intrinsic_vertices(moldtex_sim sim, float* xyz_area, float* values,
+                                                  uint32_t vertex_count) {
+  return guarded([&] { use(sim).read_intrinsic_vertices(xyz_area, values, vertex_count); });
+}
+
+moldtex_status moldtex_sim_read_intrinsic_faces(moldtex_sim sim, uint32_t* corners, uint32_t face_count) {
+  return guarded([&] {
+    require(corners != nullptr, "NULL argument");
+    use(sim).read_intrinsic_faces(corners, face_count);
+  });
+}
+
 moldtex_status moldtex_sim_write_image(moldtex_sim sim, const char* path, uint32_t format) {
   return guarded([&] {
     require_path(path);

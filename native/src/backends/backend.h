@@ -47,6 +47,9 @@ class Backend {
   // Only the agents (with species, hunger and batch tags); the pheromone stays. The
   // slime brushes edit agents this way: export, edit on the host, import.
   virtual void export_agents(Agents& agents) const = 0;
+  // The values per cell where the domain's cells are not texels (the intrinsic domain's
+  // vertices: species planes of vertex_count), or nullptr.
+  virtual const std::vector<float>* cell_values() const { return nullptr; }
   virtual void import_agents(const Agents& agents) = 0;
 };
 

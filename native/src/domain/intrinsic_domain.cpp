@@ -20,6 +20,7 @@ namespace {
 // Intrinsic vertices above this are refused before refining (each costs ~0.5 KiB with
 // the operator, the correspondence and the tables).
 constexpr double kMaxVertices = 16e6;
+constexpr double kMaxPerTexel = 16;
 
 double angle_of(Vec2d d) { return std::atan2(d.y, d.x); }
 
@@ -259,6 +260,20 @@ std::shared_ptr<const IntrinsicDomain> build_intrinsic_domain(const Surface& s, 
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
          "The circumradius bound of the intrinsic triangulation must be a positive length in mesh units");
   const double expected = 1.6 * s.area / (bound * bound);
+  // A triangulation much finer than the texture shows nothing more and costs a lot of
+  // time (the refinement inserts ~150 k vertices per second): at most kMaxPerTexel
+  // vertices per island texel.
+  size_t island = 0;
+  for (size_t i = 0; i < td.texel_count(); ++i) island += td.classes[i] == MOLDTEX_TEXEL_INSIDE;
+  const double texel_cap = kMaxPerTexel * std::max<double>(static_cast<double>(island), 256.0);
+  if (expected > texel_cap && expected <= kMaxVertices) {
+    std::ostringstream m;
+    m.precision(3);
+    m << "The intrinsic triangles of size " << bound << " (mesh units) would give about " << expected
+      << " vertices for " << island << " texels of texture (at most " << kMaxPerTexel
+      << " per texel): raise the Triangle Size or the resolution";
+    fail(MOLDTEX_ERROR_TOO_LARGE, m.str());
+  }
   if (expected > kMaxVertices) {
     std::ostringstream m;
     m.precision(3);

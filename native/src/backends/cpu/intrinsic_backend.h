@@ -37,8 +37,8 @@ class IntrinsicCpuBackend final : public Backend {
   void export_agents(Agents& agents) const override;
   void import_agents(const Agents& agents) override;
 
-  // The vertex values, one plane of vertex_count per species (tests).
-  const std::vector<float>& vertex_values() const { return values_; }
+  // The vertex values, one plane of vertex_count per species.
+  const std::vector<float>* cell_values() const override { return &values_; }
   const IntrinsicDomain& domain() const { return *domain_; }
 
  private:
