@@ -33,6 +33,10 @@
 //                                 counter points_per_s
 // Meshes: sphere (UV sphere 64 x 32), torus (48 x 24, R 1, r 0.35), cube (8 vertices,
 // 12 triangles: refinement from almost nothing, cone vertices of 270 degrees).
+//   IntrinsicDomainBuild/torus100k/<size>   the simulation's intrinsic domain of a
+//                                 100k-triangle torus at the bound of a size^2 texture
+//   SphereDomain/{texture,intrinsic}/1024x1024/{1M,PDE}   the continuous model on the
+//                                 UV sphere on each domain (CPU); PDE: 1 agent
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -78,7 +82,8 @@ bool FirstOpenClDevice(moldtex_opencl_device_info* info, std::string* why) {
 // mesh setup, kernel compilation, spawning nor warm-up is timed.
 Case* GetCase(const std::string& name, const mtx::Mesh& mesh, uint32_t w, uint32_t h,
               uint32_t agents, moldtex_backend backend, double texels_per_unit = 0,
-              bool continuous = false, uint32_t integrator = MOLDTEX_INTEGRATOR_AUTO) {
+              bool continuous = false, uint32_t integrator = MOLDTEX_INTEGRATOR_AUTO,
+              uint32_t domain = MOLDTEX_DOMAIN_TEXTURE) {
   static std::map<std::string, std::unique_ptr<Case>> cases;
   auto& c = cases[name];
   if (c) return c.get();
@@ -100,6 +105,7 @@ Case* GetCase(const std::string& name, const mtx::Mesh& mesh, uint32_t w, uint32
   moldtex_sim_config config = mtx::make_config(w, h, agents, 1);
   config.backend = backend;
   if (continuous) config.model = MOLDTEX_MODEL_CONTINUOUS;
+  config.domain = domain;
   if (backend == MOLDTEX_BACKEND_OPENCL) {
     moldtex_opencl_device_info device;
     if (!FirstOpenClDevice(&device, &c->error)) return c.get();
@@ -204,6 +210,43 @@ void BM_PlaneContinuous(benchmark::State& state, moldtex_backend backend, const 
 
 void BM_SphereContinuous(benchmark::State& state, moldtex_backend backend, const char* key) {
   RunSteps(state, GetCase(key, mtx::make_uv_sphere(64, 32, 1.0), 2048, 2048, 1000000, backend, 0.0, true));
+}
+
+// The intrinsic domain (issue 11) beside the texture domain, CPU: the continuous model on
+// the UV sphere at 1024^2 (the triangulation's bound from the texture: ~1 vertex per
+// texel), 1M agents; and with 1 agent, which leaves the PDE's cost per step (its
+// steps_per_s; agent_steps_per_s is then meaningless).
+void BM_SphereDomain(benchmark::State& state, uint32_t domain, uint32_t agents, const char* key) {
+  RunSteps(state, GetCase(key, mtx::make_uv_sphere(64, 32, 1.0), 1024, 1024, agents, MOLDTEX_BACKEND_CPU, 0.0, true,
+                          MOLDTEX_INTEGRATOR_AUTO, domain));
+  state.counters["steps_per_s"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
+}
+
+// Building the intrinsic domain of a 100k-triangle torus (256 x 196 segments) at the bound
+// that matches a 1024^2 or 2048^2 texture: moldtex_sim_create with the Intrinsic domain
+// (texture layout, triangulation, operators, texel map), once (later ones would come
+// from the cache). Counters: the domain's own build time and size.
+void BM_IntrinsicDomainBuild(benchmark::State& state) {
+  const uint32_t size = uint32_t(state.range(0));
+  static const mtx::Mesh torus = mtx::make_torus(256, 196, 1.0, 0.35);
+  moldtex_status st;
+  mtx::SurfacePtr surface = mtx::create_surface(torus, &st);
+  moldtex_domain_info info;
+  moldtex_domain_info_init(&info);
+  for (auto _ : state) {
+    moldtex_sim_config config = mtx::make_config(size, size, 1000, 1);
+    config.model = MOLDTEX_MODEL_CONTINUOUS;
+    config.domain = MOLDTEX_DOMAIN_INTRINSIC;
+    mtx::SimPtr sim = mtx::create_sim(surface.get(), config, mtx::default_params(), &st);
+    if (!sim) {
+      state.SkipWithError(moldtex_last_error());
+      break;
+    }
+    moldtex_sim_get_domain_info(sim.get(), &info);
+  }
+  state.counters["triangles"] = double(torus.triangle_count());
+  state.counters["vertices"] = double(info.cell_count);
+  state.counters["domain_build_s"] = info.build_seconds;
 }
 
 // The add-on's defaults (512^2, 60k agents) on the UV sphere, whose pole fans make the
@@ -396,5 +439,16 @@ BENCHMARK_CAPTURE(BM_SphereContinuousSmall, forward, MOLDTEX_INTEGRATOR_FORWARD,
     ->Name("SphereContinuousCpu/512x512/60k/forward")->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_SphereContinuousSmall, backward, MOLDTEX_INTEGRATOR_BACKWARD, "sphere-small-backward")
     ->Name("SphereContinuousCpu/512x512/60k/backward")->UseRealTime()->Unit(benchmark::kMillisecond);
+
+BENCHMARK_CAPTURE(BM_SphereDomain, texture, MOLDTEX_DOMAIN_TEXTURE, 1000000, "sphere-domain-texture")
+    ->Name("SphereDomain/texture/1024x1024/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_SphereDomain, intrinsic, MOLDTEX_DOMAIN_INTRINSIC, 1000000, "sphere-domain-intrinsic")
+    ->Name("SphereDomain/intrinsic/1024x1024/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_SphereDomain, texture_pde, MOLDTEX_DOMAIN_TEXTURE, 1, "sphere-domain-texture-pde")
+    ->Name("SphereDomain/texture/1024x1024/PDE")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_SphereDomain, intrinsic_pde, MOLDTEX_DOMAIN_INTRINSIC, 1, "sphere-domain-intrinsic-pde")
+    ->Name("SphereDomain/intrinsic/1024x1024/PDE")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_IntrinsicDomainBuild)->Name("IntrinsicDomainBuild/torus100k")->Arg(1024)->Arg(2048)
+    ->Iterations(1)->UseRealTime()->Unit(benchmark::kSecond);
 
 BENCHMARK_MAIN();

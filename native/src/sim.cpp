@@ -986,7 +986,7 @@ void Simulation::read_intrinsic_vertices(float* xyz_area, float* values, uint32_
   require_count(count, d.vertex_count(), "vertex");
   if (xyz_area)
     for (uint32_t v = 0; v < count; ++v) {
-      const intrinsic::SurfacePoint& p = d.tri.corr.location[v];
+      const intrinsic::SurfacePoint& p = d.vertex_location(v);
       const auto x = p.face == intrinsic::kInvalid ? std::array<double, 3>{0, 0, 0} : intrinsic::input_position(d.tri, p);
       for (int k = 0; k < 3; ++k) xyz_area[4ull * v + k] = static_cast<float>(x[k]);
       xyz_area[4ull * v + 3] = d.laplacian.area[v];

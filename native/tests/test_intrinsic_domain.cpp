@@ -32,7 +32,7 @@ struct Domain {
                                       0, pool);
   }
   Vec3 position(uint32_t v) const {
-    const auto p = it::input_position(d->tri, d->tri.corr.location[v]);
+    const auto p = it::input_position(d->tri, d->vertex_location(v));
     return {p[0], p[1], p[2]};
   }
   // The vertex nearest to x.

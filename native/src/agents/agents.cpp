@@ -114,11 +114,27 @@ Agents spawn_agents(const Surface& s, const SpawnSpec& spec, ThreadPool& pool) {
   return a;
 }
 
+namespace {
+
+// Stable counting sort of the agents by key (< buckets).
+void sort_by_key(Agents& a, const std::vector<uint32_t>& key, size_t buckets) {
+  const size_t n = a.size();
+  std::vector<uint32_t> start(buckets + 1, 0);
+  for (size_t i = 0; i < n; ++i) ++start[key[i] + 1];
+  for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
+  Agents sorted;
+  sorted.resize(n);
+  for (size_t i = 0; i < n; ++i) sorted.copy_from(start[key[i]]++, a, i);
+  a = std::move(sorted);
+}
+
+}  // namespace
+
 void sort_by_tile(const Surface& s, uint32_t width, uint32_t height, Agents& a) {
   constexpr uint32_t kTile = 32;
   const uint32_t tiles_x = (width + kTile - 1) / kTile, tiles_y = (height + kTile - 1) / kTile;
   const size_t n = a.size();
-  std::vector<uint32_t> key(n), start(static_cast<size_t>(tiles_x) * tiles_y + 1, 0);
+  std::vector<uint32_t> key(n);
   for (size_t i = 0; i < n; ++i) {
     Walker w = a.load(i);
     float uv[2];
@@ -132,16 +148,15 @@ void sort_by_tile(const Surface& s, uint32_t width, uint32_t height, Agents& a) 
       return std::min(static_cast<uint32_t>(f) / kTile, tiles - 1);
     };
     key[i] = tile(uv[1], height, tiles_y) * tiles_x + tile(uv[0], width, tiles_x);
-    ++start[key[i] + 1];
   }
-  for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
-  Agents sorted;
-  sorted.resize(n);
-  for (size_t i = 0; i < n; ++i) {
-    const uint32_t to = start[key[i]]++;
-    sorted.copy_from(to, a, i);
-  }
-  a = std::move(sorted);
+  sort_by_key(a, key, static_cast<size_t>(tiles_x) * tiles_y);
+}
+
+void sort_by_face(Agents& a, uint32_t face_count, uint32_t faces_per_group) {
+  const uint32_t groups = face_count / faces_per_group + 1;
+  std::vector<uint32_t> key(a.size());
+  for (size_t i = 0; i < a.size(); ++i) key[i] = std::min(a.triangle[i] / faces_per_group, groups - 1);
+  sort_by_key(a, key, groups);
 }
 
 }  // namespace moldtex

@@ -95,6 +95,58 @@ std::array<double, 3> uv_bary(const Surface& s, uint32_t t, double u, double v) 
   return clean_bary({1 - b1 - b2, b1, b2});
 }
 
+// Interleaves the low 21 bits of x, y, z (a 63-bit Morton code).
+uint64_t spread(uint64_t x) {
+  x &= 0x1fffff;
+  x = (x | x << 32) & 0x1f00000000ffffull;
+  x = (x | x << 16) & 0x1f0000ff0000ffull;
+  x = (x | x << 8) & 0x100f00f00f00f00full;
+  x = (x | x << 4) & 0x10c30c30c30c30c3ull;
+  x = (x | x << 2) & 0x1249249249249249ull;
+  return x;
+}
+
+// order[new] = old by ascending key (ties by old index), rank[old] = new.
+void order_by(const std::vector<uint64_t>& key, std::vector<uint32_t>& order, std::vector<uint32_t>& rank) {
+  order.resize(key.size());
+  for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return key[a] != key[b] ? key[a] < key[b] : a < b; });
+  rank.resize(key.size());
+  for (uint32_t i = 0; i < order.size(); ++i) rank[order[i]] = i;
+}
+
+void number_along_a_curve(IntrinsicDomain& d) {
+  const intrinsic::IntrinsicTriangulation& T = d.tri;
+  const uint32_t nv = T.mesh.vertex_count(), nf = T.mesh.face_count();
+  std::vector<std::array<double, 3>> x(nv, {0, 0, 0});
+  std::array<double, 3> lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (uint32_t v = 0; v < nv; ++v) {
+    if (T.corr.location[v].face == kInvalid) continue;
+    x[v] = intrinsic::input_position(T, T.corr.location[v]);
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], x[v][k]), hi[k] = std::max(hi[k], x[v][k]);
+  }
+  const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-30});
+  auto code = [&](const std::array<double, 3>& p) {
+    uint64_t c = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double t = std::clamp((p[k] - lo[k]) / extent, 0.0, 1.0);
+      c |= spread(static_cast<uint64_t>(t * 2097151.0)) << k;
+    }
+    return c;
+  };
+  std::vector<uint64_t> key(nv);
+  for (uint32_t v = 0; v < nv; ++v) key[v] = code(x[v]);
+  order_by(key, d.vertex_order, d.vertex_rank);
+  key.assign(nf, 0);
+  for (uint32_t f = 0; f < nf; ++f) {
+    std::array<double, 3> c{0, 0, 0};
+    for (uint32_t h : T.mesh.face_halfedges(f))
+      for (int k = 0; k < 3; ++k) c[k] += x[T.mesh.tail(h)][k] / 3;
+    key[f] = code(c);
+  }
+  order_by(key, d.face_order, d.face_rank);
+}
+
 void build_tables(IntrinsicDomain& d) {
   const intrinsic::IntrinsicMesh& m = d.tri.mesh;
   const uint32_t nf = m.face_count();
@@ -103,13 +155,14 @@ void build_tables(IntrinsicDomain& d) {
   d.face_vertices.resize(3ull * nf);
   d.cells_per_unit.resize(2ull * nf);
   d.face_area.resize(nf);
-  for (uint32_t f = 0; f < nf; ++f) {
-    const auto P = m.layout(f);
+  for (uint32_t f = 0; f < nf; ++f) {  // f: the new number
+    const uint32_t old = d.face_order[f];
+    const auto P = m.layout(old);
     d.frames[f] = make_frame(P[1].x, P[2].x, std::max(P[2].y, 1e-30));
-    const auto hs = m.face_halfedges(f);
+    const auto hs = m.face_halfedges(old);
     double perimeter = 0;
     for (int k = 0; k < 3; ++k) {
-      d.face_vertices[3ull * f + k] = m.tail(hs[k]);
+      d.face_vertices[3ull * f + k] = d.vertex_rank[m.tail(hs[k])];
       perimeter += m.len(hs[k]);
       // Walker edge i (opposite corner i) is halfedge i + 1 (corner i+1 -> i+2).
       const uint32_t h = hs[(k + 1) % 3], tw = intrinsic::IntrinsicMesh::twin(h);
@@ -118,13 +171,13 @@ void build_tables(IntrinsicDomain& d) {
       // tw is halfedge j of g, opposite corner j + 2: g's walker edge j + 2. The mesh is
       // consistently oriented, so the neighbour runs the edge the other way round.
       const int edge = (m.corner_index(tw) + 2) % 3;
-      d.adjacency[3ull * f + k] = (g << 3) | (static_cast<uint32_t>(edge) << 1);
+      d.adjacency[3ull * f + k] = (d.face_rank[g] << 3) | (static_cast<uint32_t>(edge) << 1);
     }
     // A deposit every half edge: the three hats of the pieces overlap enough to lay an
     // even line.
     const float per_unit = static_cast<float>(6.0 / std::max(perimeter, 1e-30));
     d.cells_per_unit[2ull * f] = d.cells_per_unit[2ull * f + 1] = per_unit;
-    d.face_area[f] = static_cast<float>(m.face_area(f));
+    d.face_area[f] = static_cast<float>(m.face_area(old));
   }
   std::vector<double> weights(d.face_area.begin(), d.face_area.end());
   d.alias = build_alias_table(weights);
@@ -136,7 +189,7 @@ void build_laplacian(IntrinsicDomain& d) {
   std::vector<double> mass(nv, 0.0);
   for (uint32_t f = 0; f < m.face_count(); ++f) {
     const double third = m.face_area(f) / 3.0;
-    for (uint32_t h : m.face_halfedges(f)) mass[m.tail(h)] += third;
+    for (uint32_t h : m.face_halfedges(f)) mass[d.vertex_rank[m.tail(h)]] += third;
   }
   // Edge conductances (cot alpha + cot beta) / 2, >= 0 on a Delaunay triangulation up
   // to round-off; a negative one (a flip the round-off kept) is clamped to 0 so the
@@ -145,7 +198,7 @@ void build_laplacian(IntrinsicDomain& d) {
   edges.reserve(m.edge_count());
   for (uint32_t e = 0; e < m.edge_count(); ++e) {
     const uint32_t h = 2 * e;
-    const uint32_t a = m.tail(h), b = m.head(h);
+    const uint32_t a = d.vertex_rank[m.tail(h)], b = d.vertex_rank[m.head(h)];
     if (a == b) continue;  // a loop edge exchanges nothing
     double c = 0;
     for (uint32_t s : {h, h ^ 1u})
@@ -231,7 +284,7 @@ void build_texel_map(IntrinsicDomain& d, const Surface& s, const TextureDomain& 
         at = next;
         at_q = q;
         have = true;
-        d.texel_face[i] = at.point.face;
+        d.texel_face[i] = d.face_rank[at.point.face];
         const auto c = clean_bary(at.point.bary);
         for (int j = 0; j < 3; ++j) d.texel_bary[3ull * i + j] = static_cast<float>(c[j]);
       }
@@ -242,8 +295,8 @@ void build_texel_map(IntrinsicDomain& d, const Surface& s, const TextureDomain& 
 void build_vertex_texels(IntrinsicDomain& d, const Surface& s, const TextureDomain& td) {
   const intrinsic::IntrinsicTriangulation& T = d.tri;
   d.vertex_texel.assign(T.mesh.vertex_count(), 0);
-  for (uint32_t v = 0; v < T.mesh.vertex_count(); ++v) {
-    const SurfacePoint& p = T.corr.location[v];
+  for (uint32_t v = 0; v < T.mesh.vertex_count(); ++v) {  // v: the new number
+    const SurfacePoint& p = d.vertex_location(v);
     if (p.face == kInvalid) continue;
     const uint32_t t = T.input_triangle[p.face];
     const float* c = s.corner_uvs.data() + 6ull * t;
@@ -295,6 +348,7 @@ std::shared_ptr<const IntrinsicDomain> build_intrinsic_domain(const Surface& s, 
                                       " Raise the bound (a coarser triangulation) or use the Texture domain.");
   d->input_face.assign(s.triangle_count(), kInvalid);
   for (uint32_t f = 0; f < d->tri.input_triangle.size(); ++f) d->input_face[d->tri.input_triangle[f]] = f;
+  number_along_a_curve(*d);
   build_tables(*d);
   build_laplacian(*d);
   build_texel_map(*d, s, td, pool);
@@ -345,11 +399,13 @@ Walker IntrinsicDomain::to_intrinsic(const Walker& w) const {
                                       [&](uint32_t v, double angle, double dist) {
                                         return intrinsic::trace_from_vertex(tri.mesh, v, angle, dist);
                                       });
-  return make_walker(at.point, rotate({w.heading.x, w.heading.y}, at.turn));
+  SurfacePoint p = at.point;
+  p.face = face_rank[p.face];
+  return make_walker(p, rotate({w.heading.x, w.heading.y}, at.turn));
 }
 
 Walker IntrinsicDomain::to_input(const Walker& w) const {
-  const Located at = locate_by_corner(tri.mesh, w.triangle, {w.bary[0], w.bary[1], w.bary[2]}, tri.mean_edge,
+  const Located at = locate_by_corner(tri.mesh, face_order[w.triangle], {w.bary[0], w.bary[1], w.bary[2]}, tri.mean_edge,
                                       [&](uint32_t v, double angle, double dist) {
                                         return intrinsic::trace_input_from_vertex(tri, v, angle, dist);
                                       });
@@ -364,7 +420,8 @@ size_t IntrinsicDomain::bytes() const {
                       m.vertex_count() * (4 + 8 + 1);
   return 2 * mesh + tri.corr.location.size() * 32 + frames.size() * sizeof(mtx_frame) +
          (adjacency.size() + face_vertices.size() + cells_per_unit.size() + face_area.size()) * 4 +
-         laplacian.bytes() + texel_face.size() * 16 + vertex_texel.size() * 4 + alias.prob.size() * 8;
+         laplacian.bytes() + texel_face.size() * 16 + vertex_texel.size() * 4 + alias.prob.size() * 8 +
+         (face_order.size() + vertex_order.size()) * 8;
 }
 
 double default_intrinsic_bound(const TextureDomain& d) {

@@ -44,6 +44,12 @@ struct IntrinsicDomain {
   double bound = 0;          // the circumradius bound it was refined to (mesh units)
   double build_seconds = 0;  // triangulation, operators and texel map
 
+  // The simulation numbers faces and vertices along a space-filling curve (Morton order
+  // of their 3D positions), so that agents sorted by face and the PDE's rows touch
+  // nearby memory; `tri` keeps the triangulation's own numbering. *_order[new] = old,
+  // *_rank[old] = new. Every table below uses the new numbers.
+  std::vector<uint32_t> face_order, face_rank, vertex_order, vertex_rank;
+
   // Walker tables over the intrinsic faces.
   std::vector<mtx_frame> frames;
   std::vector<uint32_t> adjacency;       // 3 per face, shared/walk.h's packing
@@ -67,6 +73,8 @@ struct IntrinsicDomain {
   std::vector<uint32_t> vertex_texel;
 
   uint32_t vertex_count() const { return tri.mesh.vertex_count(); }
+  // The point on the input mesh of vertex v (new numbering).
+  const intrinsic::SurfacePoint& vertex_location(uint32_t v) const { return tri.corr.location[vertex_order[v]]; }
   uint32_t face_count() const { return tri.mesh.face_count(); }
   mtx_surface_tables tables() const;
   // Island texels of `texels` (width * height) from the vertex values (vertex_count);

@@ -11,6 +11,9 @@ namespace moldtex {
 
 namespace {
 
+constexpr uint64_t kSortInterval = 16;
+constexpr uint32_t kFacesPerGroup = 16;
+
 uint64_t walker_key(const Walker& w) {
   uint32_t bits[6];
   bits[0] = w.triangle;
@@ -183,6 +186,9 @@ void IntrinsicCpuBackend::step(const StepSettings& settings, uint64_t seed, uint
 void IntrinsicCpuBackend::step_continuous(const StepSettings& settings, uint64_t seed, uint64_t step_index) {
   const IntrinsicDomain& d = *domain_;
   const ParameterMaps& maps = vertex_maps(*settings.maps);
+  // Agents drift apart in memory order as they move; regroup them now and then (the
+  // faces are numbered along a space-filling curve).
+  if (step_index % kSortInterval == 0) sort_by_face(agents_, d.face_count(), kFacesPerGroup);
   ContinuousStepConstants c = continuous_constants(settings, *texture_, settings.u_metric, d.face_count(),
                                                    agents_.size(), seed, step_index);
   c.width = d.vertex_count();  // planes of vertex values
