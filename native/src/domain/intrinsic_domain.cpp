@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "shared/intrinsic_locate.h"
 
 namespace moldtex {
 
@@ -21,47 +22,6 @@ namespace {
 // the operator, the correspondence and the tables).
 constexpr double kMaxVertices = 16e6;
 constexpr double kMaxPerTexel = 16;
-
-double angle_of(Vec2d d) { return std::atan2(d.y, d.x); }
-
-Vec2d rotate(Vec2d d, double a) {
-  const double c = std::cos(a), s = std::sin(a);
-  return {c * d.x - s * d.y, s * d.x + c * d.y};
-}
-
-Vec2d point_in(const std::array<Vec2d, 3>& P, const std::array<double, 3>& b) {
-  return b[0] * P[0] + b[1] * P[1] + b[2] * P[2];
-}
-
-// A point of one mesh found on the other, with the angle that turns a direction in the
-// first face's frame into one in the found face's frame.
-struct Located {
-  SurfacePoint point;
-  double turn = 0;
-};
-
-// The trace from the nearest corner of `from_face` (on `from`) to the point q of that
-// face, replayed on the other mesh by `trace` (vertex, tangent angle, distance). A point
-// within round-off of its corner is moved a hair toward the face's centre, so the
-// trace has a direction (and the turn is defined).
-template <class Trace>
-Located locate_by_corner(const intrinsic::IntrinsicMesh& from, uint32_t from_face, std::array<double, 3> bary,
-                         double scale, Trace trace) {
-  const auto P = from.layout(from_face);
-  Vec2d q = point_in(P, bary);
-  int k = 0;
-  for (int i = 1; i < 3; ++i)
-    if (intrinsic::norm(P[i] - q) < intrinsic::norm(P[k] - q)) k = i;
-  Vec2d d = q - P[k];
-  if (!(intrinsic::norm(d) > 1e-9 * scale)) {
-    const Vec2d centre = (1.0 / 3.0) * (P[0] + P[1] + P[2]);
-    d = 1e-6 * (centre - P[k]);
-    q = P[k] + d;
-  }
-  const uint32_t v = from.tail(from.face_halfedges(from_face)[k]);
-  const intrinsic::TraceResult r = trace(v, intrinsic::tangent_angle(from, from_face, k, d), intrinsic::norm(d));
-  return {r.point, angle_of(r.direction) - angle_of(d)};
-}
 
 std::array<double, 3> clean_bary(std::array<double, 3> b) {
   double s = 0;
@@ -147,40 +107,14 @@ void number_along_a_curve(IntrinsicDomain& d) {
   order_by(key, d.face_order, d.face_rank);
 }
 
-void build_tables(IntrinsicDomain& d) {
+void build_face_vertices(IntrinsicDomain& d) {
   const intrinsic::IntrinsicMesh& m = d.tri.mesh;
   const uint32_t nf = m.face_count();
-  d.frames.resize(nf);
-  d.adjacency.assign(3ull * nf, MTX_NO_NEIGHBOUR);
   d.face_vertices.resize(3ull * nf);
-  d.cells_per_unit.resize(2ull * nf);
-  d.face_area.resize(nf);
   for (uint32_t f = 0; f < nf; ++f) {  // f: the new number
-    const uint32_t old = d.face_order[f];
-    const auto P = m.layout(old);
-    d.frames[f] = make_frame(P[1].x, P[2].x, std::max(P[2].y, 1e-30));
-    const auto hs = m.face_halfedges(old);
-    double perimeter = 0;
-    for (int k = 0; k < 3; ++k) {
-      d.face_vertices[3ull * f + k] = d.vertex_rank[m.tail(hs[k])];
-      perimeter += m.len(hs[k]);
-      // Walker edge i (opposite corner i) is halfedge i + 1 (corner i+1 -> i+2).
-      const uint32_t h = hs[(k + 1) % 3], tw = intrinsic::IntrinsicMesh::twin(h);
-      const uint32_t g = m.he_face[tw];
-      if (g == kInvalid) continue;
-      // tw is halfedge j of g, opposite corner j + 2: g's walker edge j + 2. The mesh is
-      // consistently oriented, so the neighbour runs the edge the other way round.
-      const int edge = (m.corner_index(tw) + 2) % 3;
-      d.adjacency[3ull * f + k] = (d.face_rank[g] << 3) | (static_cast<uint32_t>(edge) << 1);
-    }
-    // A deposit every half edge: the three hats of the pieces overlap enough to lay an
-    // even line.
-    const float per_unit = static_cast<float>(6.0 / std::max(perimeter, 1e-30));
-    d.cells_per_unit[2ull * f] = d.cells_per_unit[2ull * f + 1] = per_unit;
-    d.face_area[f] = static_cast<float>(m.face_area(old));
+    const auto hs = m.face_halfedges(d.face_order[f]);
+    for (int k = 0; k < 3; ++k) d.face_vertices[3ull * f + k] = d.vertex_rank[m.tail(hs[k])];
   }
-  std::vector<double> weights(d.face_area.begin(), d.face_area.end());
-  d.alias = build_alias_table(weights);
 }
 
 void build_laplacian(IntrinsicDomain& d) {
@@ -227,67 +161,24 @@ void build_laplacian(IntrinsicDomain& d) {
   d.laplacian = laplacian_from_edges(std::move(rows), std::move(area), merged);
 }
 
-// Every island texel located on the intrinsic triangulation. Texels are grouped by their
-// triangle; the first of a triangle is located from a corner, each next one by a short
-// trace from the one before (the input triangle is flat, so the displacement between
-// them is a straight line there and on the intrinsic faces alike).
+// Every island texel located on the intrinsic triangulation, through the locator (the
+// point under the texel centre, on the triangle that covers it).
 void build_texel_map(IntrinsicDomain& d, const Surface& s, const TextureDomain& td, ThreadPool& pool) {
   const size_t texels = td.texel_count();
   d.texel_face.assign(texels, IntrinsicDomain::kNone);
   d.texel_bary.assign(3 * texels, 0.f);
-  const uint32_t nt = s.triangle_count();
-  std::vector<uint32_t> first(nt + 1, 0), order(texels);
-  for (size_t i = 0; i < texels; ++i)
-    if (td.classes[i] == MOLDTEX_TEXEL_INSIDE && td.texel_triangle[i] >= 0) ++first[td.texel_triangle[i] + 1];
-  for (uint32_t t = 0; t < nt; ++t) first[t + 1] += first[t];
-  std::vector<uint32_t> fill(first.begin(), first.end() - 1);
-  for (size_t i = 0; i < texels; ++i)
-    if (td.classes[i] == MOLDTEX_TEXEL_INSIDE && td.texel_triangle[i] >= 0)
-      order[fill[td.texel_triangle[i]]++] = static_cast<uint32_t>(i);
-  const intrinsic::IntrinsicTriangulation& T = d.tri;
-  const double scale = T.mean_edge;
-  auto locate = [&](uint32_t face, const std::array<double, 3>& b) {
-    return locate_by_corner(T.input, face, b, scale, [&](uint32_t v, double angle, double dist) {
-      return intrinsic::trace_from_vertex(T.mesh, v, angle, dist);
-    });
-  };
-  pool.parallel_for(nt, 64, [&](size_t begin, size_t end) {
-    for (size_t t = begin; t < end; ++t) {
-      if (first[t] == first[t + 1]) continue;
-      const uint32_t face = d.input_face[t];
-      if (face == kInvalid) continue;
-      const auto P = T.input.layout(face);
-      Located at;
-      Vec2d at_q{};
-      bool have = false;
-      for (uint32_t k = first[t]; k < first[t + 1]; ++k) {
-        const uint32_t i = order[k];
-        const double u = (i % td.width + 0.5) / td.width, v = (i / td.width + 0.5) / td.height;
-        const auto b = uv_bary(s, static_cast<uint32_t>(t), u, v);
-        const Vec2d q = point_in(P, b);
-        const Vec2d step = q - at_q;
-        const double dist = intrinsic::norm(step);
-        Located next;
-        bool ok = false;
-        if (have && dist < 1e-12 * scale) {
-          next = at;
-          ok = true;
-        } else if (have) {
-          const intrinsic::TraceResult r =
-              intrinsic::trace_from_point(T.mesh, at.point, rotate(step, at.turn), dist);
-          if (r.complete && r.boundary_he == kInvalid) {
-            next = {r.point, angle_of(r.direction) - angle_of(step)};
-            ok = true;
-          }
-        }
-        if (!ok) next = locate(face, b);  // the first texel, or a trace that met the boundary
-        at = next;
-        at_q = q;
-        have = true;
-        d.texel_face[i] = d.face_rank[at.point.face];
-        const auto c = clean_bary(at.point.bary);
-        for (int j = 0; j < 3; ++j) d.texel_bary[3ull * i + j] = static_cast<float>(c[j]);
-      }
+  const mtx_surface_tables tables = d.tables(mtx_surface_tables{});
+  pool.parallel_for(texels, 4096, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      if (td.classes[i] != MOLDTEX_TEXEL_INSIDE || td.texel_triangle[i] < 0) continue;
+      const uint32_t t = static_cast<uint32_t>(td.texel_triangle[i]);
+      if (d.input_face[t] == kInvalid) continue;
+      const double u = (i % td.width + 0.5) / td.width, v = (i / td.width + 0.5) / td.height;
+      const auto b = uv_bary(s, t, u, v);
+      const float bf[3] = {float(b[0]), float(b[1]), float(b[2])};
+      d.texel_face[i] = mtx_locate_intrinsic(tables.locator_grid, tables.locator_cells, tables.locator_face,
+                                             tables.locator_map, tables.locator_next, tables.locator_across, t, bf,
+                                             &d.texel_bary[3 * i]);
     }
   });
 }
@@ -349,8 +240,13 @@ std::shared_ptr<const IntrinsicDomain> build_intrinsic_domain(const Surface& s, 
   d->input_face.assign(s.triangle_count(), kInvalid);
   for (uint32_t f = 0; f < d->tri.input_triangle.size(); ++f) d->input_face[d->tri.input_triangle[f]] = f;
   number_along_a_curve(*d);
-  build_tables(*d);
+  build_face_vertices(*d);
   build_laplacian(*d);
+  const double face_area = d->tri.mesh.total_area() / std::max<uint32_t>(d->tri.mesh.face_count(), 1);
+  d->locator = build_intrinsic_locator(s, d->tri, d->input_face, d->face_rank, d->face_order, face_area, pool);
+  // Deposit pieces of half the bound along the walk (per surface triangle, where the
+  // continuous step looks them up): the three hats of each piece overlap the next's.
+  d->cells_per_unit.assign(2ull * s.triangle_count(), static_cast<float>(2.0 / bound));
   build_texel_map(*d, s, td, pool);
   build_vertex_texels(*d, s, td);
   d->build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -359,12 +255,15 @@ std::shared_ptr<const IntrinsicDomain> build_intrinsic_domain(const Surface& s, 
 
 }  // namespace
 
-mtx_surface_tables IntrinsicDomain::tables() const {
-  mtx_surface_tables t{};
-  t.frames = frames.data();
-  t.adjacency = adjacency.data();
+mtx_surface_tables IntrinsicDomain::tables(mtx_surface_tables t) const {
   t.texels_per_unit = cells_per_unit.data();
   t.face_vertices = face_vertices.data();
+  t.locator_grid = locator.grid.data();
+  t.locator_cells = locator.cells.data();
+  t.locator_face = locator.face.data();
+  t.locator_map = locator.map.data();
+  t.locator_next = locator.next.data();
+  t.locator_across = locator.across.data();
   t.vertex_cells = 1u;
   return t;
 }
@@ -389,38 +288,33 @@ std::vector<float> IntrinsicDomain::sample_texels(const float* texels) const {
 
 Walker IntrinsicDomain::to_intrinsic(const Walker& w) const {
   const uint32_t face = w.triangle < input_face.size() ? input_face[w.triangle] : kInvalid;
-  if (face == kInvalid) {  // a dropped triangle (no area, never spawned on): face 0
+  if (face == kInvalid) {  // a dropped triangle (no area, never walked on): face 0
     SurfacePoint p;
     p.face = 0;
     p.bary = {1.0 / 3, 1.0 / 3, 1.0 / 3};
     return make_walker(p, {1, 0});
   }
-  const Located at = locate_by_corner(tri.input, face, {w.bary[0], w.bary[1], w.bary[2]}, tri.mean_edge,
-                                      [&](uint32_t v, double angle, double dist) {
-                                        return intrinsic::trace_from_vertex(tri.mesh, v, angle, dist);
-                                      });
+  const LocatedPoint at = locate_from_corner(tri, face, {w.bary[0], w.bary[1], w.bary[2]});
   SurfacePoint p = at.point;
   p.face = face_rank[p.face];
-  return make_walker(p, rotate({w.heading.x, w.heading.y}, at.turn));
+  const double c = std::cos(at.turn), s = std::sin(at.turn);
+  return make_walker(p, {c * w.heading.x - s * w.heading.y, s * w.heading.x + c * w.heading.y});
 }
 
 Walker IntrinsicDomain::to_input(const Walker& w) const {
-  const Located at = locate_by_corner(tri.mesh, face_order[w.triangle], {w.bary[0], w.bary[1], w.bary[2]}, tri.mean_edge,
-                                      [&](uint32_t v, double angle, double dist) {
-                                        return intrinsic::trace_input_from_vertex(tri, v, angle, dist);
-                                      });
+  const LocatedPoint at = locate_on_input(tri, face_order[w.triangle], {w.bary[0], w.bary[1], w.bary[2]});
   SurfacePoint p = at.point;
   p.face = tri.input_triangle[p.face];
-  return make_walker(p, rotate({w.heading.x, w.heading.y}, at.turn));
+  const double c = std::cos(at.turn), s = std::sin(at.turn);
+  return make_walker(p, {c * w.heading.x - s * w.heading.y, s * w.heading.x + c * w.heading.y});
 }
 
 size_t IntrinsicDomain::bytes() const {
   const intrinsic::IntrinsicMesh& m = tri.mesh;
   const size_t mesh = m.halfedge_count() * (4 * 3 + 8) + m.edge_count() * 8 + m.face_count() * 4 +
                       m.vertex_count() * (4 + 8 + 1);
-  return 2 * mesh + tri.corr.location.size() * 32 + frames.size() * sizeof(mtx_frame) +
-         (adjacency.size() + face_vertices.size() + cells_per_unit.size() + face_area.size()) * 4 +
-         laplacian.bytes() + texel_face.size() * 16 + vertex_texel.size() * 4 + alias.prob.size() * 8 +
+  return 2 * mesh + tri.corr.location.size() * 32 + (face_vertices.size() + cells_per_unit.size()) * 4 +
+         locator.bytes() + laplacian.bytes() + texel_face.size() * 16 + vertex_texel.size() * 4 +
          (face_order.size() + vertex_order.size()) * 8;
 }
 

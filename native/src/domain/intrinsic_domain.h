@@ -4,24 +4,18 @@
 // no seams, no UV distortion, no dependence on how the artist's mesh is triangulated.
 //
 // What the simulation needs from it, all built once per mesh and bound:
-//  * walker tables over the intrinsic faces (frames from the edge lengths, adjacency by
-//    halfedge twins), so agents walk the intrinsic faces with the same straightest-path
-//    walk as on the input mesh (shared/walk.h), and read and deposit through the face's
-//    three vertex hats (shared/texel_sampling.h, vertex_cells);
+//  * a locator (domain/intrinsic_locator.h): agents walk the input mesh as on the
+//    texture domain and read and deposit through the three vertex hats of the intrinsic
+//    face under their point (shared/texel_sampling.h, vertex_cells);
 //  * the diffusion operator: the cotangent Laplacian with barycentric lumped mass, as a
 //    cell graph (domain/texel_laplacian.h) whose cells are the vertices, so both
 //    integrators, maps and Gray-Scott run on it unchanged;
 //  * the way into the texture: each island texel located once on the intrinsic
 //    triangulation (face + barycentrics), so a frame is a gather; the gutter is filled as
 //    on the texture domain;
-//  * conversions of agents between the input mesh and the intrinsic faces (the host
-//    spawns, brushes and reports agents on the input mesh).
 //
-// Why agents walk the intrinsic faces (the paper's way) rather than the input mesh with
-// each sensor point located on the fine mesh: a location is a trace over many intrinsic
-// faces on a coarse input mesh (docs/PERFORMANCE.md: 22 k points/s on a cube), while a
-// walk over the intrinsic faces costs what a walk over the input mesh costs per crossing,
-// and the intrinsic faces are well shaped (no needles to cross many times).
+// Why agents walk the input mesh and not the intrinsic faces (the paper's way): see
+// domain/intrinsic_locator.h (the benchmark decided: 7x faster).
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -30,6 +24,7 @@
 
 #include "agents/continuous_rules.h"
 #include "backends/cpu/thread_pool.h"
+#include "domain/intrinsic_locator.h"
 #include "domain/texel_laplacian.h"
 #include "domain/texture_domain.h"
 #include "intrinsic/refinement.h"
@@ -50,18 +45,16 @@ struct IntrinsicDomain {
   // *_rank[old] = new. Every table below uses the new numbers.
   std::vector<uint32_t> face_order, face_rank, vertex_order, vertex_rank;
 
-  // Walker tables over the intrinsic faces.
-  std::vector<mtx_frame> frames;
-  std::vector<uint32_t> adjacency;       // 3 per face, shared/walk.h's packing
-  std::vector<uint32_t> face_vertices;   // 3 per face, in corner order
-  std::vector<float> cells_per_unit;     // 2 per face: deposit pieces per mesh unit
-  std::vector<float> face_area;
+  std::vector<uint32_t> face_vertices;  // 3 per intrinsic face, in corner order
   // Per surface triangle: its input face of the triangulation (kInvalid: dropped, a
   // triangle that repeats a vertex).
   std::vector<uint32_t> input_face;
+  // Where agents (on the input mesh) read and deposit (shared/intrinsic_locate.h), and
+  // the deposit pieces per mesh unit (2 per surface triangle, as texels_per_unit).
+  IntrinsicLocator locator;
+  std::vector<float> cells_per_unit;
 
   TexelLaplacian laplacian;  // cells = vertices, area = lumped mass
-  AliasTable alias;          // faces by area (respawns)
 
   // Per texel: the intrinsic face under the texel centre (kNone for texels that are not
   // island cells) and its barycentrics (3 per texel).
@@ -76,14 +69,16 @@ struct IntrinsicDomain {
   // The point on the input mesh of vertex v (new numbering).
   const intrinsic::SurfacePoint& vertex_location(uint32_t v) const { return tri.corr.location[vertex_order[v]]; }
   uint32_t face_count() const { return tri.mesh.face_count(); }
-  mtx_surface_tables tables() const;
+  // The input surface's tables (walk, UVs, bias) with this domain's cells and locator.
+  mtx_surface_tables tables(mtx_surface_tables surface) const;
   // Island texels of `texels` (width * height) from the vertex values (vertex_count);
   // other texels are left as they are (the caller fills the gutter).
   void gather(const float* values, float* texels, ThreadPool& pool) const;
   // Per vertex, the value of the texel under it.
   std::vector<float> sample_texels(const float* texels) const;
-  // An agent on the input mesh (surface triangle numbering) on the intrinsic faces, its
-  // heading turned into the face's frame; and back.
+  // A point (and heading) of the input mesh (surface triangle numbering) on the
+  // intrinsic faces (the domain's numbering), and back: the correspondence, for tests
+  // and tools (agents stay on the input mesh).
   Walker to_intrinsic(const Walker& w) const;
   Walker to_input(const Walker& w) const;
   size_t bytes() const;

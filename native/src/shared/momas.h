@@ -53,11 +53,19 @@ typedef struct mtx_surface_tables {
   /* The island of each island texel, -1 elsewhere (the continuous model's stencils). */
   MTX_GLOBAL const int* texel_island;
   MTX_GLOBAL const mtx_u32* interior_bits; /* see TextureDomain::interior_bits */
-  /* The intrinsic domain (domain/intrinsic_domain.h; vertex_cells = 1): the triangles are
-   * the intrinsic triangulation's faces, the cells its vertices (3 per face here), and a
-   * point's concentration is the barycentric blend of its face's vertex values. 0 and
-   * NULL on the texture domain. */
+  /* The intrinsic domain (domain/intrinsic_domain.h; vertex_cells = 1): agents walk the
+   * input mesh as on the texture domain, but the cells are the vertices of the intrinsic
+   * triangulation: a point is located on an intrinsic face (shared/intrinsic_locate.h:
+   * the locator's grid, cells, candidate faces and maps) and reads and deposits through
+   * that face's vertices (3 per face here) with its barycentric weights. 0 and NULL on
+   * the texture domain. */
   MTX_GLOBAL const mtx_u32* face_vertices;
+  MTX_GLOBAL const mtx_u32* locator_grid;
+  MTX_GLOBAL const mtx_u32* locator_cells;
+  MTX_GLOBAL const mtx_u32* locator_face;
+  MTX_GLOBAL const float* locator_map;
+  MTX_GLOBAL const mtx_u32* locator_next;
+  MTX_GLOBAL const float* locator_across;
   mtx_u32 vertex_cells;
 } mtx_surface_tables;
 

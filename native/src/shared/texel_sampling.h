@@ -15,6 +15,7 @@
 
 #ifndef __OPENCL_C_VERSION__
 #include "shared/constants.h"
+#include "shared/intrinsic_locate.h"
 #include "shared/momas.h"
 #include "shared/portable.h"
 #include "shared/walk.h"
@@ -34,10 +35,13 @@ typedef struct mtx_texel_stencil {
 
 MTX_FN void mtx_texel_stencil_of(mtx_surface_tables s, const mtx_walker* w, mtx_u32 width,
                                  mtx_u32 height, int reading, mtx_texel_stencil* st) {
-  if (s.vertex_cells) { /* the intrinsic domain: the face's three vertices, linear hats */
-    for (int c = 0; c < 3; ++c) {
-      st->cell[c] = s.face_vertices[3 * w->triangle + MTX_CAST(mtx_u32, c)];
-      st->weight[c] = w->bary[c];
+  if (s.vertex_cells) { /* the intrinsic domain: its face's three vertices, linear hats */
+    float c[3];
+    const mtx_u32 f = mtx_locate_intrinsic(s.locator_grid, s.locator_cells, s.locator_face, s.locator_map,
+                                           s.locator_next, s.locator_across, w->triangle, w->bary, c);
+    for (int k = 0; k < 3; ++k) {
+      st->cell[k] = s.face_vertices[3 * f + MTX_CAST(mtx_u32, k)];
+      st->weight[k] = c[k];
     }
     st->cell[3] = st->cell[0];
     st->weight[3] = 0.0f;
@@ -104,8 +108,11 @@ MTX_FN void mtx_texel_stencil_of(mtx_surface_tables s, const mtx_walker* w, mtx_
  * intrinsic domain the vertex of its face it is nearest to (the largest weight). */
 MTX_FN mtx_u32 mtx_point_cell(mtx_surface_tables s, const mtx_walker* w, mtx_u32 width, mtx_u32 height) {
   if (s.vertex_cells) {
-    const int c = w->bary[0] >= w->bary[1] ? (w->bary[0] >= w->bary[2] ? 0 : 2) : (w->bary[1] >= w->bary[2] ? 1 : 2);
-    return s.face_vertices[3 * w->triangle + MTX_CAST(mtx_u32, c)];
+    float c[3];
+    const mtx_u32 f = mtx_locate_intrinsic(s.locator_grid, s.locator_cells, s.locator_face, s.locator_map,
+                                           s.locator_next, s.locator_across, w->triangle, w->bary, c);
+    const int k = c[0] >= c[1] ? (c[0] >= c[2] ? 0 : 2) : (c[1] >= c[2] ? 1 : 2);
+    return s.face_vertices[3 * f + MTX_CAST(mtx_u32, k)];
   }
   return mtx_walker_texel(s.corner_uvs, w, width, height);
 }

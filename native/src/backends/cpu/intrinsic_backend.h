@@ -1,9 +1,10 @@
 // The CPU backend on the intrinsic domain (domain/intrinsic_domain.h): the continuous
-// model's agents walk the intrinsic faces and the concentration lives at the intrinsic
-// vertices; Gray-Scott's two chemicals likewise. Everything the simulation exchanges
-// with a backend stays as on the texture domain: agents on the input mesh (converted on
-// the way in and out), pheromone as texture planes (a gather from the vertices, the
-// gutter filled), maps and static fields per texel (read at each vertex's texel).
+// model's agents walk the input mesh as on the texture domain, and read and deposit at
+// the intrinsic vertices, where the concentration lives; Gray-Scott's two chemicals live
+// there too. Everything the simulation exchanges with a backend stays as on the texture
+// domain: agents on the input mesh, pheromone as texture planes (a gather from the
+// vertices, the gutter filled), maps and static fields per texel (read at each vertex's
+// texel).
 // Deterministic for any thread count, like the texture domain's CPU backend.
 #pragma once
 #include <memory>
@@ -34,7 +35,7 @@ class IntrinsicCpuBackend final : public Backend {
   // into the vertices; otherwise (a checkpoint) each vertex takes its texel's value.
   void export_state(SimState& state) const override;
   void import_state(const SimState& state) override;
-  void export_agents(Agents& agents) const override;
+  void export_agents(Agents& agents) const override { agents = agents_; }
   void import_agents(const Agents& agents) override;
 
   // The vertex values, one plane of vertex_count per species.
@@ -46,15 +47,14 @@ class IntrinsicCpuBackend final : public Backend {
   void step_gray_scott(const StepSettings& settings);
   // The simulation's per-texel maps read at the vertices (when their version changes).
   const ParameterMaps& vertex_maps(const ParameterMaps& maps);
-  // The bias (2 per input triangle in its frame) turned into each intrinsic face's frame.
-  const std::vector<float>& face_bias(const std::vector<float>& bias);
 
   std::shared_ptr<const Surface> surface_;
   std::shared_ptr<const TextureDomain> texture_;
   std::shared_ptr<const IntrinsicDomain> domain_;
   uint32_t species_count_;
   std::unique_ptr<ThreadPool> pool_;
-  Agents agents_;                        // on the intrinsic faces
+  Agents agents_;                        // on the input mesh
+  AliasTable alias_;                     // respawns: input triangles by area
   std::vector<float> values_, scratch_;  // species_count_ planes of vertex_count
   std::vector<int32_t> sums_;
   std::vector<float> field_;             // per vertex (empty = none)
@@ -63,13 +63,8 @@ class IntrinsicCpuBackend final : public Backend {
   ParameterMaps vmaps_;
   const void* vmaps_source_ = nullptr;
   uint64_t vmaps_version_ = ~0ull;
-  std::vector<float> bias_source_, bias_faces_;
   // The last export_state's texture planes (see import_state), cleared by a step.
   mutable std::vector<float> exported_;
-  // The last export_agents' agents on the input mesh and where each is on the intrinsic
-  // faces, so agents that come back unchanged (a brush edits a few) keep their exact
-  // intrinsic position instead of a round trip through the correspondence.
-  mutable std::unordered_map<uint64_t, std::pair<Walker, Walker>> exported_walkers_;
 };
 
 }  // namespace moldtex

@@ -54,6 +54,12 @@ __kernel void momas_agents(__global const mtx_frame* frames, __global const uint
   s.texel_island = 0;
   s.interior_bits = 0;
   s.face_vertices = 0;
+  s.locator_grid = 0;
+  s.locator_cells = 0;
+  s.locator_face = 0;
+  s.locator_map = 0;
+  s.locator_next = 0;
+  s.locator_across = 0;
   s.vertex_cells = 0u;
   mtx_walker w = load_walker(triangle, b1, b2, hx, hy, i);
   /* Per-agent hunger and species are loaded only by the variants that use them. */
@@ -272,6 +278,12 @@ __kernel void continuous_agents(__global const mtx_frame* frames, __global const
   s.texel_island = texel_island;
   s.interior_bits = interior_bits;
   s.face_vertices = 0;
+  s.locator_grid = 0;
+  s.locator_cells = 0;
+  s.locator_face = 0;
+  s.locator_map = 0;
+  s.locator_next = 0;
+  s.locator_across = 0;
   s.vertex_cells = 0u;
   mtx_walker w = load_walker(triangle, b1, b2, hx, hy, i);
   const float4 l = lives[i];
