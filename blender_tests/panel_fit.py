@@ -214,6 +214,7 @@ def busy_scene_states():
         slot.enabled = True
         slot.source = 'IMAGE' if index % 2 else 'ATTRIBUTE'
         slot.attribute = "Group" if index else ""
+    settings.domain = 'INTRINSIC'  # the Domain row and Triangle Size (Simulation panel)
     yield "CONTINUOUS/maps"
     # Gray-Scott: its Reaction panel, its three maps on, the Species & Start note and
     # the slime brush's note.
@@ -224,6 +225,7 @@ def busy_scene_states():
     for slot in slots:
         slot.enabled = False
         slot.attribute = ""
+    settings.domain = 'TEXTURE'
     settings.model = 'MOMAS'
     settings.pattern_scale_mode = 'OBJECT'
     settings.species_count = 1

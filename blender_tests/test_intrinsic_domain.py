@@ -76,22 +76,23 @@ class IntrinsicDomainTests(unittest.TestCase):
         text = labels(draw_all(self, obj))
         self.assertIn(f"Intrinsic: {info['cell_count']:,} vertices", text)
         # No seam lines: texels within 2 of an island border hold what the others hold,
-        # within 10% (the issue's bound), over 2 seeds x 6 snapshots 0.5 s apart from
-        # 1 s on. One seed's ratio spreads about 4% (seeds 1-4: 0.94, 1.01, 0.96, 1.04);
-        # on Suzanne the seams also follow its rims and eye sockets, so part of that is
-        # geometry. The texture domain's ratio (seed 1) is printed beside it.
+        # within 10% (the issue's bound), over 4 seeds x 6 snapshots 0.5 s apart from
+        # 1 s on. One seed's ratio spreads about 5% (seeds 1-6 measured 0.89, 0.97, 0.98,
+        # 1.02, 0.92, 1.03 on Blender 3.4): on Suzanne the seams also follow its rims and
+        # eye sockets, so part of that is geometry. (The texture domain's ratio at seed 1
+        # was 1.01 here; the core test IntrinsicSimulation.NoTraceOfTheUvSeams, on a flat
+        # cut plane, is where the two domains part: 1.82 against 1.03.)
         border, inner = self.seam_sums(obj)
-        obj.moldtex.seed = 2
-        h.run(obj, 60)
-        b2, i2 = self.seam_sums(obj)
-        ratio = (border + b2) / (inner + i2)
-        print(f"    intrinsic domain, seeds 1 and 2: ratio {ratio:.3f}")
+        for seed in (2, 3, 4):
+            obj.moldtex.seed = seed
+            h.run(obj, 60)
+            b, i = self.seam_sums(obj)
+            border += b
+            inner += i
+        ratio = border / inner
+        print(f"    intrinsic domain, seeds 1-4: ratio {ratio:.3f}")
         self.assertGreater(ratio, 0.9)
         self.assertLess(ratio, 1.1)
-        obj.moldtex.domain = 'TEXTURE'
-        obj.moldtex.seed = 1
-        h.run(obj, 60)
-        self.seam_sums(obj)
 
     def seam_sums(self, obj):
         """Sums over 6 snapshots of the mean u / U near island borders and elsewhere."""

@@ -288,6 +288,19 @@ Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim
       fail(MOLDTEX_ERROR_INVALID_MESH,
            "The texture has no island texels to derive the intrinsic triangulation's resolution from: set the "
            "circumradius bound");
+    // Memory: about 800 bytes per intrinsic vertex (two copies of the mesh, the
+    // correspondence, the Laplacian, the locator), Chew's refinement giving up to 1.6
+    // vertices per bound^2 of area.
+    const double vertices = std::max<double>(1.6 * surface_->area / (bound * bound), surface_->positions.size() / 3.0);
+    const double need = vertices * 800.0 + estimated_bytes(config_), have = physical_memory_bytes();
+    if (need > 0.75 * have) {
+      std::ostringstream m;
+      m.precision(3);
+      m << "The intrinsic triangulation at triangle size " << bound << " would need about " << need / (1ull << 30)
+        << " GiB but the machine has " << have / (1ull << 30)
+        << " GiB: raise the Triangle Size or lower the texture resolution";
+      fail(MOLDTEX_ERROR_TOO_LARGE, m.str());
+    }
     ThreadPool pool(params.thread_count);
     intrinsic_ = intrinsic_domain_for(*surface_, d, bound, 0, pool, &intrinsic_from_cache_);
     config_.intrinsic_bound = static_cast<float>(bound);
@@ -839,10 +852,11 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
          "The checkpoint " + path + " was made on a different mesh or UV map: bake from the start");
   if (c.config.width != config_.width || c.config.height != config_.height ||
       c.config.agent_count != config_.agent_count || c.config.seed != config_.seed ||
-      c.config.species_count != config_.species_count || c.config.model != config_.model)
+      c.config.species_count != config_.species_count || c.config.model != config_.model ||
+      c.config.domain != config_.domain || c.config.intrinsic_bound != config_.intrinsic_bound)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
          "The checkpoint " + path + " was made with another resolution, agent count, seed, "
-         "number of species or model: bake from the start");
+         "number of species, model, domain or triangle size: bake from the start");
   const Agents& a = c.state.agents;
   const uint32_t planes = config_.species_count;
   // The agent count may differ from the config's: slime brushes add and erase agents.
@@ -853,6 +867,7 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
       a.age.size() != a.triangle.size() || a.exposure.size() != a.triangle.size() ||
       a.threshold.size() != a.triangle.size() || c.food.size() > MTX_MAX_FOOD ||
       c.state.pheromone.size() != domain_->texel_count() * planes ||
+      c.state.cells.size() != (intrinsic_ ? size_t(intrinsic_->vertex_count()) * planes : 0) ||
       c.species.size() != MTX_MAX_SPECIES ||
       (!c.fields_rgba.empty() && c.fields_rgba.size() != domain_->texel_count() * 4) ||
       (!c.bias.empty() && c.bias.size() != static_cast<size_t>(surface_->triangle_count()) * 3) ||

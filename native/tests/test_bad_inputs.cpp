@@ -34,7 +34,8 @@ bool Contains(const std::string& text, const std::string& word) { return text.fi
 // Where each array of a checkpoint starts (its first element, after its uint64 count),
 // following io/checkpoint.cpp's file order: magic, config, params, the continuous
 // model's params, simulated time, fingerprint, step, then metrics, species, fields,
-// food, bias, parameter maps (kinds, values), the agent arrays (with the continuous model's clocks) and the pheromone.
+// food, bias, parameter maps (kinds, values), the agent arrays (with the continuous model's clocks) and the pheromone,
+// Gray-Scott's parameters and the intrinsic domain's vertex values.
 struct CheckpointLayout {
   size_t metrics = 0, triangle = 0, b1 = 0, b2 = 0, hx = 0, hy = 0, species = 0, hunger = 0,
          clock = 0, age = 0, exposure = 0, threshold = 0, pheromone = 0;
@@ -72,7 +73,8 @@ CheckpointLayout Layout(const std::vector<char>& bytes) {
   array(4, &l.exposure, nullptr);
   array(4, &l.threshold, nullptr);
   array(4, &l.pheromone, &l.texels);
-  at += sizeof(moldtex_reaction_params);  // version 8: Gray-Scott's parameters, last
+  at += sizeof(moldtex_reaction_params);  // version 8: Gray-Scott's parameters
+  array(4, nullptr, nullptr);              // version 9: the intrinsic domain's vertex values, last
   EXPECT_EQ(at, bytes.size()) << "the test's idea of the checkpoint layout is out of date";
   return l;
 }

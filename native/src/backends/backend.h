@@ -17,6 +17,10 @@ namespace moldtex {
 struct SimState {
   Agents agents;
   std::vector<float> pheromone;  // one plane of width * height per species
+  // Where the domain's cells are not texels (the intrinsic domain's vertices): their
+  // values, one plane per species; `pheromone` then holds what they show in the texture.
+  // Empty on the texture domain.
+  std::vector<float> cells;
 };
 
 class Backend {

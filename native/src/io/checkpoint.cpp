@@ -21,7 +21,9 @@ namespace {
 // Version 6: the continuous model (config.model, its parameters, simulated time, the
 // agents' clocks).
 // Version 8: the Gray-Scott model's parameters, at the end of the file.
-constexpr char kMagic[8] = {'M', 'T', 'X', 'C', 'K', 'P', 'T', '8'};
+// Version 9: the config's domain fields (moldtex_sim_config grew), and the intrinsic
+// domain's vertex values at the end.
+constexpr char kMagic[8] = {'M', 'T', 'X', 'C', 'K', 'P', 'T', '9'};
 
 struct Writer {
   std::vector<char> bytes;
@@ -132,6 +134,11 @@ void validate_checkpoint_values(const Checkpoint& c, const std::string& path, ui
       c.config.model == MOLDTEX_MODEL_CONTINUOUS || c.config.model == MOLDTEX_MODEL_GRAY_SCOTT;
   const double max_pheromone = continuous ? std::numeric_limits<float>::max() : kMaxPheromone;
   const double max_coverage = continuous ? 1e30 : 1.0;
+  for (size_t i = 0; i < c.state.cells.size(); ++i) {
+    const float v = c.state.cells[i];
+    if (!(v >= 0.f && v <= max_pheromone))
+      damaged(path, "intrinsic vertex value " + std::to_string(i) + " is " + number(v));
+  }
   for (size_t i = 0; i < c.state.pheromone.size(); ++i) {
     const float v = c.state.pheromone[i];
     if (!(v >= 0.f && v <= max_pheromone))
@@ -170,7 +177,8 @@ void save_checkpoint(const std::string& path, const Checkpoint& c) {
   w.array(c.map_kinds);
   w.array(c.maps);
   for_each_array(c.state, [&](const auto& v) { w.array(v); });
-  w.value(c.reaction);  // version 8: last, so the layout before it is version 7's
+  w.value(c.reaction);  // version 8: after the state, so the layout before it is version 7's
+  w.array(c.state.cells);  // version 9
   write_file_atomically(path, w.bytes.data(), w.bytes.size());
 }
 
@@ -200,6 +208,7 @@ Checkpoint load_checkpoint(const std::string& path) {
   r.array(c.maps);
   for_each_array(c.state, [&](auto& v) { r.array(v); });
   c.reaction = r.value<moldtex_reaction_params>();
+  r.array(c.state.cells);
   return c;
 }
 

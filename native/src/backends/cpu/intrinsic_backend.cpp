@@ -32,7 +32,6 @@ IntrinsicCpuBackend::IntrinsicCpuBackend(std::shared_ptr<const Surface> surface,
 void IntrinsicCpuBackend::reset(const Agents& agents) {
   std::fill(values_.begin(), values_.end(), 0.f);
   std::fill(sums_.begin(), sums_.end(), 0);
-  exported_.clear();
   import_agents(agents);
 }
 
@@ -86,7 +85,6 @@ const ParameterMaps& IntrinsicCpuBackend::vertex_maps(const ParameterMaps& maps)
 
 void IntrinsicCpuBackend::step(const StepSettings& settings, uint64_t seed, uint64_t step_index,
                                uint32_t* /*eaters: food is MoMaS only*/) {
-  exported_.clear();
   if (settings.model == MOLDTEX_MODEL_CONTINUOUS) return step_continuous(settings, seed, step_index);
   if (settings.model == MOLDTEX_MODEL_GRAY_SCOTT) return step_gray_scott(settings);
   fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
@@ -140,7 +138,7 @@ void IntrinsicCpuBackend::export_state(SimState& state) const {
   state.agents = agents_;
   state.pheromone.assign(texture_->texel_count() * species_count_, 0.f);
   read_pheromone(state.pheromone.data());
-  exported_ = state.pheromone;
+  state.cells = values_;
 }
 
 void IntrinsicCpuBackend::import_state(const SimState& state) {
@@ -148,21 +146,28 @@ void IntrinsicCpuBackend::import_state(const SimState& state) {
   if (state.pheromone.size() != texels * species_count_)
     fail(MOLDTEX_ERROR_INTERNAL, "The state's planes do not match the texture");
   const std::vector<uint32_t>& at = domain_->vertex_texel;
-  std::vector<float> next = values_;
-  for (uint32_t k = 0; k < species_count_; ++k) {
-    const float* in = state.pheromone.data() + k * texels;
-    float* out = next.data() + k * nv;
-    if (exported_.size() == state.pheromone.size()) {
-      const float* was = exported_.data() + k * texels;
-      for (size_t v = 0; v < nv; ++v)
-        if (in[at[v]] != was[at[v]]) out[v] += in[at[v]] - was[at[v]];
-    } else {
-      for (size_t v = 0; v < nv; ++v) out[v] = in[at[v]];
+  std::vector<float> next(nv * species_count_, 0.f);
+  if (state.cells.size() == next.size()) {
+    // The vertex values, plus whatever was changed in the texture since they were shown
+    // there (a brush dab: each vertex takes its texel's change). Untouched, the planes
+    // are exactly what the values show, and the state comes back bit for bit.
+    next = state.cells;
+    std::vector<float> shown(texels * species_count_, 0.f);
+    for (uint32_t k = 0; k < species_count_; ++k) {
+      domain_->gather(state.cells.data() + k * nv, shown.data() + k * texels, *pool_);
+      fill_gutter(*texture_, shown.data() + k * texels, *pool_);
     }
+    for (uint32_t k = 0; k < species_count_; ++k)
+      for (size_t v = 0; v < nv; ++v) {
+        const size_t i = k * texels + at[v];
+        if (state.pheromone[i] != shown[i]) next[k * nv + v] += state.pheromone[i] - shown[i];
+      }
+  } else {  // texture planes alone (Gray-Scott's starting state): each vertex its texel's value
+    for (uint32_t k = 0; k < species_count_; ++k)
+      for (size_t v = 0; v < nv; ++v) next[k * nv + v] = state.pheromone[k * texels + at[v]];
   }
   import_agents(state.agents);
   values_ = std::move(next);
-  exported_.clear();
 }
 
 std::string IntrinsicCpuBackend::name() const {

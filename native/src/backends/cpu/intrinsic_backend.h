@@ -30,9 +30,9 @@ class IntrinsicCpuBackend final : public Backend {
   size_t agent_count() const override { return agents_.size(); }
   size_t bytes() const override;
   std::string name() const override;
-  // The state as texture planes and agents on the input mesh. import_state takes texture
-  // planes: right after export_state only what changed since (a brush dab) is read back
-  // into the vertices; otherwise (a checkpoint) each vertex takes its texel's value.
+  // The state: agents, texture planes (what the vertices show) and the vertex values
+  // (SimState::cells). import_state takes the vertex values plus any change made to the
+  // planes since (a brush dab), or planes alone (each vertex its texel's value).
   void export_state(SimState& state) const override;
   void import_state(const SimState& state) override;
   void export_agents(Agents& agents) const override { agents = agents_; }
@@ -63,8 +63,6 @@ class IntrinsicCpuBackend final : public Backend {
   ParameterMaps vmaps_;
   const void* vmaps_source_ = nullptr;
   uint64_t vmaps_version_ = ~0ull;
-  // The last export_state's texture planes (see import_state), cleared by a step.
-  mutable std::vector<float> exported_;
 };
 
 }  // namespace moldtex
