@@ -651,7 +651,7 @@ DOMAIN_ITEMS = [
     ('TEXTURE', "Texture", "The texels of the UV layout (every model)"),
     ('INTRINSIC', "Intrinsic", "An intrinsic Delaunay triangulation of the surface "
                                "(layton-intrinsic-slime.md §3.1): no UV seams or stretch; "
-                               "continuous and Gray-Scott models, on the CPU"),
+                               "continuous and Gray-Scott models"),
 ]
 
 
@@ -665,7 +665,7 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         description="Domain: where the pheromone (or the chemicals) live. The texture's "
                     "texels follow the UV layout; Intrinsic uses a triangulation of the "
                     "surface itself (no UV seams, no UV stretch), still written into the "
-                    "same texture. Continuous and Gray-Scott models; CPU only." + _RESET_NOTE,
+                    "same texture. Continuous and Gray-Scott models." + _RESET_NOTE,
         update=_config_changed)
     intrinsic_size: FloatProperty(
         name="Triangle Size", default=0.0, min=0.0, max=1e6, soft_max=1.0,

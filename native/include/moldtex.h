@@ -202,7 +202,7 @@ typedef enum moldtex_domain {
   MOLDTEX_DOMAIN_INTRINSIC = 1  /* the vertices of an intrinsic Delaunay triangulation of
                                    the mesh (layton-intrinsic-slime.md §3.1): no UV seams,
                                    no UV distortion. The continuous model and Gray-Scott
-                                   only; runs on the CPU; the mesh must be manifold */
+                                   only, on both backends; the mesh must be manifold */
 } moldtex_domain;
 
 /* The behaviour model, chosen at create (a config field, so changing it needs a new

@@ -89,10 +89,6 @@ void validate_config(const moldtex_sim_config& c, const Surface& surface) {
       << c.intrinsic_bound;
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, m.str());
   }
-  if (c.domain == MOLDTEX_DOMAIN_INTRINSIC && c.backend == MOLDTEX_BACKEND_OPENCL)
-    fail(MOLDTEX_ERROR_UNAVAILABLE,
-         "The Intrinsic domain runs on the CPU for now: choose the CPU or Auto backend (or the Texture domain "
-         "for OpenCL)");
   if (c.species_count < 1 || c.species_count > MOLDTEX_MAX_SPECIES)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The number of species must be between 1 and 4");
   if (c.seed_shape > MOLDTEX_SEED_STARBURST)
@@ -226,11 +222,11 @@ namespace {
 #ifdef MOLDTEX_HAVE_OPENCL
 std::unique_ptr<Backend> make_opencl(std::shared_ptr<const Surface> surface,
                                      std::shared_ptr<const TextureDomain> domain,
-                                     const moldtex_sim_config& c) {
+                                     std::shared_ptr<const IntrinsicDomain> intrinsic, const moldtex_sim_config& c) {
   const std::vector<cl::Device> devices = cl::list_devices();
   for (const cl::Device& d : devices)
     if (d.platform_index == c.opencl_platform && d.device_index == c.opencl_device)
-      return std::make_unique<OpenClBackend>(surface, domain, c.agent_count, c.species_count, d);
+      return std::make_unique<OpenClBackend>(surface, domain, c.agent_count, c.species_count, d, intrinsic);
   std::ostringstream m;
   m << "There is no OpenCL device " << c.opencl_device << " on platform " << c.opencl_platform
     << "; this machine has:";
@@ -244,11 +240,12 @@ std::unique_ptr<Backend> make_opencl(std::shared_ptr<const Surface> surface,
 // or faster and need no kernel compilation (docs/PERFORMANCE.md has the numbers).
 std::unique_ptr<Backend> make_auto_opencl(std::shared_ptr<const Surface> surface,
                                           std::shared_ptr<const TextureDomain> domain,
+                                          std::shared_ptr<const IntrinsicDomain> intrinsic,
                                           const moldtex_sim_config& c, std::string& why_not) {
   try {
     for (const cl::Device& d : cl::list_devices())
       if (d.is_gpu)
-        return std::make_unique<OpenClBackend>(surface, domain, c.agent_count, c.species_count, d);
+        return std::make_unique<OpenClBackend>(surface, domain, c.agent_count, c.species_count, d, intrinsic);
     why_not = "no OpenCL GPU device";
   } catch (const Error& e) {
     why_not = e.what();
@@ -305,21 +302,18 @@ Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim
     intrinsic_ = intrinsic_domain_for(*surface_, d, bound, 0, pool, &intrinsic_from_cache_);
     config_.intrinsic_bound = static_cast<float>(bound);
     cell_area_ = intrinsic_->laplacian.total_area;
-    backend_ = std::make_unique<IntrinsicCpuBackend>(surface_, domain_, intrinsic_, config_.species_count,
-                                                     params.thread_count);
-    if (config.backend == MOLDTEX_BACKEND_AUTO) why_not = "the Intrinsic domain runs on the CPU";
   }
-  switch (backend_ ? static_cast<uint32_t>(MOLDTEX_BACKEND_CPU) : config.backend) {
+  switch (config.backend) {
     case MOLDTEX_BACKEND_OPENCL:
 #ifdef MOLDTEX_HAVE_OPENCL
-      backend_ = make_opencl(surface_, domain_, config_);
+      backend_ = make_opencl(surface_, domain_, intrinsic_, config_);
 #else
       fail(MOLDTEX_ERROR_UNAVAILABLE, "This build of Moldtex has no OpenCL support");
 #endif
       break;
     case MOLDTEX_BACKEND_AUTO:
 #ifdef MOLDTEX_HAVE_OPENCL
-      backend_ = make_auto_opencl(surface_, domain_, config_, why_not);
+      backend_ = make_auto_opencl(surface_, domain_, intrinsic_, config_, why_not);
 #else
       why_not = "this build has no OpenCL support";
 #endif
@@ -327,6 +321,9 @@ Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim
     default:
       break;
   }
+  if (!backend_ && intrinsic_)
+    backend_ = std::make_unique<IntrinsicCpuBackend>(surface_, domain_, intrinsic_, config_.species_count,
+                                                     params.thread_count);
   if (!backend_)
     backend_ = std::make_unique<CpuBackend>(surface_, domain_, config_.agent_count,
                                             config_.species_count, params.thread_count);
@@ -1007,10 +1004,10 @@ void Simulation::read_intrinsic_vertices(float* xyz_area, float* values, uint32_
       xyz_area[4ull * v + 3] = d.laplacian.area[v];
     }
   if (values) {
-    const std::vector<float>* cells = backend_->cell_values();
-    if (!cells || cells->size() != size_t(count) * settings_.species_count)
+    const std::vector<float> cells = backend_->read_cells();
+    if (cells.size() != size_t(count) * settings_.species_count)
       fail(MOLDTEX_ERROR_INTERNAL, "The backend holds no vertex values");
-    std::copy(cells->begin(), cells->end(), values);
+    std::copy(cells.begin(), cells.end(), values);
   }
 }
 

@@ -622,6 +622,26 @@ TEST_P(ReactionDiffusionBackends, MatchTheCpu) {
   EXPECT_NEAR(o.stats.coverage / cpu.stats.coverage, 1.0, 0.03);
   EXPECT_NEAR(lo / lc, 1.0, 0.05);
 }
+// The same on the intrinsic domain (issue 13: both domains, both backends).
+TEST_P(ReactionDiffusionBackends, MatchTheCpuOnTheIntrinsicDomain) {
+  RdRun r = LabyrinthRun(Sphere(), 128, 64, 0.03, 1, 200);
+  r.steps = 2000;
+  r.domain = MOLDTEX_DOMAIN_INTRINSIC;
+  {
+    moldtex_sim_config c = make_config(8, 8, 1, 1);
+    MTX_PIN_BACKEND(c);
+  }
+  r.backend = GetParam();
+  const Result o = Simulate(r);
+  ASSERT_TRUE(o.ok);
+  ExpectSaneField(o, "backend");
+  r.backend = Backend::Cpu;
+  const Result cpu = Simulate(r);
+  const double lo = Spacing(r, o, 0.5), lc = Spacing(r, cpu, 0.5);
+  std::printf("mean V %.4f (CPU %.4f), spacing %.4f (CPU %.4f)\n", o.stats.coverage, cpu.stats.coverage, lo, lc);
+  EXPECT_NEAR(o.stats.coverage / cpu.stats.coverage, 1.0, 0.03);
+  EXPECT_NEAR(lo / lc, 1.0, 0.05);
+}
 MTX_BACKENDS(ReactionDiffusionBackends);
 
 }  // namespace

@@ -52,8 +52,8 @@ class Backend {
   // slime brushes edit agents this way: export, edit on the host, import.
   virtual void export_agents(Agents& agents) const = 0;
   // The values per cell where the domain's cells are not texels (the intrinsic domain's
-  // vertices: species planes of vertex_count), or nullptr.
-  virtual const std::vector<float>* cell_values() const { return nullptr; }
+  // vertices: species planes of vertex_count); empty on the texture domain.
+  virtual std::vector<float> read_cells() const { return {}; }
   virtual void import_agents(const Agents& agents) = 0;
 };
 

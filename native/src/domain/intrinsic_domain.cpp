@@ -286,6 +286,60 @@ std::vector<float> IntrinsicDomain::sample_texels(const float* texels) const {
   return out;
 }
 
+void IntrinsicDomain::show(const float* values, float* texels, uint32_t planes, const TextureDomain& texture,
+                           ThreadPool& pool) const {
+  const size_t n = texture.texel_count(), nv = vertex_count();
+  std::fill(texels, texels + n * planes, 0.f);
+  for (uint32_t k = 0; k < planes; ++k) {
+    gather(values + k * nv, texels + k * n, pool);
+    fill_gutter(texture, texels + k * n, pool);
+  }
+}
+
+std::vector<float> IntrinsicDomain::values_from_state(const SimState& state, uint32_t planes,
+                                                      const TextureDomain& texture, ThreadPool& pool) const {
+  const size_t texels = texture.texel_count(), nv = vertex_count();
+  if (state.pheromone.size() != texels * planes)
+    fail(MOLDTEX_ERROR_INTERNAL, "The state's planes do not match the texture");
+  std::vector<float> next(nv * planes, 0.f);
+  if (state.cells.size() == next.size()) {
+    // Untouched, the planes are exactly what the values show, and the state comes back
+    // bit for bit; a texel changed since moves the vertex under it by as much.
+    next = state.cells;
+    std::vector<float> shown(texels * planes);
+    show(state.cells.data(), shown.data(), planes, texture, pool);
+    for (uint32_t k = 0; k < planes; ++k)
+      for (size_t v = 0; v < nv; ++v) {
+        const size_t i = k * texels + vertex_texel[v];
+        if (state.pheromone[i] != shown[i]) next[k * nv + v] += state.pheromone[i] - shown[i];
+      }
+  } else {
+    for (uint32_t k = 0; k < planes; ++k)
+      for (size_t v = 0; v < nv; ++v) next[k * nv + v] = state.pheromone[k * texels + vertex_texel[v]];
+  }
+  return next;
+}
+
+ParameterMaps IntrinsicDomain::vertex_maps(const ParameterMaps& maps, size_t texels) const {
+  const size_t nv = vertex_count();
+  ParameterMaps v;
+  for (uint32_t k = 0; k < MOLDTEX_MAP_COUNT; ++k)
+    if (!maps.given[k].empty()) v.given[k] = sample_texels(maps.given[k].data());
+  const size_t planes = texels ? maps.agent_planes.size() / texels : 0;
+  v.agent_planes.resize(planes * nv);
+  for (size_t p = 0; p < planes; ++p) {
+    const std::vector<float> s = sample_texels(maps.agent_planes.data() + p * texels);
+    std::copy(s.begin(), s.end(), v.agent_planes.begin() + p * nv);
+  }
+  std::copy(std::begin(maps.plane_of), std::end(maps.plane_of), std::begin(v.plane_of));
+  v.deposit_max = maps.deposit_max;
+  v.largest = maps.largest;
+  v.version = maps.version;
+  v.spawn_max = maps.spawn_max;
+  v.spawn_alias = maps.spawn_alias;
+  return v;
+}
+
 Walker IntrinsicDomain::to_intrinsic(const Walker& w) const {
   const uint32_t face = w.triangle < input_face.size() ? input_face[w.triangle] : kInvalid;
   if (face == kInvalid) {  // a dropped triangle (no area, never walked on): face 0

@@ -23,6 +23,8 @@
 #include <vector>
 
 #include "agents/continuous_rules.h"
+#include "agents/parameter_maps.h"
+#include "backends/backend.h"
 #include "backends/cpu/thread_pool.h"
 #include "domain/intrinsic_locator.h"
 #include "domain/texel_laplacian.h"
@@ -76,6 +78,18 @@ struct IntrinsicDomain {
   void gather(const float* values, float* texels, ThreadPool& pool) const;
   // Per vertex, the value of the texel under it.
   std::vector<float> sample_texels(const float* texels) const;
+  // `planes` planes of vertex values shown in texture planes of `texture` (outside the
+  // islands 0, the gutter filled).
+  void show(const float* values, float* texels, uint32_t planes, const TextureDomain& texture, ThreadPool& pool) const;
+  // The vertex values a backend takes from a state (SimState::cells, plus any change made
+  // to the texture planes since they were shown there, e.g. a brush dab), or from texture
+  // planes alone (each vertex its texel's value).
+  std::vector<float> values_from_state(const SimState& state, uint32_t planes, const TextureDomain& texture,
+                                       ThreadPool& pool) const;
+  // The simulation's per-texel maps read at the vertices: the agent planes, the PDE's and
+  // Gray-Scott's maps; the spawn map's per-triangle tables stay (agents respawn on the
+  // input mesh).
+  ParameterMaps vertex_maps(const ParameterMaps& maps, size_t texels) const;
   // A point (and heading) of the input mesh (surface triangle numbering) on the
   // intrinsic faces (the domain's numbering), and back: the correspondence, for tests
   // and tools (agents stay on the input mesh).

@@ -58,25 +58,7 @@ void IntrinsicCpuBackend::read_agents(moldtex_surface_point* out, size_t count) 
 
 const ParameterMaps& IntrinsicCpuBackend::vertex_maps(const ParameterMaps& maps) {
   if (vmaps_source_ == &maps && vmaps_version_ == maps.version) return vmaps_;
-  const IntrinsicDomain& d = *domain_;
-  const size_t texels = texture_->texel_count(), nv = d.vertex_count();
-  ParameterMaps v;
-  for (uint32_t k = 0; k < MOLDTEX_MAP_COUNT; ++k)
-    if (!maps.given[k].empty()) v.given[k] = d.sample_texels(maps.given[k].data());
-  const size_t planes = texels ? maps.agent_planes.size() / texels : 0;
-  v.agent_planes.resize(planes * nv);
-  for (size_t p = 0; p < planes; ++p) {
-    const std::vector<float> s = d.sample_texels(maps.agent_planes.data() + p * texels);
-    std::copy(s.begin(), s.end(), v.agent_planes.begin() + p * nv);
-  }
-  std::copy(std::begin(maps.plane_of), std::end(maps.plane_of), std::begin(v.plane_of));
-  v.deposit_max = maps.deposit_max;
-  v.largest = maps.largest;
-  v.version = maps.version;
-  // The spawn map's per-triangle tables (agents respawn on the input mesh); the weight at
-  // the point is then read at its vertex, like every agent map.
-  v.spawn_max = maps.spawn_max;
-  v.spawn_alias = maps.spawn_alias;
+  ParameterMaps v = domain_->vertex_maps(maps, texture_->texel_count());
   vmaps_ = std::move(v);
   vmaps_source_ = &maps;
   vmaps_version_ = maps.version;
@@ -126,46 +108,18 @@ void IntrinsicCpuBackend::step_gray_scott(const StepSettings& settings) {
 }
 
 void IntrinsicCpuBackend::read_pheromone(float* out) const {
-  const size_t texels = texture_->texel_count(), nv = domain_->vertex_count();
-  std::fill(out, out + texels * species_count_, 0.f);
-  for (uint32_t k = 0; k < species_count_; ++k) {
-    domain_->gather(values_.data() + k * nv, out + k * texels, *pool_);
-    fill_gutter(*texture_, out + k * texels, *pool_);
-  }
+  domain_->show(values_.data(), out, species_count_, *texture_, *pool_);
 }
 
 void IntrinsicCpuBackend::export_state(SimState& state) const {
   state.agents = agents_;
-  state.pheromone.assign(texture_->texel_count() * species_count_, 0.f);
+  state.pheromone.resize(texture_->texel_count() * species_count_);
   read_pheromone(state.pheromone.data());
   state.cells = values_;
 }
 
 void IntrinsicCpuBackend::import_state(const SimState& state) {
-  const size_t texels = texture_->texel_count(), nv = domain_->vertex_count();
-  if (state.pheromone.size() != texels * species_count_)
-    fail(MOLDTEX_ERROR_INTERNAL, "The state's planes do not match the texture");
-  const std::vector<uint32_t>& at = domain_->vertex_texel;
-  std::vector<float> next(nv * species_count_, 0.f);
-  if (state.cells.size() == next.size()) {
-    // The vertex values, plus whatever was changed in the texture since they were shown
-    // there (a brush dab: each vertex takes its texel's change). Untouched, the planes
-    // are exactly what the values show, and the state comes back bit for bit.
-    next = state.cells;
-    std::vector<float> shown(texels * species_count_, 0.f);
-    for (uint32_t k = 0; k < species_count_; ++k) {
-      domain_->gather(state.cells.data() + k * nv, shown.data() + k * texels, *pool_);
-      fill_gutter(*texture_, shown.data() + k * texels, *pool_);
-    }
-    for (uint32_t k = 0; k < species_count_; ++k)
-      for (size_t v = 0; v < nv; ++v) {
-        const size_t i = k * texels + at[v];
-        if (state.pheromone[i] != shown[i]) next[k * nv + v] += state.pheromone[i] - shown[i];
-      }
-  } else {  // texture planes alone (Gray-Scott's starting state): each vertex its texel's value
-    for (uint32_t k = 0; k < species_count_; ++k)
-      for (size_t v = 0; v < nv; ++v) next[k * nv + v] = state.pheromone[k * texels + at[v]];
-  }
+  std::vector<float> next = domain_->values_from_state(state, species_count_, *texture_, *pool_);
   import_agents(state.agents);
   values_ = std::move(next);
 }

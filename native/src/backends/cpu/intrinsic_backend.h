@@ -39,7 +39,7 @@ class IntrinsicCpuBackend final : public Backend {
   void import_agents(const Agents& agents) override;
 
   // The vertex values, one plane of vertex_count per species.
-  const std::vector<float>* cell_values() const override { return &values_; }
+  std::vector<float> read_cells() const override { return values_; }
   const IntrinsicDomain& domain() const { return *domain_; }
 
  private:

@@ -260,7 +260,11 @@ __kernel void continuous_agents(__global const mtx_frame* frames, __global const
                                 __global const int* texel_island, __global const uint* interior_bits,
                                 __global const float* alias_prob, __global const uint* alias_index,
                                 __global const float* bias, __global const float* maps,
-                                __global const float* spawn_max, const mtx_continuous_constants k,
+                                __global const float* spawn_max, __global const uint* face_vertices,
+                                __global const uint* locator_grid, __global const uint* locator_cells,
+                                __global const uint* locator_face, __global const float* locator_map,
+                                __global const uint* locator_next, __global const float* locator_across,
+                                const uint vertex_cells, const mtx_continuous_constants k,
                                 const uint count) {
   const uint i = get_global_id(0);
   if (i >= count) return;
@@ -277,14 +281,14 @@ __kernel void continuous_agents(__global const mtx_frame* frames, __global const
   s.island = island;
   s.texel_island = texel_island;
   s.interior_bits = interior_bits;
-  s.face_vertices = 0;
-  s.locator_grid = 0;
-  s.locator_cells = 0;
-  s.locator_face = 0;
-  s.locator_map = 0;
-  s.locator_next = 0;
-  s.locator_across = 0;
-  s.vertex_cells = 0u;
+  s.face_vertices = face_vertices;
+  s.locator_grid = locator_grid;
+  s.locator_cells = locator_cells;
+  s.locator_face = locator_face;
+  s.locator_map = locator_map;
+  s.locator_next = locator_next;
+  s.locator_across = locator_across;
+  s.vertex_cells = vertex_cells;
   mtx_walker w = load_walker(triangle, b1, b2, hx, hy, i);
   const float4 l = lives[i];
   mtx_agent_life life;

@@ -115,6 +115,9 @@ struct OpenClBackend::State {
          fine_flux = nullptr;
   double local_rdt = -1;
   cl_mem pheromone = nullptr, scratch = nullptr, marks = nullptr, field = nullptr;
+  // The intrinsic domain's cells and locator (4-byte placeholders on the texture domain).
+  cl_mem face_vertices = nullptr, locator_grid = nullptr, locator_cells = nullptr, locator_face = nullptr,
+         locator_map = nullptr, locator_next = nullptr, locator_across = nullptr, cells_per_unit = nullptr;
 
   ~State() {
     for (cl_mem m : {frames, adjacency, corner_uvs, classes, gutter_texel, gutter_source, frame3d,
@@ -122,7 +125,9 @@ struct OpenClBackend::State {
                      scratch, marks, field, texels_per_unit, texel_triangle, island, seam_texel,
                      seam_neighbour, bias, texel_island, interior_bits, sums, alias_prob, alias_index, rows, row_start, col, weight,
                      area, reverse, is_fine, fine_rows, fine_cur, fine_next, fine_flux, map_planes,
-                     spawn_max, spawn_prob, spawn_index, write, decay, rate, feed_map, kill_map})
+                     spawn_max, spawn_prob, spawn_index, write, decay, rate, feed_map, kill_map, face_vertices,
+                     locator_grid, locator_cells, locator_face, locator_map, locator_next, locator_across,
+                     cells_per_unit})
       if (m) r.clReleaseMemObject(m);
     release_plan();
     for (cl_kernel k : agent_kernels)
@@ -182,9 +187,11 @@ struct OpenClBackend::State {
 
 OpenClBackend::OpenClBackend(std::shared_ptr<const Surface> surface,
                              std::shared_ptr<const TextureDomain> domain, uint32_t agent_count,
-                             uint32_t species_count, const cl::Device& device)
+                             uint32_t species_count, const cl::Device& device,
+                             std::shared_ptr<const IntrinsicDomain> intrinsic)
     : surface_(std::move(surface)),
       domain_(std::move(domain)),
+      intrinsic_(std::move(intrinsic)),
       agent_count_(agent_count),
       species_count_(species_count),
       device_(device),
@@ -222,7 +229,8 @@ OpenClBackend::OpenClBackend(std::shared_ptr<const Surface> surface,
   const Surface& sf = *surface_;
   const TextureDomain& d = *domain_;
   const size_t texels = d.texel_count();
-  const double need = agent_count_ * 41.0 + sf.frame3d.size() * 4.0 + texels * (9.0 * species_count_ + 5.0) + sf.frames.size() * sizeof(mtx_frame) +
+  cells_ = intrinsic_ ? intrinsic_->vertex_count() : texels;
+  const double need = (intrinsic_ ? static_cast<double>(intrinsic_->bytes()) : 0.0) + agent_count_ * 41.0 + sf.frame3d.size() * 4.0 + texels * (9.0 * species_count_ + 5.0) + sf.frames.size() * sizeof(mtx_frame) +
                       sf.adjacency.size() * 4.0 + sf.corner_uvs.size() * 4.0 + d.gutter_texel.size() * 8.0 +
                       texels * 4.0 + d.texels_per_unit.size() * 4.0 + sf.island.size() * 4.0 +
                       d.seam_texel.size() * 20.0;
@@ -249,10 +257,22 @@ OpenClBackend::OpenClBackend(std::shared_ptr<const Surface> surface,
                               d.seam_neighbour.empty() ? nullptr : d.seam_neighbour.data(), device_bytes_);
   s.food = s.buffer(MTX_MAX_FOOD * 4 * 4, nullptr, device_bytes_);
   s.eaters = s.buffer(MTX_MAX_FOOD * 4, nullptr, device_bytes_);
-  s.pheromone = s.buffer(texels * 4 * species_count_, nullptr, device_bytes_);
-  s.scratch = s.buffer(texels * 4 * species_count_, nullptr, device_bytes_);
+  s.pheromone = s.buffer(cells_ * 4 * species_count_, nullptr, device_bytes_);
+  s.scratch = s.buffer(cells_ * 4 * species_count_, nullptr, device_bytes_);
   s.marks = s.buffer(texels * species_count_, nullptr, device_bytes_);
-  s.field = s.buffer(texels * 4, nullptr, device_bytes_);
+  s.field = s.buffer(cells_ * 4, nullptr, device_bytes_);
+  auto data = [](const auto& v) { return v.empty() ? nullptr : static_cast<const void*>(v.data()); };
+  const IntrinsicDomain* in = intrinsic_.get();
+  auto table = [&](const auto* v) { return in ? s.buffer(v->size() * sizeof((*v)[0]), data(*v), device_bytes_)
+                                              : s.buffer(4, nullptr, device_bytes_); };
+  s.face_vertices = table(in ? &in->face_vertices : nullptr);
+  s.locator_grid = table(in ? &in->locator.grid : nullptr);
+  s.locator_cells = table(in ? &in->locator.cells : nullptr);
+  s.locator_face = table(in ? &in->locator.face : nullptr);
+  s.locator_map = table(in ? &in->locator.map : nullptr);
+  s.locator_next = table(in ? &in->locator.next : nullptr);
+  s.locator_across = table(in ? &in->locator.across : nullptr);
+  s.cells_per_unit = table(in ? &in->cells_per_unit : nullptr);
 }
 
 OpenClBackend::~OpenClBackend() = default;
@@ -345,8 +365,9 @@ void OpenClBackend::import_agents(const Agents& a) {
 void OpenClBackend::set_field(const std::vector<float>& field) {
   State& s = *state_;
   if (field.empty()) return;  // the kernels do not read it then
-  check(s.r.clEnqueueWriteBuffer(s.queue, s.field, CL_TRUE, 0, field.size() * 4, field.data(), 0,
-                                 nullptr, nullptr),
+  const std::vector<float> cells = intrinsic_ ? intrinsic_->sample_texels(field.data()) : field;
+  check(s.r.clEnqueueWriteBuffer(s.queue, s.field, CL_TRUE, 0, cells.size() * 4, cells.data(), 0, nullptr,
+                                 nullptr),
         "uploading the fields");
 }
 
@@ -354,12 +375,12 @@ void OpenClBackend::reset(const Agents& agents) {
   State& s = *state_;
   // Spawning is a one-off: done on the host with the CPU backend's code, then uploaded.
   import_agents(agents);
-  const size_t texels = domain_->texel_count() * species_count_;
+  const size_t texels = domain_->texel_count() * species_count_, cells = cells_ * species_count_;
   const float zero = 0.f;
   const cl_uchar zero8 = 0;
-  check(s.r.clEnqueueFillBuffer(s.queue, s.pheromone, &zero, 4, 0, texels * 4, 0, nullptr, nullptr),
+  check(s.r.clEnqueueFillBuffer(s.queue, s.pheromone, &zero, 4, 0, cells * 4, 0, nullptr, nullptr),
         "clearing the pheromone");
-  check(s.r.clEnqueueFillBuffer(s.queue, s.scratch, &zero, 4, 0, texels * 4, 0, nullptr, nullptr),
+  check(s.r.clEnqueueFillBuffer(s.queue, s.scratch, &zero, 4, 0, cells * 4, 0, nullptr, nullptr),
         "clearing the pheromone");
   check(s.r.clEnqueueFillBuffer(s.queue, s.marks, &zero8, 1, 0, texels, 0, nullptr, nullptr),
         "clearing the deposits");
@@ -482,18 +503,20 @@ void OpenClBackend::prepare_continuous() {
   const Surface& sf = *surface_;
   const TextureDomain& d = *domain_;
   auto lap = std::make_unique<TexelLaplacian>();
-  {
+  if (intrinsic_) {
+    *lap = intrinsic_->laplacian;
+  } else {
     ThreadPool pool(0);
     *lap = build_texel_laplacian(sf, d, pool);
   }
   const AliasTable alias = build_area_alias_table(sf);
   auto data = [](const auto& v) { return v.empty() ? nullptr : static_cast<const void*>(v.data()); };
   const size_t texels = d.texel_count();
-  s.sums = s.buffer(texels * 4 * species_count_, nullptr, device_bytes_);
+  s.sums = s.buffer(cells_ * 4 * species_count_, nullptr, device_bytes_);
   s.texel_island = s.buffer(texels * 4, d.texel_island.data(), device_bytes_);
   s.interior_bits = s.buffer(d.interior_bits.size() * 4, d.interior_bits.data(), device_bytes_);
   const cl_int zero = 0;
-  check(s.r.clEnqueueFillBuffer(s.queue, s.sums, &zero, 4, 0, texels * 4 * species_count_, 0, nullptr, nullptr),
+  check(s.r.clEnqueueFillBuffer(s.queue, s.sums, &zero, 4, 0, cells_ * 4 * species_count_, 0, nullptr, nullptr),
         "clearing the deposit sums");
   s.alias_prob = s.buffer(alias.prob.size() * 4, data(alias.prob), device_bytes_);
   s.alias_index = s.buffer(alias.alias.size() * 4, data(alias.alias), device_bytes_);
@@ -527,11 +550,16 @@ void OpenClBackend::step_continuous(const StepSettings& settings, uint64_t seed,
   const TextureDomain& d = *domain_;
   const TexelLaplacian& lap = *laplacian_;
   const moldtex_continuous_params& p = settings.continuous;
-  const mtx_continuous_constants c =
+  const ParameterMaps& maps = maps_for(*settings.maps);  // (the same planes as the simulation's)
+  mtx_continuous_constants c =
       continuous_constants(settings, d, settings.u_metric, surface_->triangle_count(), agent_count_, seed,
                            step_index);
+  if (intrinsic_) {  // planes of vertex values
+    c.width = static_cast<mtx_u32>(cells_);
+    c.height = 1;
+  }
   const cl_uint planes = species_count_;
-  const cl_uint texels = static_cast<cl_uint>(d.texel_count());
+  const cl_uint texels = static_cast<cl_uint>(cells_);  // values per plane
   const cl_uint cells = static_cast<cl_uint>(lap.rows.size());
   if ((c.bias_on || c.bias_spawn) && settings.bias != s.bias_uploaded) {  // a new bias field
     if (s.bias && s.bias_uploaded.size() != settings.bias.size()) {
@@ -549,7 +577,6 @@ void OpenClBackend::step_continuous(const StepSettings& settings, uint64_t seed,
     s.bias = s.buffer(4, nullptr, device_bytes_);
     s.bias_uploaded.assign(1, 0.f);  // what a 4-byte buffer holds
   }
-  const ParameterMaps& maps = *settings.maps;
   if (s.maps_source != &maps || s.maps_version != maps.version || !s.map_planes) {
     // New maps: replace every map buffer (maps change rarely; a placeholder where unset).
     device_bytes_ -= s.maps_bytes;
@@ -571,10 +598,11 @@ void OpenClBackend::step_continuous(const StepSettings& settings, uint64_t seed,
   const bool spawn_map = !maps.spawn_max.empty();
   cl_kernel k = continuous_kernel(c.has_fields != 0);
   s.args(k, s.frames, s.adjacency, s.corner_uvs, s.classes, s.pheromone, s.field, s.sums, s.triangle,
-         s.b1, s.b2, s.hx, s.hy, s.species, s.lives, s.texels_per_unit, s.texel_triangle, s.island,
-         s.texel_island, s.interior_bits, spawn_map ? s.spawn_prob : s.alias_prob,
-         spawn_map ? s.spawn_index : s.alias_index, s.bias, s.map_planes, s.spawn_max, c,
-         static_cast<cl_uint>(agent_count_));
+         s.b1, s.b2, s.hx, s.hy, s.species, s.lives, intrinsic_ ? s.cells_per_unit : s.texels_per_unit,
+         s.texel_triangle, s.island, s.texel_island, s.interior_bits, spawn_map ? s.spawn_prob : s.alias_prob,
+         spawn_map ? s.spawn_index : s.alias_index, s.bias, s.map_planes, s.spawn_max, s.face_vertices,
+         s.locator_grid, s.locator_cells, s.locator_face, s.locator_map, s.locator_next, s.locator_across,
+         static_cast<cl_uint>(intrinsic_ ? 1 : 0), c, static_cast<cl_uint>(agent_count_));
   s.run(k, agent_count_);
   const float amount = deposit_unit_amount(p, c.deposit_units);
   s.args(s.convert_kernel, s.pheromone, s.sums, s.rows, s.area, amount, cells, texels, planes);
@@ -587,9 +615,20 @@ void OpenClBackend::step_continuous(const StepSettings& settings, uint64_t seed,
     s.run(s.write_kernel, cells);
   }
   diffuse_continuous(p, maps);
+  if (intrinsic_) return;  // (shown in the texture when read)
   const cl_uint gutter = static_cast<cl_uint>(d.gutter_texel.size());
   s.args(s.gutter_kernel, s.pheromone, s.gutter_texel, s.gutter_source, gutter, texels, planes);
   s.run(s.gutter_kernel, gutter);
+}
+
+const ParameterMaps& OpenClBackend::maps_for(const ParameterMaps& maps) {
+  if (!intrinsic_) return maps;
+  if (vmaps_source_ != &maps || vmaps_version_ != maps.version) {
+    vmaps_ = intrinsic_->vertex_maps(maps, domain_->texel_count());
+    vmaps_source_ = &maps;
+    vmaps_version_ = maps.version;
+  }
+  return vmaps_;
 }
 
 void OpenClBackend::upload_conductances(const ParameterMaps& maps, const TexelLaplacian& lap) {
@@ -628,7 +667,7 @@ void OpenClBackend::diffuse_continuous(const moldtex_continuous_params& p, const
   integrate(p, lap);
   if (!decay_map.empty()) {  // the decay map: each cell's own e^(-r_dec m dt)
     const cl_uint cells = static_cast<cl_uint>(lap.rows.size());
-    s.args(s.scale_kernel, s.pheromone, s.rows, s.decay, cells, static_cast<cl_uint>(domain_->texel_count()),
+    s.args(s.scale_kernel, s.pheromone, s.rows, s.decay, cells, static_cast<cl_uint>(cells_),
            static_cast<cl_uint>(species_count_));
     s.run(s.scale_kernel, cells);
   }
@@ -640,12 +679,12 @@ void OpenClBackend::integrate(const moldtex_continuous_params& p, const TexelLap
   State& s = *state_;
   const uint32_t n = forward_substeps(lap, p.diffusion_rate, p.time_step);
   const bool backward = use_backward_euler(lap, p.diffusion_rate, p.time_step, p.integrator);
-  const size_t texels = domain_->texel_count();
+  const size_t texels = cells_;  // values per plane
   if (backward) {
     // Conjugate gradients run on the host (the same solver as the CPU backend, on one
     // thread: it uses no pool, so none is started for it every step).
     std::vector<float> u(texels * species_count_);
-    read_pheromone(u.data());
+    read_planes(u.data());
     ThreadPool pool(1);
     for (uint32_t k = 0; k < species_count_; ++k)
       advance_diffusion_decay(lap, u.data() + k * texels, pde_scratch_, p.diffusion_rate, p.decay_rate,
@@ -709,7 +748,7 @@ void OpenClBackend::integrate(const moldtex_continuous_params& p, const TexelLap
 void OpenClBackend::step_gray_scott(const StepSettings& settings) {
   prepare_continuous();  // the texel Laplacian's buffers
   State& s = *state_;
-  const ParameterMaps& maps = *settings.maps;
+  const ParameterMaps& maps = maps_for(*settings.maps);
   const TexelLaplacian& lap = laplacian_for(maps, *laplacian_, mapped_);
   const moldtex_reaction_params& p = settings.reaction;
   if (species_count_ < kReactionPlanes) fail(MOLDTEX_ERROR_INTERNAL, "The Gray-Scott model needs two planes");
@@ -741,7 +780,7 @@ void OpenClBackend::step_gray_scott(const StepSettings& settings) {
   const float du = static_cast<float>(double(p.diffusion_u) * p.time_step / n);
   const float dv = static_cast<float>(double(p.diffusion_v) * p.time_step / n);
   const cl_uint cells = static_cast<cl_uint>(lap.rows.size());
-  const cl_uint texels = static_cast<cl_uint>(domain_->texel_count());
+  const cl_uint texels = static_cast<cl_uint>(cells_);  // values per plane
   for (uint32_t j = 0; j < n; ++j) {
     s.args(s.gray_scott_kernel, s.rows, s.row_start, s.col, s.weight, s.area, s.rate, s.pheromone, s.scratch, h, du, dv,
            p.feed, p.kill, s.feed_map, s.kill_map, static_cast<cl_uint>(rm.feed != nullptr),
@@ -749,6 +788,7 @@ void OpenClBackend::step_gray_scott(const StepSettings& settings) {
     s.run(s.gray_scott_kernel, cells);
     std::swap(s.pheromone, s.scratch);
   }
+  if (intrinsic_) return;
   const cl_uint gutter = static_cast<cl_uint>(domain_->gutter_texel.size());
   s.args(s.gutter_kernel, s.pheromone, s.gutter_texel, s.gutter_source, gutter, texels,
          static_cast<cl_uint>(species_count_));
@@ -757,11 +797,25 @@ void OpenClBackend::step_gray_scott(const StepSettings& settings) {
 
 void OpenClBackend::finish() { check(state_->r.clFinish(state_->queue), "finishing the step"); }
 
-void OpenClBackend::read_pheromone(float* out) const {
-  check(state_->r.clEnqueueReadBuffer(state_->queue, state_->pheromone, CL_TRUE, 0,
-                                      domain_->texel_count() * 4 * species_count_, out, 0, nullptr,
-                                      nullptr),
+void OpenClBackend::read_planes(float* out) const {
+  check(state_->r.clEnqueueReadBuffer(state_->queue, state_->pheromone, CL_TRUE, 0, cells_ * 4 * species_count_,
+                                      out, 0, nullptr, nullptr),
         "reading the pheromone");
+}
+
+std::vector<float> OpenClBackend::read_cells() const {
+  if (!intrinsic_) return {};
+  std::vector<float> values(cells_ * species_count_);
+  read_planes(values.data());
+  return values;
+}
+
+void OpenClBackend::read_pheromone(float* out) const {
+  if (!intrinsic_) return read_planes(out);
+  std::vector<float> values(cells_ * species_count_);
+  read_planes(values.data());
+  if (!host_pool_) host_pool_ = std::make_unique<ThreadPool>(0);
+  intrinsic_->show(values.data(), out, species_count_, *domain_, *host_pool_);
 }
 
 namespace {
@@ -801,15 +855,23 @@ void OpenClBackend::export_agents(Agents& out) const {
 
 void OpenClBackend::export_state(SimState& out) const {
   export_agents(out.agents);
-  read_buffer(state_->r, state_->queue, state_->pheromone, out.pheromone,
-              domain_->texel_count() * species_count_);
+  out.pheromone.resize(domain_->texel_count() * species_count_);
+  read_pheromone(out.pheromone.data());
+  out.cells.clear();
+  if (intrinsic_) read_buffer(state_->r, state_->queue, state_->pheromone, out.cells, cells_ * species_count_);
 }
 
 void OpenClBackend::import_state(const SimState& in) {
   State& s = *state_;
+  std::vector<float> values;
+  if (intrinsic_) {
+    if (!host_pool_) host_pool_ = std::make_unique<ThreadPool>(0);
+    values = intrinsic_->values_from_state(in, species_count_, *domain_, *host_pool_);
+  }
+  const std::vector<float>& planes = intrinsic_ ? values : in.pheromone;
   import_agents(in.agents);
-  check(s.r.clEnqueueWriteBuffer(s.queue, s.pheromone, CL_TRUE, 0, in.pheromone.size() * 4,
-                                 in.pheromone.data(), 0, nullptr, nullptr),
+  check(s.r.clEnqueueWriteBuffer(s.queue, s.pheromone, CL_TRUE, 0, planes.size() * 4, planes.data(), 0, nullptr,
+                                 nullptr),
         "restoring the pheromone");
   const cl_uchar zero8 = 0;
   check(s.r.clEnqueueFillBuffer(s.queue, s.marks, &zero8, 1, 0, domain_->texel_count() * species_count_,

@@ -10,6 +10,7 @@
 #include "agents/parameter_maps.h"
 #include "backends/backend.h"
 #include "backends/opencl/devices.h"
+#include "domain/intrinsic_domain.h"
 #include "domain/surface_diffusion.h"
 #include "domain/texel_laplacian.h"
 #include "domain/texture_domain.h"
@@ -20,8 +21,12 @@ class OpenClBackend final : public Backend {
  public:
   // Throws moldtex::Error with a message a user can act on if the device cannot be used
   // (no runtime, kernel build failure, not enough device memory).
+  // With `intrinsic`, the continuous model and Gray-Scott run on the intrinsic domain
+  // (domain/intrinsic_domain.h): planes of vertex values on the device, shown in the
+  // texture on the host when read.
   OpenClBackend(std::shared_ptr<const Surface> surface, std::shared_ptr<const TextureDomain> domain,
-                uint32_t agent_count, uint32_t species_count, const cl::Device& device);
+                uint32_t agent_count, uint32_t species_count, const cl::Device& device,
+                std::shared_ptr<const IntrinsicDomain> intrinsic = nullptr);
   ~OpenClBackend() override;
   void reset(const Agents& agents) override;
   void step(const StepSettings& settings, uint64_t seed, uint64_t step_index,
@@ -38,6 +43,7 @@ class OpenClBackend final : public Backend {
   void import_state(const SimState& state) override;
   void export_agents(Agents& agents) const override;
   void import_agents(const Agents& agents) override;
+  std::vector<float> read_cells() const override;
 
  private:
   // Makes the agent buffers hold at least `count` agents (reallocating, contents lost).
@@ -60,10 +66,21 @@ class OpenClBackend final : public Backend {
   // device, when the map changed since the last upload.
   void upload_conductances(const ParameterMaps& maps, const TexelLaplacian& lap);
   void integrate(const moldtex_continuous_params& params, const TexelLaplacian& lap);
+  // The maps the kernels read: the simulation's, or on the intrinsic domain read at the
+  // vertices (remade when they change).
+  const ParameterMaps& maps_for(const ParameterMaps& maps);
+  // The device's planes as they are (cells_ values per species).
+  void read_planes(float* out) const;
 
   struct State;
   std::shared_ptr<const Surface> surface_;
   std::shared_ptr<const TextureDomain> domain_;
+  std::shared_ptr<const IntrinsicDomain> intrinsic_;
+  size_t cells_ = 0;  // values per plane: texels, or intrinsic vertices
+  ParameterMaps vmaps_;
+  const void* vmaps_source_ = nullptr;
+  uint64_t vmaps_version_ = ~0ull;
+  mutable std::unique_ptr<ThreadPool> host_pool_;  // showing vertex values in the texture
   uint32_t agent_count_, species_count_;
   size_t agent_capacity_ = 0;  // agents the device buffers hold
   // Brush batch tag of each agent. Kept on the host: the device never reorders agents,
