@@ -231,13 +231,14 @@ TEST(ReactionDiffusion, IntrinsicDomainShowsTheSameSpacing) {
 // seam's must lie within 3 of their standard deviations. A fixed [0.9, 1.1] on the level is
 // not asserted: at this size the placebo bands themselves spread +-15% (1 sigma; the seam
 // band measured 1.16, z = 1.05).
-TEST(ReactionDiffusion, NoTraceOfTheSphereSeam) {
+void ExpectNoTraceOfTheSphereSeam(uint32_t domain) {
   const uint32_t w = 128, h = 64;
   std::vector<double> band(w, 0.0), band_area(w, 0.0), jump(w, 0.0);
   double total = 0, total_area = 0;
   const TexelGeometry g = Texels(Sphere(), w, h);
   for (uint64_t seed : {1, 2, 3}) {
-    const RdRun r = LabyrinthRun(Sphere(), w, h, 0.03, seed, 200);
+    RdRun r = LabyrinthRun(Sphere(), w, h, 0.03, seed, 200);
+    r.domain = domain;
     const Result o = Simulate(r);
     ASSERT_TRUE(o.ok);
     for (uint32_t y = h / 6; y < h - h / 6; ++y)
@@ -267,22 +268,34 @@ TEST(ReactionDiffusion, NoTraceOfTheSphereSeam) {
   }
 }
 
-TEST(ReactionDiffusion, BitIdenticalForOneAndTwoThreads) {
-  RdRun r = LabyrinthRun(Sphere(), 128, 64, 0.03, 7, 40);
-  r.steps = 300;
-  r.threads = 1;
-  const Result a = Simulate(r);
-  r.threads = 2;
-  const Result b = Simulate(r);
-  ASSERT_TRUE(a.ok && b.ok);
-  ASSERT_EQ(a.rgba.size(), b.rgba.size());
-  EXPECT_EQ(std::memcmp(a.rgba.data(), b.rgba.data(), a.rgba.size() * sizeof(float)), 0);
+TEST(ReactionDiffusion, NoTraceOfTheSphereSeam) { ExpectNoTraceOfTheSphereSeam(MOLDTEX_DOMAIN_TEXTURE); }
+
+// The intrinsic domain has no seams to begin with; what could leave one is its way into
+// the texture (each texel located on the triangulation): the same measure.
+TEST(ReactionDiffusion, NoTraceOfTheSphereSeamOnTheIntrinsicDomain) {
+  ExpectNoTraceOfTheSphereSeam(MOLDTEX_DOMAIN_INTRINSIC);
 }
 
-TEST(ReactionDiffusion, CheckpointResumesBitIdentically) {
+TEST(ReactionDiffusion, BitIdenticalForOneAndTwoThreads) {
+  for (uint32_t domain : {MOLDTEX_DOMAIN_TEXTURE, MOLDTEX_DOMAIN_INTRINSIC}) {
+    RdRun r = LabyrinthRun(Sphere(), 128, 64, 0.03, 7, 40);
+    r.steps = 300;
+    r.domain = domain;
+    r.threads = 1;
+    const Result a = Simulate(r);
+    r.threads = 2;
+    const Result b = Simulate(r);
+    ASSERT_TRUE(a.ok && b.ok);
+    ASSERT_EQ(a.rgba.size(), b.rgba.size());
+    EXPECT_EQ(std::memcmp(a.rgba.data(), b.rgba.data(), a.rgba.size() * sizeof(float)), 0) << "domain " << domain;
+  }
+}
+
+void CheckpointResumes(uint32_t domain) {
   TempDir dir;
   const std::string path = (dir.path / "gs.bin").string();
   RdRun r = LabyrinthRun(Sphere(), 128, 64, 0.03, 3, 40);
+  r.domain = domain;
   auto s = create_surface(Sphere());
   ASSERT_TRUE(s);
   auto a = MakeSim(s.get(), r);
@@ -312,6 +325,13 @@ TEST(ReactionDiffusion, CheckpointResumesBitIdentically) {
   auto m = create_sim(s.get(), c, default_params());
   ASSERT_TRUE(m);
   EXPECT_NE(moldtex_sim_load_checkpoint(m.get(), path.c_str()), MOLDTEX_OK);
+}
+
+TEST(ReactionDiffusion, CheckpointResumesBitIdentically) {
+  for (uint32_t domain : {MOLDTEX_DOMAIN_TEXTURE, MOLDTEX_DOMAIN_INTRINSIC}) {
+    SCOPED_TRACE(domain == MOLDTEX_DOMAIN_TEXTURE ? "texture domain" : "intrinsic domain");
+    CheckpointResumes(domain);
+  }
 }
 
 // Each preset over a long run (3000 s, at dt 1 and 5): finite, in [0, 1.5], and a
