@@ -20,6 +20,7 @@ from .maps.settings import slots as map_slots
 # Short labels shown in the panel: property identifier -> label.
 LABELS = {
     "resolution": "Texture",
+    "intrinsic_size": "Tri. Size",
     "pattern_scale_mode": "Scale",
     "pattern_scale": "Factor",
     "pattern_length": "Length",
