@@ -488,7 +488,10 @@ void fuzz_mesh(Bytes& in) {
         moldtex_colour_stop stops[32];
         moldtex_colour_ramp_info ramp_info;
         moldtex_colour_ramp_info_init(&ramp_info);
-        if (check(moldtex_colour_ramp_from_pixels(pixels.data(), count, &d, stops, 32, &ramp_info)) == MOLDTEX_OK) {
+        // The pixel count the buffer holds at the declared channel count (the API cannot see
+        // a buffer's size: a caller that declares more channels than it has is its bug).
+        const size_t declared = d.channels ? pixels.size() / d.channels : count;
+        if (check(moldtex_colour_ramp_from_pixels(pixels.data(), declared, &d, stops, 32, &ramp_info)) == MOLDTEX_OK) {
           if (ramp_info.stop_count < 2 || ramp_info.stop_count > d.max_stops) bug("a colour map with a wrong stop count");
           for (uint32_t i = 0; i < ramp_info.stop_count; ++i) {
             if (!(stops[i].position >= 0.f && stops[i].position <= 1.f) ||
