@@ -9,7 +9,6 @@
 
 #include "agents/continuous_rules.h"
 #include "backends/cpu/cpu_backend.h"
-#include "backends/cpu/intrinsic_backend.h"
 #include "brush/brush.h"
 #include "brush/reaction_paint.h"
 #ifdef MOLDTEX_HAVE_OPENCL
@@ -321,12 +320,9 @@ Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim
     default:
       break;
   }
-  if (!backend_ && intrinsic_)
-    backend_ = std::make_unique<IntrinsicCpuBackend>(surface_, domain_, intrinsic_, config_.species_count,
-                                                     params.thread_count);
   if (!backend_)
-    backend_ = std::make_unique<CpuBackend>(surface_, domain_, config_.agent_count,
-                                            config_.species_count, params.thread_count);
+    backend_ = std::make_unique<CpuBackend>(surface_, domain_, config_.agent_count, config_.species_count,
+                                            params.thread_count, intrinsic_);
   why_not_opencl_ = why_not;
   maps_ = std::make_shared<ParameterMaps>();
   settings_.maps = maps_;

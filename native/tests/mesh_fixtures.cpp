@@ -454,6 +454,14 @@ SurfacePtr create_surface(const Mesh& m, moldtex_status* status) {
   return SurfacePtr(st == MOLDTEX_OK ? s : nullptr);
 }
 
+moldtex_continuous_params turnover_look() {
+  moldtex_continuous_params p;
+  moldtex_continuous_params_init(&p);
+  p.mean_lifetime = 0.5f;
+  p.activation_time = 0.2f;
+  return p;
+}
+
 moldtex_sim_params default_params() {
   moldtex_sim_params p;
   moldtex_sim_params_init(&p);

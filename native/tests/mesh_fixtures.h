@@ -137,6 +137,10 @@ using SimPtr = std::unique_ptr<moldtex_sim_t, SimDeleter>;
 // nullptr on failure (status in *status when given).
 SurfacePtr create_surface(const Mesh& m, moldtex_status* status = nullptr);
 moldtex_sim_params default_params();
+// The continuous model's default agent with turnover (mean lifetime 0.5 s, activation
+// time 0.2 s): a network that keeps its character from about 2 s on, with cells of a few
+// tenths of a mesh unit (without turnover it keeps coarsening, Fig. 5).
+moldtex_continuous_params turnover_look();
 // Backend: MOLDTEX_BACKEND_CPU (not the AUTO default), so CPU tests stay CPU tests on
 // machines with an OpenCL GPU. Set config.backend yourself to test another backend.
 moldtex_sim_config make_config(uint32_t width, uint32_t height, uint32_t agents, uint64_t seed);

@@ -31,17 +31,6 @@ const Mesh& Torus() {
   return m;
 }
 
-// The core's default agent with turnover (tau 0.5 s, t_a 0.2 s): a network that stays
-// the same in character from about 2 s on (without turnover it keeps coarsening, Fig. 5),
-// with cells of a few tenths of a mesh unit, many on the torus.
-moldtex_continuous_params Look() {
-  moldtex_continuous_params p;
-  moldtex_continuous_params_init(&p);
-  p.mean_lifetime = 0.5f;
-  p.activation_time = 0.2f;
-  return p;
-}
-
 struct RunSpec {
   uint32_t size = 256;
   uint32_t agents = 40000;
@@ -51,7 +40,7 @@ struct RunSpec {
   uint32_t threads = 0;
   const Mesh* mesh = nullptr;
   Backend backend = Backend::Cpu;
-  moldtex_continuous_params p = Look();
+  moldtex_continuous_params p = turnover_look();
 };
 
 struct Outcome {
@@ -152,7 +141,7 @@ TEST(ContinuousModel, ParametersAreValidatedAndKept) {
   c.backend = MOLDTEX_BACKEND_CPU;
   auto sim = create_sim(s.get(), c, default_params());
   ASSERT_TRUE(sim) << LastError();
-  moldtex_continuous_params p = Look();
+  moldtex_continuous_params p = turnover_look();
   p.sensor_angle = -30.f;  // chemo-repulsion is allowed
   p.mean_lifetime = 1.f;
   EXPECT_EQ(moldtex_sim_set_continuous_params(sim.get(), &p), MOLDTEX_OK) << LastError();
@@ -166,7 +155,7 @@ TEST(ContinuousModel, ParametersAreValidatedAndKept) {
                    +[](moldtex_continuous_params& q) { q.diffusion_rate = -1.f; },
                    +[](moldtex_continuous_params& q) { q.sensor_angle = 200.f; },
                    +[](moldtex_continuous_params& q) { q.integrator = 7; }}) {
-    moldtex_continuous_params q = Look();
+    moldtex_continuous_params q = turnover_look();
     bad(q);
     EXPECT_EQ(moldtex_sim_set_continuous_params(sim.get(), &q), MOLDTEX_ERROR_INVALID_ARGUMENT);
     EXPECT_FALSE(LastError().empty());
@@ -181,7 +170,7 @@ TEST(ContinuousModel, ParametersAreValidatedAndKept) {
   EXPECT_EQ(moldtex_sim_set_bias(sim.get(), bias.data(), bias.size()), MOLDTEX_ERROR_INVALID_ARGUMENT);
   EXPECT_NE(LastError().find("triangle 2"), std::string::npos) << LastError();
   EXPECT_EQ(moldtex_sim_set_bias(sim.get(), nullptr, 0), MOLDTEX_OK);
-  moldtex_continuous_params sym = Look();
+  moldtex_continuous_params sym = turnover_look();
   sym.bias_symmetry = 7;
   EXPECT_EQ(moldtex_sim_set_continuous_params(sim.get(), &sym), MOLDTEX_ERROR_INVALID_ARGUMENT);
   moldtex_sim_config unknown = make_config(64, 64, 100, 1);
@@ -237,7 +226,7 @@ TEST(ContinuousModel, DepositsOfAllAgentsInOneTexelDoNotOverflow) {
   c.seed_center.triangle = 100;
   auto sim = create_sim(s.get(), c, default_params());
   ASSERT_TRUE(sim) << LastError();
-  moldtex_continuous_params p = Look();
+  moldtex_continuous_params p = turnover_look();
   p.mean_lifetime = 0.f;
   p.activation_time = 0.f;
   p.move_rate = 0.f;  // nobody leaves the spot
@@ -487,7 +476,7 @@ TEST(ContinuousModel, BiasAlignsTheTrails) {
       c.backend = MOLDTEX_BACKEND_CPU;
       auto sim = create_sim(s.get(), c, default_params());
       ASSERT_TRUE(sim) << LastError();
-      moldtex_continuous_params p = Look();
+      moldtex_continuous_params p = turnover_look();
       p.bias_strength = biased ? 4.f : 0.f;
       p.bias_symmetry = 2;
       ASSERT_EQ(moldtex_sim_set_continuous_params(sim.get(), &p), MOLDTEX_OK) << LastError();
@@ -524,7 +513,7 @@ TEST(ContinuousModel, RespawnsFaceTheBias) {
     c.backend = MOLDTEX_BACKEND_CPU;
     auto sim = create_sim(s.get(), c, default_params());
     ASSERT_TRUE(sim) << LastError();
-    moldtex_continuous_params p = Look();
+    moldtex_continuous_params p = turnover_look();
     p.turn_rate = 0.f;
     p.mean_lifetime = 0.2f;
     p.activation_time = 0.f;
@@ -584,7 +573,7 @@ TEST(ContinuousModel, ATinyUKeepsImagesAndStatisticsFinite) {
   c.model = MOLDTEX_MODEL_CONTINUOUS;
   auto sim = create_sim(s.get(), c, default_params());
   ASSERT_TRUE(sim) << LastError();
-  moldtex_continuous_params p = Look();
+  moldtex_continuous_params p = turnover_look();
   ASSERT_EQ(moldtex_sim_set_continuous_params(sim.get(), &p), MOLDTEX_OK) << LastError();
   ASSERT_EQ(moldtex_sim_step(sim.get(), 10), MOLDTEX_OK) << LastError();
   p.deposit_rate = 1e-38f;  // U drops; the concentration laid so far stays
@@ -613,7 +602,7 @@ TEST(ContinuousModel, TexelsOverDegenerateTrianglesAreNoCells) {
   c.model = MOLDTEX_MODEL_CONTINUOUS;
   auto sim = create_sim(s.get(), c, default_params());
   ASSERT_TRUE(sim) << LastError();
-  moldtex_continuous_params p = Look();
+  moldtex_continuous_params p = turnover_look();
   ASSERT_EQ(moldtex_sim_set_continuous_params(sim.get(), &p), MOLDTEX_OK) << LastError();
   ASSERT_EQ(moldtex_sim_step(sim.get(), 20), MOLDTEX_OK) << LastError();
   double right = 0;
@@ -632,7 +621,7 @@ TEST(ContinuousModel, CheckpointResumesExactly) {
   moldtex_sim_config c = make_config(64, 64, 2000, 5);
   c.model = MOLDTEX_MODEL_CONTINUOUS;
   c.backend = MOLDTEX_BACKEND_CPU;
-  moldtex_continuous_params p = Look();
+  moldtex_continuous_params p = turnover_look();
   p.mean_lifetime = 0.3f;
   p.activation_time = 0.1f;
   auto a = create_sim(s.get(), c, default_params());
@@ -688,7 +677,7 @@ TEST_P(ContinuousBackends, MassIsConservedOnEveryBackend) {
     MTX_PIN_BACKEND(c);
     auto sim = create_sim(s.get(), c, default_params());
     ASSERT_TRUE(sim) << LastError();
-    moldtex_continuous_params p = Look();
+    moldtex_continuous_params p = turnover_look();
     p.diffusion_rate *= 4;  // several sub-steps, with fine ones at the sphere's poles
     ASSERT_EQ(moldtex_sim_set_continuous_params(sim.get(), &p), MOLDTEX_OK);
     ASSERT_EQ(moldtex_sim_step(sim.get(), 60), MOLDTEX_OK) << LastError();

@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "backends/cpu/intrinsic_backend.h"
 #include "domain/intrinsic_domain.h"
 #include "domain/texel_laplacian.h"
 #include "intrinsic/correspondence.h"
@@ -209,14 +208,6 @@ TEST(IntrinsicDomain, LocatorFindsThePointsFace) {
 
 // ---- the simulation on the intrinsic domain, through the C API --------------------
 
-moldtex_continuous_params Look() {
-  moldtex_continuous_params p;
-  moldtex_continuous_params_init(&p);
-  p.mean_lifetime = 0.5f;
-  p.activation_time = 0.2f;
-  return p;
-}
-
 struct RunSpec {
   const Mesh* mesh = nullptr;
   uint32_t size = 128, agents = 20000, threads = 0, domain = MOLDTEX_DOMAIN_INTRINSIC;
@@ -225,7 +216,7 @@ struct RunSpec {
   double seconds = 2.0;
   uint32_t snapshots = 0;  // extra ones, 0.5 s apart, ending at `seconds`
   float bound = 0;         // the intrinsic triangles' circumradius bound (0: auto)
-  moldtex_continuous_params p = Look();
+  moldtex_continuous_params p = turnover_look();
 };
 
 // The pattern measured on the intrinsic vertices themselves (no texture in between):

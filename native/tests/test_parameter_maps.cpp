@@ -28,15 +28,6 @@ const Mesh& Plane() {
 
 constexpr uint32_t kSize = 256;
 
-// The continuous model's default agent with turnover: a steady network from about 2 s.
-moldtex_continuous_params Look() {
-  moldtex_continuous_params p;
-  moldtex_continuous_params_init(&p);
-  p.mean_lifetime = 0.5f;
-  p.activation_time = 0.2f;
-  return p;
-}
-
 using MapOf = std::function<float(double x, double y)>;  // plane coordinates
 
 std::vector<float> MapImage(const MapOf& f, uint32_t size = kSize) {
@@ -120,8 +111,8 @@ double PlaneX(uint32_t tx) { return (tx + 0.5) * 2.0 / kSize; }
 // respawn, so those two are left out of the bit comparison.)
 TEST(ParameterMaps, MapsOfOneChangeNothing) {
   const auto one = [](double, double) { return 1.f; };
-  const std::vector<double> plain = Simulate(6000, 3, Look(), {}, 0.5);
-  const std::vector<double> mapped = Simulate(6000, 3, Look(),
+  const std::vector<double> plain = Simulate(6000, 3, turnover_look(), {}, 0.5);
+  const std::vector<double> mapped = Simulate(6000, 3, turnover_look(),
                                               {{MOLDTEX_MAP_MOVE_RATE, one},
                                                {MOLDTEX_MAP_TURN_RATE, one},
                                                {MOLDTEX_MAP_SENSOR_DISTANCE, one},
@@ -141,7 +132,7 @@ TEST(ParameterMaps, MapsOfOneChangeNothing) {
 // one. After one step, exactly the agents that stood in the sink have been reborn, all
 // in the strips, about 3 times as many on the right.
 TEST(ParameterMaps, SinksKillAtOnceAndSpawnMapsPlaceTheReborn) {
-  moldtex_continuous_params p = Look();
+  moldtex_continuous_params p = turnover_look();
   p.mean_lifetime = 0.f;
   auto in_sink = [](double x, double y) { return std::hypot(x - 1.0, y - 1.0) < 0.4; };
   auto strip = [](double x, double) { return x < 0.3 ? 1.f : x > 1.7 ? 3.f : 0.f; };
@@ -184,7 +175,7 @@ TEST(ParameterMaps, SinksKillAtOnceAndSpawnMapsPlaceTheReborn) {
 // 0.5, as e^(-r_dec t), so after r_dec t = 12.6 it is there to 4e-6 (float rounding
 // allows 1e-4). A negative stimulus empties its region and never makes it negative.
 TEST(ParameterMaps, WriteStimulusAloneHoldsItsValueTimesU) {
-  const moldtex_continuous_params p = Look();
+  const moldtex_continuous_params p = turnover_look();
   MapRun r = Start(4000, 7, p,
                    {{MOLDTEX_MAP_DEPOSIT_RATE, [](double, double) { return 0.f; }},
                     {MOLDTEX_MAP_WRITE_STIMULUS, [](double x, double) { return x < 1.0 ? 0.5f : -0.5f; }}});
@@ -208,7 +199,7 @@ TEST(ParameterMaps, WriteStimulusAloneHoldsItsValueTimesU) {
 // of the band conduct with the mean of 0 and 0): pheromone written on the left never
 // reaches the right, exactly. Without the band it spreads over (the check's control).
 TEST(ParameterMaps, DiffusionMapOfZeroIsAWall) {
-  moldtex_continuous_params p = Look();
+  moldtex_continuous_params p = turnover_look();
   p.diffusion_rate = 0.02f;  // ten times the default: spreads across in 2 s
   for (Backend backend : Backends()) {
     auto right_of_band = [&](const std::vector<std::pair<uint32_t, MapOf>>& extra) {
@@ -233,7 +224,7 @@ TEST(ParameterMaps, DiffusionMapOfZeroIsAWall) {
 // a = s U (e^k - 1) (k = r_dec dt) and decays by e^(-k m), so u = a / (e^(k m) - 1):
 // s U where m = 1, s U / (e^k + 1) = 0.4738 s U where m = 2 (float rounding: 1e-4).
 TEST(ParameterMaps, DecayMapSetsEachCellsDecay) {
-  moldtex_continuous_params p = Look();
+  moldtex_continuous_params p = turnover_look();
   p.diffusion_rate = 0.f;
   for (Backend backend : Backends()) {
     const std::vector<double> shown =
@@ -262,7 +253,7 @@ TEST(ParameterMaps, DecayMapSetsEachCellsDecay) {
 // r_dep). The model holds the mean to about 1% of U (test_continuous), so 3% of 2 U.
 TEST(ParameterMaps, DepositMapScalesTheSteadyState) {
   const std::vector<double> shown =
-      Simulate(10000, 9, Look(), {{MOLDTEX_MAP_DEPOSIT_RATE, [](double, double) { return 2.f; }}}, 2.0);
+      Simulate(10000, 9, turnover_look(), {{MOLDTEX_MAP_DEPOSIT_RATE, [](double, double) { return 2.f; }}}, 2.0);
   const double mean = Mean(Geometry(), shown, [](uint32_t, uint32_t) { return true; });
   std::printf("  mean u / U = %.4f\n", mean);
   EXPECT_NEAR(mean, 2.0, 0.06);
@@ -285,9 +276,9 @@ TEST(ParameterMaps, ReadStimulusDrawsTheNetworkIntoItsShape) {
   // seed to seed (without the stimulus, 1.35 for one seed): two seeds each.
   std::vector<double> plain, stim;
   for (uint64_t seed : {11, 12}) {
-    const std::vector<double> a = Simulate(10000, seed, Look(), {}, 3.0);
+    const std::vector<double> a = Simulate(10000, seed, turnover_look(), {}, 3.0);
     const std::vector<double> b =
-        Simulate(10000, seed, Look(),
+        Simulate(10000, seed, turnover_look(),
                  {{MOLDTEX_MAP_READ_STIMULUS, [&](double x, double y) { return stroke(x, y) ? 2.f : 0.f; }}}, 3.0);
     plain.insert(plain.end(), a.begin(), a.end());
     stim.insert(stim.end(), b.begin(), b.end());
@@ -333,15 +324,15 @@ TEST(ParameterMaps, ReadStimulusDrawsTheNetworkIntoItsShape) {
 // the halves of the mapped run must show it on the same side of 1 and within 0.05 (the
 // seed spread of the length is 1-2%; the border between the halves is left out).
 TEST(ParameterMaps, MoveRateMapGivesEachHalfItsOwnScale) {
-  moldtex_continuous_params fast = Look();
+  moldtex_continuous_params fast = turnover_look();
   fast.move_rate *= 3.f;
   const TexelGeometry& g = Geometry();
   auto left = [&](uint32_t x, uint32_t) { return PlaneX(x) < 0.85; };
   auto right = [&](uint32_t x, uint32_t) { return PlaneX(x) > 1.15; };
-  const std::vector<double> slow_run = Simulate(10000, 13, Look(), {}, 3.0);
+  const std::vector<double> slow_run = Simulate(10000, 13, turnover_look(), {}, 3.0);
   const std::vector<double> fast_run = Simulate(10000, 13, fast, {}, 3.0);
   const std::vector<double> mapped =
-      Simulate(10000, 13, Look(), {{MOLDTEX_MAP_MOVE_RATE, [](double x, double) { return x < 1.0 ? 1.f : 3.f; }}}, 3.0);
+      Simulate(10000, 13, turnover_look(), {{MOLDTEX_MAP_MOVE_RATE, [](double x, double) { return x < 1.0 ? 1.f : 3.f; }}}, 3.0);
   const double predicted = GradientLength(g, fast_run) / GradientLength(g, slow_run);
   const double measured = GradientLength(g, mapped, right) / GradientLength(g, mapped, left);
   std::printf("  gradient length: slow %.4f, fast %.4f (ratio %.3f); mapped left %.4f, right %.4f (ratio %.3f)\n",
@@ -363,7 +354,7 @@ TEST(ParameterMaps, AbsorbingBoundariesKillAgentsAtTheEdge) {
   // on texel edges: 102 * 2 / 256 = 0.796875).
   auto centre = [](double x, double y) { return std::fabs(x - 1.0) < 0.203125 && std::fabs(y - 1.0) < 0.203125; };
   for (uint32_t boundary : {MOLDTEX_BOUNDARY_ABSORB, MOLDTEX_BOUNDARY_REFLECT}) {
-    moldtex_continuous_params p = Look();
+    moldtex_continuous_params p = turnover_look();
     p.mean_lifetime = 0.f;
     p.move_rate = 3.f / p.time_step;
     p.boundary = boundary;
@@ -467,7 +458,7 @@ TEST(ParameterMaps, BiasTowardASinkBranches) {
   size_t holes[2] = {0, 0};
   for (uint64_t seed : {41, 42})
     for (int biased = 0; biased < 2; ++biased) {
-      moldtex_continuous_params p = Look();
+      moldtex_continuous_params p = turnover_look();
       p.sensor_distance *= 0.5f;
       p.move_rate *= 0.5f;
       p.diffusion_rate *= 0.25f;
@@ -500,8 +491,8 @@ TEST(ParameterMaps, DeterministicAcrossThreadCounts) {
       {MOLDTEX_MAP_MEAN_LIFETIME, [](double x, double y) { return std::hypot(x - 1, y - 1) < 0.3 ? 0.f : 1.f; }},
       {MOLDTEX_MAP_SPAWN, [](double x, double) { return x < 0.5 ? 1.f : 0.f; }},
       {MOLDTEX_MAP_WRITE_STIMULUS, [](double x, double) { return x > 1.5 ? 0.3f : 0.f; }}};
-  const std::vector<double> one = Simulate(6000, 17, Look(), maps, 0.5, Backend::Cpu, 1);
-  const std::vector<double> two = Simulate(6000, 17, Look(), maps, 0.5, Backend::Cpu, 2);
+  const std::vector<double> one = Simulate(6000, 17, turnover_look(), maps, 0.5, Backend::Cpu, 1);
+  const std::vector<double> two = Simulate(6000, 17, turnover_look(), maps, 0.5, Backend::Cpu, 2);
   ASSERT_EQ(one.size(), two.size());
   size_t differ = 0;
   for (size_t i = 0; i < one.size(); ++i) differ += one[i] != two[i];
@@ -516,12 +507,12 @@ TEST(ParameterMaps, CheckpointKeepsTheMaps) {
       {MOLDTEX_MAP_TURN_RATE, [](double x, double) { return float(0.5 + x / 2); }},
       {MOLDTEX_MAP_SPAWN, [](double, double y) { return y < 1 ? 1.f : 2.f; }},
       {MOLDTEX_MAP_READ_STIMULUS, [](double x, double) { return x < 0.5 ? -0.5f : 0.f; }}};
-  MapRun a = Start(4000, 19, Look(), maps);
+  MapRun a = Start(4000, 19, turnover_look(), maps);
   ASSERT_TRUE(a.sim);
   ASSERT_EQ(moldtex_sim_step(a.sim.get(), 20), MOLDTEX_OK);
   ASSERT_EQ(moldtex_sim_save_checkpoint(a.sim.get(), path.c_str()), MOLDTEX_OK) << LastError();
   ASSERT_EQ(moldtex_sim_step(a.sim.get(), 20), MOLDTEX_OK);
-  MapRun b = Start(4000, 19, Look(), {});  // no maps of its own
+  MapRun b = Start(4000, 19, turnover_look(), {});  // no maps of its own
   ASSERT_TRUE(b.sim);
   ASSERT_EQ(moldtex_sim_load_checkpoint(b.sim.get(), path.c_str()), MOLDTEX_OK) << LastError();
   for (const auto& [kind, f] : maps) {
@@ -536,7 +527,7 @@ TEST(ParameterMaps, CheckpointKeepsTheMaps) {
 
 // Bad maps are refused with a message, and the simulation keeps what it had.
 TEST(ParameterMaps, BadMapsAreRefusedWithAMessage) {
-  MapRun r = Start(1000, 1, Look(), {});
+  MapRun r = Start(1000, 1, turnover_look(), {});
   ASSERT_TRUE(r.sim);
   std::vector<float> m(size_t(kSize) * kSize, 1.f);
   auto refused = [&](uint32_t kind, const std::vector<float>& v, size_t count, const char* word) {
@@ -580,8 +571,8 @@ TEST(ParameterMaps, OpenClAgreesWithTheCpu) {
       {MOLDTEX_MAP_WRITE_STIMULUS, [](double x, double) { return x > 1.6 ? 0.5f : 0.f; }},
       {MOLDTEX_MAP_DIFFUSION_RATE, [](double, double y) { return float(0.5 + y); }},
       {MOLDTEX_MAP_DECAY_RATE, [](double x, double y) { return std::hypot(x - 0.5, y - 1.5) < 0.3 ? 3.f : 1.f; }}};
-  const std::vector<double> cpu = Simulate(10000, 23, Look(), maps, 2.0, Backend::Cpu);
-  const std::vector<double> gpu = Simulate(10000, 23, Look(), maps, 2.0, Backend::OpenCl);
+  const std::vector<double> cpu = Simulate(10000, 23, turnover_look(), maps, 2.0, Backend::Cpu);
+  const std::vector<double> gpu = Simulate(10000, 23, turnover_look(), maps, 2.0, Backend::OpenCl);
   const TexelGeometry& g = Geometry();
   auto all = [](uint32_t, uint32_t) { return true; };
   std::printf("  mean %.4f vs %.4f, gradient length %.4f vs %.4f\n", Mean(g, cpu, all), Mean(g, gpu, all),

@@ -152,11 +152,4 @@ void sort_by_tile(const Surface& s, uint32_t width, uint32_t height, Agents& a) 
   sort_by_key(a, key, static_cast<size_t>(tiles_x) * tiles_y);
 }
 
-void sort_by_face(Agents& a, uint32_t face_count, uint32_t faces_per_group) {
-  const uint32_t groups = face_count / faces_per_group + 1;
-  std::vector<uint32_t> key(a.size());
-  for (size_t i = 0; i < a.size(); ++i) key[i] = std::min(a.triangle[i] / faces_per_group, groups - 1);
-  sort_by_key(a, key, groups);
-}
-
 }  // namespace moldtex

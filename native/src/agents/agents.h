@@ -66,10 +66,6 @@ struct Agents {
 // Reorders agents by the texture tile they stand in (a stable counting sort), so that
 // neighbouring agents read neighbouring texels and stay in cache. Deterministic.
 void sort_by_tile(const Surface& surface, uint32_t width, uint32_t height, Agents& agents);
-// The same by triangle (face) index in groups of faces_per_group: on a mesh numbered
-// along a space-filling curve (the intrinsic domain's), agents near each other in memory
-// walk near each other on the surface.
-void sort_by_face(Agents& agents, uint32_t face_count, uint32_t faces_per_group);
 
 // How to place agents (moldtex_sim_config's seed fields, validated).
 struct SpawnSpec {

@@ -340,6 +340,15 @@ ParameterMaps IntrinsicDomain::vertex_maps(const ParameterMaps& maps, size_t tex
   return v;
 }
 
+const ParameterMaps& VertexMaps::of(const IntrinsicDomain& domain, const ParameterMaps& maps, size_t texels) {
+  if (source_ != &maps || version_ != maps.version) {
+    maps_ = domain.vertex_maps(maps, texels);
+    source_ = &maps;
+    version_ = maps.version;
+  }
+  return maps_;
+}
+
 Walker IntrinsicDomain::to_intrinsic(const Walker& w) const {
   const uint32_t face = w.triangle < input_face.size() ? input_face[w.triangle] : kInvalid;
   if (face == kInvalid) {  // a dropped triangle (no area, never walked on): face 0

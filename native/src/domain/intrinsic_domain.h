@@ -98,6 +98,19 @@ struct IntrinsicDomain {
   size_t bytes() const;
 };
 
+// A backend's copy of the simulation's maps read at the vertices (vertex_maps), remade
+// when the maps change.
+class VertexMaps {
+ public:
+  const ParameterMaps& of(const IntrinsicDomain& domain, const ParameterMaps& maps, size_t texels);
+  size_t bytes() const { return maps_.agent_planes.capacity() * 4; }
+
+ private:
+  ParameterMaps maps_;
+  const void* source_ = nullptr;
+  uint64_t version_ = ~0ull;
+};
+
 // The default bound: the mean 3D spacing of the island texels, so that the intrinsic
 // triangulation has about as many vertices as the texture has island texels and both
 // domains resolve the same detail.

@@ -15,15 +15,30 @@ constexpr uint64_t kSortInterval = 16;
 
 CpuBackend::CpuBackend(std::shared_ptr<const Surface> surface,
                        std::shared_ptr<const TextureDomain> domain, uint32_t /*agent_count: reset brings them*/,
-                       uint32_t species_count, unsigned threads)
+                       uint32_t species_count, unsigned threads, std::shared_ptr<const IntrinsicDomain> intrinsic)
     : surface_(std::move(surface)),
       domain_(std::move(domain)),
+      intrinsic_(std::move(intrinsic)),
       species_count_(species_count),
       pool_(std::make_unique<ThreadPool>(threads)) {
-  const size_t n = domain_->texel_count() * species_count_;
+  const size_t n = (intrinsic_ ? intrinsic_->vertex_count() : domain_->texel_count()) * species_count_;
   pheromone_.assign(n, 0.f);
   scratch_.assign(n, 0.f);
-  marks_.assign(n, 0);
+  marks_.assign(domain_->texel_count() * species_count_, 0);  // MoMaS only
+}
+
+void CpuBackend::set_field(const std::vector<float>& field) {
+  field_ = intrinsic_ && !field.empty() ? intrinsic_->sample_texels(field.data()) : field;
+}
+
+const TexelLaplacian& CpuBackend::base_laplacian() {
+  if (intrinsic_) return intrinsic_->laplacian;
+  if (!laplacian_) laplacian_ = std::make_unique<TexelLaplacian>(build_texel_laplacian(*surface_, *domain_, *pool_));
+  return *laplacian_;
+}
+
+const ParameterMaps& CpuBackend::maps_for(const ParameterMaps& maps) {
+  return intrinsic_ ? vertex_maps_.of(*intrinsic_, maps, domain_->texel_count()) : maps;
 }
 
 void CpuBackend::reset(const Agents& agents) {
@@ -47,6 +62,9 @@ void CpuBackend::step(const StepSettings& settings, uint64_t seed, uint64_t step
                       uint32_t* eaters) {
   if (settings.model == MOLDTEX_MODEL_CONTINUOUS) return step_continuous(settings, seed, step_index);
   if (settings.model == MOLDTEX_MODEL_GRAY_SCOTT) return step_gray_scott(settings);
+  if (intrinsic_)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "The Intrinsic domain runs the continuous model and Gray-Scott; MoMaS works in texels: use the Texture domain");
   const TextureDomain& d = *domain_;
   const moldtex_sim_params& p = settings.params;
   const MomasStepConstants c = momas_constants(settings, d, seed, step_index);
@@ -90,17 +108,22 @@ void CpuBackend::step(const StepSettings& settings, uint64_t seed, uint64_t step
 void CpuBackend::step_continuous(const StepSettings& settings, uint64_t seed, uint64_t step_index) {
   const TextureDomain& d = *domain_;
   const size_t texels = d.texel_count();
-  if (!laplacian_) laplacian_ = std::make_unique<TexelLaplacian>(build_texel_laplacian(*surface_, d, *pool_));
+  const TexelLaplacian& base = base_laplacian();
   if (alias_.prob.empty()) alias_ = build_area_alias_table(*surface_);
   if (sums_.size() != pheromone_.size()) sums_.assign(pheromone_.size(), 0);
   if (step_index % kSortInterval == 0) sort_by_tile(*surface_, d.width, d.height, agents_);
-  const ContinuousStepConstants c =
+  ContinuousStepConstants c =
       continuous_constants(settings, d, settings.u_metric, surface_->triangle_count(), agents_.size(), seed,
                            step_index);
-  const ParameterMaps& maps = *settings.maps;
+  if (intrinsic_) {  // planes of vertex values
+    c.width = intrinsic_->vertex_count();
+    c.height = 1;
+  }
+  const ParameterMaps& maps = maps_for(*settings.maps);
   // 1. Agents read the concentration as it was at the start of the step and add their
   //    deposits into integer sums (exact in any order).
-  const mtx_surface_tables tables = surface_tables(*surface_, d);
+  const mtx_surface_tables tables =
+      intrinsic_ ? intrinsic_->tables(surface_tables(*surface_, d)) : surface_tables(*surface_, d);
   const float* field = c.has_fields ? field_.data() : nullptr;
   const AliasTable& alias = maps.spawn_max.empty() ? alias_ : maps.spawn_alias;
   pool_->parallel_for(agents_.size(), 1024, [&](size_t begin, size_t end) {
@@ -110,8 +133,9 @@ void CpuBackend::step_continuous(const StepSettings& settings, uint64_t seed, ui
   });
   // 2. Per species: the deposits become concentration, then the PDE advances by dt; the
   //    gutter shows what lies across each seam (for Blender only).
-  settle_continuous_step(settings, maps, laplacian_for(maps, *laplacian_, mapped_), mapped_, c.deposit_units,
+  settle_continuous_step(settings, maps, laplacian_for(maps, base, mapped_), mapped_, c.deposit_units,
                          pheromone_.data(), sums_.data(), pde_scratch_, species_count_, *pool_);
+  if (intrinsic_) return;  // (shown in the texture when read)
   for (uint32_t k = 0; k < species_count_; ++k) fill_gutter(d, pheromone_.data() + k * texels, *pool_);
 }
 
@@ -153,18 +177,19 @@ void settle_continuous_step(const StepSettings& settings, const ParameterMaps& m
 // Gray-Scott (domain/reaction_diffusion.h): planes V and U, no agents.
 void CpuBackend::step_gray_scott(const StepSettings& settings) {
   const TextureDomain& d = *domain_;
-  if (!laplacian_) laplacian_ = std::make_unique<TexelLaplacian>(build_texel_laplacian(*surface_, d, *pool_));
-  const size_t texels = d.texel_count();
-  if (pheromone_.size() < texels * kReactionPlanes)
-    fail(MOLDTEX_ERROR_INTERNAL, "The Gray-Scott model needs two planes");
-  const ParameterMaps& maps = *settings.maps;
-  reaction_step(laplacian_for(maps, *laplacian_, mapped_), settings.reaction, pheromone_.data(), scratch_, texels,
-                *pool_, reaction_maps(maps.feed(), maps.largest[MOLDTEX_MAP_FEED], maps.kill(),
-                                           maps.largest[MOLDTEX_MAP_KILL], settings.reaction));
-  for (uint32_t k = 0; k < kReactionPlanes; ++k) fill_gutter(d, pheromone_.data() + k * texels, *pool_);
+  const TexelLaplacian& base = base_laplacian();
+  if (species_count_ < kReactionPlanes) fail(MOLDTEX_ERROR_INTERNAL, "The Gray-Scott model needs two planes");
+  const size_t cells = pheromone_.size() / species_count_;  // values per plane
+  const ParameterMaps& maps = maps_for(*settings.maps);
+  reaction_step(laplacian_for(maps, base, mapped_), settings.reaction, pheromone_.data(), scratch_, cells, *pool_,
+                reaction_maps(maps.feed(), maps.largest[MOLDTEX_MAP_FEED], maps.kill(),
+                              maps.largest[MOLDTEX_MAP_KILL], settings.reaction));
+  if (intrinsic_) return;
+  for (uint32_t k = 0; k < kReactionPlanes; ++k) fill_gutter(d, pheromone_.data() + k * cells, *pool_);
 }
 
 void CpuBackend::read_pheromone(float* out) const {
+  if (intrinsic_) return intrinsic_->show(pheromone_.data(), out, species_count_, *domain_, *pool_);
   std::memcpy(out, pheromone_.data(), pheromone_.size() * sizeof(float));
 }
 
@@ -178,24 +203,33 @@ void CpuBackend::read_agents(moldtex_surface_point* out, size_t count) const {
 
 void CpuBackend::export_state(SimState& s) const {
   s.agents = agents_;
-  s.pheromone = pheromone_;
+  if (!intrinsic_) {
+    s.pheromone = pheromone_;
+    return;
+  }
+  s.pheromone.resize(domain_->texel_count() * species_count_);
+  read_pheromone(s.pheromone.data());
+  s.cells = pheromone_;
 }
 
 void CpuBackend::import_state(const SimState& s) {
+  std::vector<float> planes =
+      intrinsic_ ? intrinsic_->values_from_state(s, species_count_, *domain_, *pool_) : s.pheromone;
   import_agents(s.agents);
-  pheromone_ = s.pheromone;
+  pheromone_ = std::move(planes);
   std::fill(marks_.begin(), marks_.end(), 0);
 }
 
 std::string CpuBackend::name() const {
   const unsigned n = pool_->size();
-  return "CPU (" + std::to_string(n) + (n == 1 ? " thread)" : " threads)");
+  return "CPU (" + std::to_string(n) + (n == 1 ? " thread" : " threads") + (intrinsic_ ? ", intrinsic domain)" : ")");
 }
 
 size_t CpuBackend::bytes() const {
   size_t continuous = sums_.capacity() * sizeof(int32_t) + pde_scratch_.capacity() * sizeof(float) +
                       alias_.prob.capacity() * 4 + alias_.alias.capacity() * 4;
   if (laplacian_) continuous += laplacian_->bytes();
+  if (intrinsic_) continuous += intrinsic_->bytes() + vertex_maps_.bytes();
   return agents_.bytes() +
          (pheromone_.capacity() + scratch_.capacity() + field_.capacity()) * sizeof(float) +
          marks_.capacity() + continuous;

@@ -8,6 +8,7 @@
 #include "backends/backend.h"
 #include "agents/continuous_rules.h"
 #include "agents/parameter_maps.h"
+#include "domain/intrinsic_domain.h"
 #include "domain/surface_diffusion.h"
 #include "domain/texel_laplacian.h"
 #include "domain/texture_domain.h"
@@ -24,13 +25,18 @@ void settle_continuous_step(const StepSettings& settings, const ParameterMaps& m
 
 class CpuBackend final : public Backend {
  public:
+  // With `intrinsic`, the continuous model and Gray-Scott run on the intrinsic domain
+  // (domain/intrinsic_domain.h): the agents still walk the input mesh; the planes hold
+  // vertex values, shown in the texture when read; maps and fields are read at each
+  // vertex's texel.
   CpuBackend(std::shared_ptr<const Surface> surface, std::shared_ptr<const TextureDomain> domain,
-             uint32_t agent_count, uint32_t species_count, unsigned threads);
+             uint32_t agent_count, uint32_t species_count, unsigned threads,
+             std::shared_ptr<const IntrinsicDomain> intrinsic = nullptr);
   void reset(const Agents& agents) override;
   void step(const StepSettings& settings, uint64_t seed, uint64_t step_index,
             uint32_t* eaters) override;
   void set_thread_count(unsigned threads) override;
-  void set_field(const std::vector<float>& field) override { field_ = field; }
+  void set_field(const std::vector<float>& field) override;
   void read_pheromone(float* out) const override;
   void read_agents(moldtex_surface_point* out, size_t count) const override;
   size_t agent_count() const override { return agents_.size(); }
@@ -40,18 +46,26 @@ class CpuBackend final : public Backend {
   void import_state(const SimState& state) override;
   void export_agents(Agents& agents) const override { agents = agents_; }
   void import_agents(const Agents& agents) override;
+  std::vector<float> read_cells() const override { return intrinsic_ ? pheromone_ : std::vector<float>{}; }
 
  private:
   void step_continuous(const StepSettings& settings, uint64_t seed, uint64_t step_index);
   void step_gray_scott(const StepSettings& settings);
+  // The PDE's operator (built at the first step on the texture domain) and the maps the
+  // agents and the PDE read (on the intrinsic domain: at the vertices).
+  const TexelLaplacian& base_laplacian();
+  const ParameterMaps& maps_for(const ParameterMaps& maps);
 
   std::shared_ptr<const Surface> surface_;
   std::shared_ptr<const TextureDomain> domain_;
+  std::shared_ptr<const IntrinsicDomain> intrinsic_;
+  VertexMaps vertex_maps_;
   uint32_t species_count_;
   std::unique_ptr<ThreadPool> pool_;
   Agents agents_;
-  std::vector<float> pheromone_, scratch_;  // species_count_ planes each
-  std::vector<float> field_;
+  // species_count_ planes each, of texels or (intrinsic domain) of vertex values.
+  std::vector<float> pheromone_, scratch_;
+  std::vector<float> field_;  // per texel, or per vertex
   std::vector<uint8_t> marks_;
   // Surface units: the diffusion plan for the current mix and length unit.
   DiffusionPlan plan_;

@@ -622,13 +622,7 @@ void OpenClBackend::step_continuous(const StepSettings& settings, uint64_t seed,
 }
 
 const ParameterMaps& OpenClBackend::maps_for(const ParameterMaps& maps) {
-  if (!intrinsic_) return maps;
-  if (vmaps_source_ != &maps || vmaps_version_ != maps.version) {
-    vmaps_ = intrinsic_->vertex_maps(maps, domain_->texel_count());
-    vmaps_source_ = &maps;
-    vmaps_version_ = maps.version;
-  }
-  return vmaps_;
+  return intrinsic_ ? vertex_maps_.of(*intrinsic_, maps, domain_->texel_count()) : maps;
 }
 
 void OpenClBackend::upload_conductances(const ParameterMaps& maps, const TexelLaplacian& lap) {

@@ -77,9 +77,7 @@ class OpenClBackend final : public Backend {
   std::shared_ptr<const TextureDomain> domain_;
   std::shared_ptr<const IntrinsicDomain> intrinsic_;
   size_t cells_ = 0;  // values per plane: texels, or intrinsic vertices
-  ParameterMaps vmaps_;
-  const void* vmaps_source_ = nullptr;
-  uint64_t vmaps_version_ = ~0ull;
+  VertexMaps vertex_maps_;
   mutable std::unique_ptr<ThreadPool> host_pool_;  // showing vertex values in the texture
   uint32_t agent_count_, species_count_;
   size_t agent_capacity_ = 0;  // agents the device buffers hold
