@@ -14,12 +14,17 @@ has no window, so no modal tool and no events).
 """
 
 import argparse
+import faulthandler
 import array
 import os
 import sys
 import traceback
 
 import bpy
+
+# A crash (of Blender, a driver or the core) prints every Python thread's stack, so a
+# crash seen once on CI says where it happened.
+faulthandler.enable(all_threads=True)
 
 argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 parser = argparse.ArgumentParser()

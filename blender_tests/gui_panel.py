@@ -13,12 +13,17 @@ width is the same. Exits 0 when every label fits, 1 otherwise.
 """
 
 import argparse
+import faulthandler
 import os
 import sys
 import traceback
 import types
 
 import bpy
+
+# A crash (of Blender, a driver or the core) prints every Python thread's stack, so a
+# crash seen once on CI says where it happened.
+faulthandler.enable(all_threads=True)
 
 argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 parser = argparse.ArgumentParser()

@@ -34,6 +34,7 @@ Reset).
 """
 
 import argparse
+import faulthandler
 import array
 import os
 import shutil
@@ -43,6 +44,10 @@ import time
 import traceback
 
 import bpy
+
+# A crash (of Blender, a driver or the core) prints every Python thread's stack, so a
+# crash seen once on CI says where it happened.
+faulthandler.enable(all_threads=True)
 
 argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 parser = argparse.ArgumentParser()

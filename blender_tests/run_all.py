@@ -7,11 +7,16 @@ Options: -k PATTERN runs only tests whose id contains PATTERN; -v lists each tes
 """
 
 import argparse
+import faulthandler
 import os
 import sys
 import time
 import traceback
 import unittest
+
+# A crash (of Blender, a driver or the core) prints every Python thread's stack, so a
+# crash seen once on CI says where it happened.
+faulthandler.enable(all_threads=True)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 

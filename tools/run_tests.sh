@@ -9,15 +9,30 @@ moldtex_build
 # PoCL is installed above, so the OpenCL tests must run, not skip.
 export MOLDTEX_REQUIRE_OPENCL=1
 
+# Runs a command; if it fails, prints the crash reports Blender wrote meanwhile (the
+# backtrace of a segfault), then fails as it did.
+with_crash_report() {
+  local marker rc=0
+  marker="$(mktemp)"
+  "$@" || rc=$?
+  if ((rc)); then
+    for report in "${TMPDIR:-/tmp}"/*.crash.txt; do
+      [ -f "$report" ] && [ "$report" -nt "$marker" ] && { echo "== $report"; cat "$report"; }
+    done
+  fi
+  rm -f "$marker"
+  return "$rc"
+}
+
 echo "== CTest (native core)"
 ctest --test-dir "$MOLDTEX_BUILD" --output-on-failure -j"$(nproc)"
 
 echo "== Blender tests on $(blender --version 2>/dev/null | head -n1)"
-blender -b --factory-startup --python-exit-code 1 \
+with_crash_report blender -b --factory-startup --python-exit-code 1 \
   -P "$MOLDTEX_ROOT/blender_tests/run_all.py" -- --addon-dir "$MOLDTEX_BUILD/addon"
 
 echo "== Viewport brush tool with simulated mouse and keys (Blender's interface under Xvfb)"
-timeout 300 xvfb-run -a -s "-screen 0 1600x1000x24" blender --factory-startup --enable-event-simulate \
+with_crash_report timeout 300 xvfb-run -a -s "-screen 0 1600x1000x24" blender --factory-startup --enable-event-simulate \
   --python-exit-code 1 -P "$MOLDTEX_ROOT/blender_tests/gui_brush.py" -- \
   --addon-dir "$MOLDTEX_BUILD/addon"
 
@@ -27,13 +42,13 @@ VIEWPORT_TMP="$(mktemp -d)"
 blender -b --factory-startup --python-expr \
   "import bpy, sys; bpy.ops.wm.save_as_mainfile(filepath=sys.argv[-1])" \
   -- "$VIEWPORT_TMP/empty.blend" >/dev/null
-timeout 300 xvfb-run -a -s "-screen 0 1024x768x24" blender --factory-startup \
+with_crash_report timeout 300 xvfb-run -a -s "-screen 0 1024x768x24" blender --factory-startup \
   "$VIEWPORT_TMP/empty.blend" --python-exit-code 1 \
   -P "$MOLDTEX_ROOT/blender_tests/gui_viewport.py" -- --addon-dir "$MOLDTEX_BUILD/addon"
 rm -rf "$VIEWPORT_TMP"
 
 echo "== The sidebar at its default width: every label fits (Blender's interface under Xvfb)"
-timeout 120 xvfb-run -a -s "-screen 0 1600x1000x24" blender --factory-startup \
+with_crash_report timeout 120 xvfb-run -a -s "-screen 0 1600x1000x24" blender --factory-startup \
   --python-exit-code 1 -P "$MOLDTEX_ROOT/blender_tests/gui_panel.py" -- \
   --addon-dir "$MOLDTEX_BUILD/addon" --screenshot "$MOLDTEX_BUILD/moldtex_sidebar.png"
 
