@@ -394,6 +394,50 @@ def _tick():
         check(all(a == b for a, b, _c in STATE["samples"]),
               "the panel's step count is the simulation's")
         call(bpy.ops.moldtex.start, 'INVOKE_DEFAULT')  # pause
+        goto("intrinsic_start")
+        return 1.0
+    # The Intrinsic domain: Start first builds the triangulation on the core's thread
+    # (~180 k vertices at 512², seconds here) while the interface runs and shows its
+    # progress; Start pressed again cancels it; once built, the simulation uses it.
+    if phase == "intrinsic_start":
+        entry = live.get(NAME)
+        check(not entry.running, "paused before the Intrinsic domain")
+        settings = obj.moldtex
+        settings.model = 'CONTINUOUS'
+        settings.domain = 'INTRINSIC'
+        settings.resolution = "512"
+        check(call(bpy.ops.moldtex.start, 'INVOKE_DEFAULT') == {'RUNNING_MODAL'},
+              "Start with the Intrinsic domain runs modally")
+        goto("intrinsic_building")
+        return 0.3
+    if phase == "intrinsic_building":
+        progress = live.domain_build_status(obj)
+        check(progress is not None and progress["state"] == 0 and progress["fraction"] < 1.0,
+              f"the triangulation builds while the interface runs ({progress})")
+        check(not live.get(NAME).running, "the simulation waits for it")
+        call(bpy.ops.moldtex.start, 'INVOKE_DEFAULT')  # pressed again: cancel
+        goto("intrinsic_cancelled")
+        return 1.0
+    if phase == "intrinsic_cancelled":
+        entry = live.get(NAME)
+        check(live.domain_build_status(obj) is None and not entry.running,
+              "Start pressed again cancelled the build, and nothing started")
+        check(entry.sim.get_config()["domain"] == 0,
+              "the simulation is the one from before (Texture domain)")
+        check(call(bpy.ops.moldtex.start, 'INVOKE_DEFAULT') == {'RUNNING_MODAL'},
+              "Start again")
+        goto("intrinsic_running")
+        return 0.5
+    if phase == "intrinsic_running":
+        entry = live.get(NAME)
+        if not entry.running and waited() < 60.0:
+            return 0.5
+        info = entry.domain_info or {}
+        check(entry.running and info.get("domain") == 1 and info.get("from_cache"),
+              f"after the build the simulation runs on the triangulation it made ({info})")
+        print(f"     intrinsic: {info.get('cell_count', 0):,} vertices, built ahead in "
+              f"{waited():.1f} s")
+        call(bpy.ops.moldtex.start, 'INVOKE_DEFAULT')  # pause
         goto("end")
         return 1.0
     if phase == "end":

@@ -145,6 +145,59 @@ class IntrinsicDomainTests(unittest.TestCase):
         self.assertEqual(entry.sim.get_config()["domain"], engine.DOMAIN_INTRINSIC)
         self.assertGreater(entry.stats["coverage"], 0.0)
 
+    def test_triangulation_builds_ahead_with_progress_and_cancel(self):
+        """What Start and Reset do in the interface before they create the simulation:
+        the triangulation builds on the core's thread; the panel shows its progress;
+        cancelling it keeps nothing; a finished build is what Reset then uses."""
+        import time
+
+        from moldtex import live
+        engine = h.engine()
+        obj = intrinsic_suzanne(resolution="1024", seed=3)  # ~300 k vertices: seconds
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        build = live.start_domain_build(obj, depsgraph, rebuild=True)
+        self.assertIsNotNone(build)
+        try:
+            while True:
+                progress = build.progress()
+                if (progress["state"] != engine.BAKE_RUNNING
+                        or (progress["stage"] == engine.BUILD_REFINING
+                            and progress["vertex_count"] > 0)):
+                    break
+                time.sleep(0.005)
+            self.assertEqual(progress["state"], engine.BAKE_RUNNING,
+                             "the build ended before it could be looked at")
+            text = labels(draw_all(self, obj))
+            self.assertIn("Building the intrinsic triangulation:", text)
+            self.assertTrue(live.cancel_domain_build(obj))
+            with self.assertRaises(engine.EngineError) as raised:
+                build.wait()
+            self.assertEqual(raised.exception.status, engine.ERROR_CANCELLED)
+            progress = build.progress()
+            self.assertEqual(progress["state"], engine.BAKE_CANCELLED)
+            self.assertLess(progress["fraction"], 1.0)
+        finally:
+            live.end_domain_build(obj.name)
+        self.assertIsNone(live.domain_build_status(obj))
+
+        # A texture domain simulation needs no build.
+        obj.moldtex.resolution = "128"
+        obj.moldtex.domain = 'TEXTURE'
+        self.assertIsNone(live.start_domain_build(obj, depsgraph, rebuild=True))
+        obj.moldtex.domain = 'INTRINSIC'
+        build = live.start_domain_build(obj, depsgraph, rebuild=True)
+        try:
+            build.wait()
+            progress = build.progress()
+        finally:
+            live.end_domain_build(obj.name)
+        self.assertEqual(progress["state"], engine.BAKE_FINISHED)
+        self.assertEqual(progress["fraction"], 1.0)
+        self.assertEqual(bpy.ops.moldtex.reset(), {'FINISHED'})
+        info = live.get(obj.name).domain_info
+        self.assertTrue(info["from_cache"], info)
+        self.assertEqual(info["cell_count"], progress["vertex_count"])
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -30,6 +30,7 @@ ERROR_INTERNAL = 6
 ERROR_UNAVAILABLE = 7
 ERROR_IO = 8          # a file could not be read or written
 ERROR_BUSY = 9        # a bake is running on this simulation
+ERROR_CANCELLED = 10  # the caller cancelled the work (a domain build)
 
 STATUS_NAMES = {
     OK: "ok",
@@ -42,6 +43,7 @@ STATUS_NAMES = {
     ERROR_UNAVAILABLE: "unavailable",
     ERROR_IO: "file error",
     ERROR_BUSY: "busy (a bake is running)",
+    ERROR_CANCELLED: "cancelled",
 }
 
 # moldtex_backend values (moldtex.h)
@@ -283,6 +285,26 @@ class BakeProgress(ctypes.Structure):
     ]
 
 
+# moldtex_build_stage values: what a domain build does now.
+BUILD_TEXTURE, BUILD_REFINING, BUILD_OPERATORS, BUILD_TEXEL_MAP, BUILD_DONE = range(5)
+BUILD_STAGE_NAMES = {BUILD_TEXTURE: "texels", BUILD_REFINING: "refining",
+                     BUILD_OPERATORS: "operators", BUILD_TEXEL_MAP: "texel map",
+                     BUILD_DONE: "done"}
+
+
+class DomainBuildProgress(ctypes.Structure):
+    _fields_ = [
+        ("struct_size", ctypes.c_uint32),
+        ("state", ctypes.c_uint32),
+        ("stage", ctypes.c_uint32),
+        ("vertex_count", ctypes.c_uint32),
+        ("fraction", ctypes.c_double),
+        ("seconds", ctypes.c_double),
+        ("from_cache", ctypes.c_uint32),
+        ("message", ctypes.c_char * 512),
+    ]
+
+
 class OpenCLDeviceInfo(ctypes.Structure):
     _fields_ = [
         ("struct_size", ctypes.c_uint32),
@@ -439,6 +461,7 @@ BAKE_PROGRESS_FIELDS = tuple(name for name, _ in BakeProgress._fields_
 _Surface = ctypes.c_void_p  # opaque moldtex_surface
 _Sim = ctypes.c_void_p      # opaque moldtex_sim
 _Bake = ctypes.c_void_p     # opaque moldtex_bake
+_DomainBuild = ctypes.c_void_p  # opaque moldtex_domain_build
 _Intrinsic = ctypes.c_void_p  # opaque moldtex_intrinsic
 _status = ctypes.c_int      # moldtex_status (a C enum is an int)
 _P = ctypes.POINTER
@@ -518,6 +541,13 @@ _SIGNATURES = {
     "moldtex_bake_cancel": (None, [_Bake]),
     "moldtex_bake_wait": (_status, [_Bake]),
     "moldtex_bake_release": (None, [_Bake]),
+    "moldtex_domain_build_progress_init": (None, [_P(DomainBuildProgress)]),
+    "moldtex_domain_build_start": (_status, [_Surface, _P(SimConfig), ctypes.c_uint32,
+                                             _P(_DomainBuild)]),
+    "moldtex_domain_build_get_progress": (_status, [_DomainBuild, _P(DomainBuildProgress)]),
+    "moldtex_domain_build_cancel": (None, [_DomainBuild]),
+    "moldtex_domain_build_wait": (_status, [_DomainBuild]),
+    "moldtex_domain_build_release": (None, [_DomainBuild]),
     "moldtex_opencl_device_info_init": (None, [_P(OpenCLDeviceInfo)]),
     "moldtex_opencl_device_count": (_status, [_P(ctypes.c_uint32)]),
     "moldtex_opencl_get_device": (_status, [ctypes.c_uint32, _P(OpenCLDeviceInfo)]),
@@ -1659,6 +1689,73 @@ class Bake:
         """Cancels and waits if still running, then frees the handle."""
         if self._handle is not None and _lib is not None:
             _lib.moldtex_bake_release(self._handle)
+        self._handle = None
+
+    def __del__(self):
+        try:
+            self.release()
+        except Exception:
+            pass
+
+
+class DomainBuild:
+    """Builds the intrinsic domain a Simulation(surface, config) would run on, on the
+    core's own thread (moldtex_domain_build), so that an interface can show its progress
+    and cancel it; the Simulation created next with the same surface, size and bound
+    reuses it (domain_info()["from_cache"]). config as for Simulation (domain must be
+    DOMAIN_INTRINSIC); thread_count as the params' (0 = all cores).
+    progress() never blocks; wait() blocks (without holding Python's GIL)."""
+
+    def __init__(self, surface, config, thread_count=0):
+        lib = _require()
+        self._handle = None
+        c = SimConfig()
+        lib.moldtex_sim_config_init(ctypes.byref(c))
+        config = dict(config or {})
+        config.pop("seed_center", None)   # (where agents start does not shape the domain)
+        config.pop("fields_rgba", None)
+        _fill(c, config, CONFIG_FIELDS, "config")
+        handle = _DomainBuild()
+        _check(lib.moldtex_domain_build_start(surface.handle, ctypes.byref(c),
+                                              int(thread_count), ctypes.byref(handle)),
+               "Building the intrinsic triangulation")
+        self._handle = handle
+
+    @property
+    def handle(self):
+        if self._handle is None:
+            raise EngineError("This domain build was released.", ERROR_INVALID_ARGUMENT)
+        return self._handle
+
+    def progress(self):
+        """dict: state (BAKE_RUNNING / _FINISHED / _CANCELLED / _FAILED), stage (BUILD_*),
+        vertex_count, fraction (0..1, an estimate that only grows), seconds, from_cache
+        and message (why it failed)."""
+        p = DomainBuildProgress()
+        _lib.moldtex_domain_build_progress_init(ctypes.byref(p))
+        _check(_lib.moldtex_domain_build_get_progress(self.handle, ctypes.byref(p)),
+               "Reading the build's progress")
+        return {"state": p.state, "stage": p.stage, "vertex_count": p.vertex_count,
+                "fraction": p.fraction, "seconds": p.seconds,
+                "from_cache": bool(p.from_cache), "message": _decode(p.message)}
+
+    def running(self):
+        return self.progress()["state"] == BAKE_RUNNING
+
+    def cancel(self):
+        """Asks the build to stop (nothing of it is kept); returns at once."""
+        if self._handle is not None:
+            _lib.moldtex_domain_build_cancel(self._handle)
+
+    def wait(self):
+        """Blocks until the build ends; raises EngineError if it failed or was cancelled
+        (status ERROR_CANCELLED)."""
+        _check(_lib.moldtex_domain_build_wait(self.handle), "Building the intrinsic triangulation")
+
+    def release(self):
+        """Cancels and waits if still running, then frees the handle."""
+        if self._handle is not None and _lib is not None:
+            _lib.moldtex_domain_build_release(self._handle)
         self._handle = None
 
     def __del__(self):

@@ -961,6 +961,75 @@ def ensure(obj, depsgraph, rebuild=False):
     return entry
 
 
+# Intrinsic-domain builds running ahead of a simulation (Start and Reset in the
+# interface): {object name: engine.DomainBuild}, read by the panel.
+_domain_builds = {}
+
+
+def start_domain_build(obj, depsgraph, rebuild=False):
+    """Starts building, on the core's thread, the intrinsic domain that
+    ensure(obj, depsgraph, rebuild) would otherwise build inside its (blocking) create;
+    returns the engine.DomainBuild, or None when ensure will build none (the texture
+    domain, MoMaS, or a simulation it keeps). A domain the core built recently for the
+    same mesh, size and bound finishes at once; the simulation created afterwards finds
+    it in the core's cache."""
+    check_not_baking(obj)
+    entry = _registry.get(obj.name)
+    if entry is not None and entry.has_sim and not rebuild and not entry.dirty:
+        return None
+    settings = obj.moldtex
+    config = config_from_settings(settings)
+    if config.get("domain") != engine.DOMAIN_INTRINSIC:
+        return None
+    mesh = export_object(obj, depsgraph, settings.uv_map)
+    surface = engine.Surface(mesh.positions, mesh.triangles, mesh.uvs, mesh.triangle_uvs)
+    try:
+        create_config = dict(config)
+        create_config["intrinsic_bound"] = length_in_mesh_units(obj, config["intrinsic_bound"])
+        build = engine.DomainBuild(surface, create_config, settings.thread_count)
+    finally:
+        surface.release()  # (the build keeps its own reference)
+    _domain_builds[obj.name] = build
+    return build
+
+
+def cancel_domain_build(obj):
+    """Cancels obj's running domain build (Start or Reset pressed again); True if one
+    ran. The operator that started it sees it end and reports it."""
+    build = _domain_builds.get(obj.name) if obj is not None else None
+    if build is None:
+        return False
+    build.cancel()
+    return True
+
+
+def end_domain_build(obj_name):
+    """Forgets (and cancels, if it still runs) the domain build of an object."""
+    build = _domain_builds.pop(obj_name, None)
+    if build is not None:
+        build.release()
+
+
+def domain_build_status(obj):
+    """What the panel shows while an intrinsic domain builds: the build's progress dict,
+    or None."""
+    build = _domain_builds.get(obj.name) if obj is not None else None
+    if build is None:
+        return None
+    try:
+        return build.progress()
+    except engine.EngineError:
+        return None
+
+
+def domain_build_text(progress):
+    """One line on a build's progress, e.g. "Building the intrinsic triangulation: 43%
+    (refining, 120,000 vertices, 4 s)"."""
+    stage = engine.BUILD_STAGE_NAMES.get(progress["stage"], "")
+    return (f"Building the intrinsic triangulation: {100 * progress['fraction']:.0f}% "
+            f"({stage}, {progress['vertex_count']:,} vertices, {progress['seconds']:.0f} s)")
+
+
 def _push_settings(entry, obj):
     """Gives entry's simulation obj's current parameters (those of its model, on its
     surface's area) and species."""

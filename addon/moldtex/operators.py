@@ -221,12 +221,99 @@ background)"""
         return result
 
 
-class MOLDTEX_OT_reset(bpy.types.Operator):
+class _DomainBuildPhase:
+    """Start and Reset, pressed in the interface, first build an Intrinsic domain on the
+    core's thread: its progress shows in the status bar, the cursor and the panel, the
+    interface keeps working, and Esc cancels it (nothing is kept, the simulation stays as
+    it was). Without a build to make (the Texture domain, or a recent build of the same
+    mesh and size) the operator goes on at once."""
+
+    _domain_build = None
+
+    def begin_domain_build(self, context, obj, rebuild):
+        """True when a build runs (the caller returns RUNNING_MODAL; on_domain_built is
+        called when it is done)."""
+        build = live.start_domain_build(obj, context.evaluated_depsgraph_get(), rebuild)
+        if build is None:
+            return False
+        if not build.running() and build.progress()["state"] == engine.BAKE_FINISHED:
+            live.end_domain_build(obj.name)  # (the cache had it: nothing to wait for)
+            return False
+        self._domain_build = build
+        self._name = obj.name
+        window_manager = context.window_manager
+        self._timer = window_manager.event_timer_add(0.1, window=context.window)
+        window_manager.progress_begin(0, 100)
+        window_manager.modal_handler_add(self)
+        _status(context, live.domain_build_text(build.progress()) + " — Esc cancels")
+        return True
+
+    def domain_build_modal(self, context, event):
+        """The modal step while the build runs: 'RUNNING', 'DONE', or 'STOPPED' (cancelled
+        or failed: reported, and the operator should end with CANCELLED)."""
+        build = self._domain_build
+        if event.type == 'ESC' and event.value == 'PRESS':
+            build.cancel()
+        if event.type not in {'TIMER', 'ESC'}:
+            return 'RUNNING'
+        progress = build.progress()
+        if progress["state"] == engine.BAKE_RUNNING:
+            context.window_manager.progress_update(int(100 * progress["fraction"]))
+            _status(context, live.domain_build_text(progress) + " — Esc cancels")
+            _tag_redraw(context)
+            return 'RUNNING'
+        _end_modal_progress(self, context)
+        self._domain_build = None
+        live.end_domain_build(self._name)
+        _tag_redraw(context)
+        if progress["state"] == engine.BAKE_FINISHED:
+            return 'DONE'
+        if progress["state"] == engine.BAKE_CANCELLED:
+            self.report({'INFO'}, "Building the intrinsic triangulation was cancelled.")
+        else:
+            self.report({'ERROR'}, progress["message"] or "Building the intrinsic triangulation failed.")
+        return 'STOPPED'
+
+    def cancel_domain_build(self, context):
+        if self._domain_build is not None:
+            _end_modal_progress(self, context)
+            self._domain_build = None
+            live.end_domain_build(self._name)
+
+
+class MOLDTEX_OT_reset(_DomainBuildPhase, bpy.types.Operator):
     """Restart the simulation from the current settings (applies resolution, agents, \
 seed, backend and UV map)"""
     bl_idname = "moldtex.reset"
     bl_label = "Reset"
     bl_options = {'REGISTER'}
+
+    _timer = None
+    _name = ""
+
+    def invoke(self, context, event):
+        if live.cancel_domain_build(context.active_object):  # pressed again: cancel
+            return {'FINISHED'}
+        if context.window is not None and not bpy.app.background:
+            try:
+                obj = _active_object(context)
+                if self.begin_domain_build(context, obj, rebuild=True):
+                    return {'RUNNING_MODAL'}
+            except USER_ERRORS as error:
+                self.report({'ERROR'}, str(error))
+                return {'CANCELLED'}
+        return self.execute(context)
+
+    def modal(self, context, event):
+        outcome = self.domain_build_modal(context, event)
+        if outcome == 'RUNNING':
+            return {'PASS_THROUGH'} if event.type != 'ESC' else {'RUNNING_MODAL'}
+        if outcome == 'STOPPED':
+            return {'CANCELLED'}
+        return self.execute(context)
+
+    def cancel(self, context):
+        self.cancel_domain_build(context)
 
     def execute(self, context):
         try:
@@ -242,7 +329,7 @@ seed, backend and UV map)"""
         return {'FINISHED'}
 
 
-class MOLDTEX_OT_start(bpy.types.Operator):
+class MOLDTEX_OT_start(_DomainBuildPhase, bpy.types.Operator):
     """Grow the mold live in the viewport; press again (or Esc) to pause"""
     bl_idname = "moldtex.start"
     bl_label = "Start"
@@ -257,6 +344,8 @@ class MOLDTEX_OT_start(bpy.types.Operator):
 
     def invoke(self, context, event):
         obj = context.active_object
+        if live.cancel_domain_build(obj):  # pressed again while building: cancel
+            return {'FINISHED'}
         entry = live.get(obj.name) if obj is not None else None
         if entry is not None and entry.running:
             entry.stop_requested = True  # the running modal pauses on its next tick
@@ -273,6 +362,15 @@ class MOLDTEX_OT_start(bpy.types.Operator):
             return {'CANCELLED'}
         try:
             check_object(obj)
+            if self.begin_domain_build(context, obj, rebuild=live.needs_reset(obj)):
+                return {'RUNNING_MODAL'}  # then begin_running
+        except USER_ERRORS as error:
+            self.report({'ERROR'}, str(error))
+            return {'CANCELLED'}
+        return self.begin_running(context, obj)
+
+    def begin_running(self, context, obj, modal_added=False):
+        try:
             entry = live.ensure(obj, context.evaluated_depsgraph_get(),
                                 rebuild=live.needs_reset(obj))
             material.sync_uv_map(obj, entry.uv_map)
@@ -289,11 +387,21 @@ class MOLDTEX_OT_start(bpy.types.Operator):
         self._name = obj.name
         window_manager = context.window_manager
         self._timer = window_manager.event_timer_add(_TIMER_INTERVAL, window=context.window)
-        window_manager.modal_handler_add(self)
+        if not modal_added:
+            window_manager.modal_handler_add(self)
         _tag_redraw(context)
         return {'RUNNING_MODAL'}
 
     def modal(self, context, event):
+        if self._domain_build is not None:
+            outcome = self.domain_build_modal(context, event)
+            if outcome == 'RUNNING':
+                return {'PASS_THROUGH'} if event.type != 'ESC' else {'RUNNING_MODAL'}
+            obj = bpy.data.objects.get(self._name)
+            if outcome == 'STOPPED' or obj is None:
+                return {'CANCELLED'}
+            result = self.begin_running(context, obj, modal_added=True)
+            return result if result == {'CANCELLED'} else {'RUNNING_MODAL'}
         if event.type == 'ESC' and event.value == 'PRESS':
             self._finish(context)
             return {'FINISHED'}
@@ -344,6 +452,9 @@ class MOLDTEX_OT_start(bpy.types.Operator):
         return {'PASS_THROUGH'}
 
     def cancel(self, context):
+        if self._domain_build is not None:
+            self.cancel_domain_build(context)
+            return
         self._finish(context)
 
     def _finish(self, context):

@@ -247,6 +247,10 @@ class MOLDTEX_PT_main(bpy.types.Panel):
                                                               entry.bake_plan) +
                      " (the live simulation waits)", icon='RENDER_ANIMATION')
 
+        building = live.domain_build_status(obj)
+        if building is not None and building["state"] == engine.BAKE_RUNNING:
+            _wrapped(layout, live.domain_build_text(building) +
+                     " (press Start or Reset again, or Esc, to cancel)", icon='MESH_DATA')
         box = layout.box()
         stats = entry.stats if entry is not None and entry.has_sim else None
         if not stats:

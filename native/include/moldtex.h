@@ -46,7 +46,8 @@ typedef enum moldtex_status {
   MOLDTEX_ERROR_INTERNAL = 6,         /* a bug: please report the message */
   MOLDTEX_ERROR_UNAVAILABLE = 7,      /* the requested backend or device cannot be used */
   MOLDTEX_ERROR_IO = 8,               /* a file could not be read or written */
-  MOLDTEX_ERROR_BUSY = 9              /* a bake is running on this simulation */
+  MOLDTEX_ERROR_BUSY = 9,             /* a bake is running on this simulation */
+  MOLDTEX_ERROR_CANCELLED = 10        /* the caller cancelled the work (a domain build) */
 } moldtex_status;
 
 typedef struct moldtex_surface_t* moldtex_surface;
@@ -617,6 +618,52 @@ MOLDTEX_API moldtex_status moldtex_sim_read_intrinsic_vertices(moldtex_sim sim, 
  * moldtex_domain_info.face_count. */
 MOLDTEX_API moldtex_status moldtex_sim_read_intrinsic_faces(moldtex_sim sim, uint32_t* corners,
                                                           uint32_t face_count);
+
+/* Building the intrinsic domain ahead, with progress and cancel. The triangulation of a
+ * big mesh takes seconds (about 10 s for 100 k triangles at 1024^2), too long to block an
+ * interface in moldtex_sim_create. moldtex_domain_build_start builds, on its own thread,
+ * the domain a simulation of this surface and config would run on (config as for
+ * moldtex_sim_create, domain MOLDTEX_DOMAIN_INTRINSIC; thread_count as its params'), and
+ * keeps it in the core's cache: a moldtex_sim_create with the same surface, texture size
+ * and bound then reuses it (moldtex_domain_info.from_cache = 1) while the cache holds it
+ * (the last two builds). The surface may be released meanwhile (the build keeps it). */
+typedef struct moldtex_domain_build_t* moldtex_domain_build;
+
+typedef enum moldtex_build_stage {
+  MOLDTEX_BUILD_TEXTURE = 0,    /* the texels of the UV islands */
+  MOLDTEX_BUILD_REFINING = 1,   /* the intrinsic Delaunay triangulation, refined */
+  MOLDTEX_BUILD_OPERATORS = 2,  /* numbering, Laplacian, the locator for agents */
+  MOLDTEX_BUILD_TEXEL_MAP = 3,  /* every island texel located on it */
+  MOLDTEX_BUILD_DONE = 4
+} moldtex_build_stage;
+
+typedef struct moldtex_domain_build_progress {
+  uint32_t struct_size;
+  uint32_t state;          /* a moldtex_bake_state: running, finished, cancelled, failed */
+  uint32_t stage;          /* a moldtex_build_stage */
+  uint32_t vertex_count;   /* intrinsic vertices so far */
+  double fraction;         /* 0..1 of the whole build: an estimate that only grows */
+  double seconds;          /* since the start */
+  uint32_t from_cache;     /* 1: finished at once, the cache held it */
+  char message[512];       /* why it failed */
+} moldtex_domain_build_progress;
+
+MOLDTEX_API void moldtex_domain_build_progress_init(moldtex_domain_build_progress* progress);
+/* Checks the config at once (as moldtex_sim_create would, and refuses the texture domain
+ * and MoMaS; the seed and the fields do not matter here), then starts the build. */
+MOLDTEX_API moldtex_status moldtex_domain_build_start(moldtex_surface surface, const moldtex_sim_config* config,
+                                                      uint32_t thread_count, moldtex_domain_build* out_build);
+/* Thread-safe; returns at once. */
+MOLDTEX_API moldtex_status moldtex_domain_build_get_progress(moldtex_domain_build build,
+                                                             moldtex_domain_build_progress* progress);
+/* Asks the build to stop (within about a millisecond of refinement); nothing of it is kept.
+ * Returns at once. */
+MOLDTEX_API void moldtex_domain_build_cancel(moldtex_domain_build build);
+/* Blocks until the build ends: MOLDTEX_OK when finished, MOLDTEX_ERROR_CANCELLED when
+ * cancelled, else its error (moldtex_last_error says why). */
+MOLDTEX_API moldtex_status moldtex_domain_build_wait(moldtex_domain_build build);
+/* Cancels and waits if still running, then frees the handle. */
+MOLDTEX_API void moldtex_domain_build_release(moldtex_domain_build build);
 
 /* ---- images, checkpoints and bakes ------------------------------------------------ */
 

@@ -255,6 +255,31 @@ std::unique_ptr<Backend> make_auto_opencl(std::shared_ptr<const Surface> surface
 
 }  // namespace
 
+std::shared_ptr<const IntrinsicDomain> prepare_intrinsic_domain(const Surface& surface, const TextureDomain& d,
+                                                                const moldtex_sim_config& config, unsigned thread_count,
+                                                                bool* from_cache, WorkProgress* progress) {
+  const double bound = config.intrinsic_bound > 0.f ? config.intrinsic_bound : default_intrinsic_bound(d);
+  if (!(bound > 0))
+    fail(MOLDTEX_ERROR_INVALID_MESH,
+         "The texture has no island texels to derive the intrinsic triangulation's resolution from: set the "
+         "circumradius bound");
+  // Memory: about 800 bytes per intrinsic vertex (two copies of the mesh, the
+  // correspondence, the Laplacian, the locator), Chew's refinement giving up to 1.6
+  // vertices per bound^2 of area.
+  const double vertices = std::max<double>(1.6 * surface.area / (bound * bound), surface.positions.size() / 3.0);
+  const double need = vertices * 800.0 + estimated_bytes(config), have = physical_memory_bytes();
+  if (need > 0.75 * have) {
+    std::ostringstream m;
+    m.precision(3);
+    m << "The intrinsic triangulation at triangle size " << bound << " would need about " << need / (1ull << 30)
+      << " GiB but the machine has " << have / (1ull << 30)
+      << " GiB: raise the Triangle Size or lower the texture resolution";
+    fail(MOLDTEX_ERROR_TOO_LARGE, m.str());
+  }
+  ThreadPool pool(thread_count);
+  return intrinsic_domain_for(surface, d, bound, 0, pool, from_cache, progress);
+}
+
 Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim_config& config,
                        const moldtex_sim_params& params)
     : surface_(std::move(surface)), config_(reaction_config(config)) {
@@ -279,27 +304,8 @@ Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim
   cell_area_ /= static_cast<double>(d.width) * d.height;
   std::string why_not;
   if (config_.domain == MOLDTEX_DOMAIN_INTRINSIC) {
-    const double bound = config_.intrinsic_bound > 0.f ? config_.intrinsic_bound : default_intrinsic_bound(d);
-    if (!(bound > 0))
-      fail(MOLDTEX_ERROR_INVALID_MESH,
-           "The texture has no island texels to derive the intrinsic triangulation's resolution from: set the "
-           "circumradius bound");
-    // Memory: about 800 bytes per intrinsic vertex (two copies of the mesh, the
-    // correspondence, the Laplacian, the locator), Chew's refinement giving up to 1.6
-    // vertices per bound^2 of area.
-    const double vertices = std::max<double>(1.6 * surface_->area / (bound * bound), surface_->positions.size() / 3.0);
-    const double need = vertices * 800.0 + estimated_bytes(config_), have = physical_memory_bytes();
-    if (need > 0.75 * have) {
-      std::ostringstream m;
-      m.precision(3);
-      m << "The intrinsic triangulation at triangle size " << bound << " would need about " << need / (1ull << 30)
-        << " GiB but the machine has " << have / (1ull << 30)
-        << " GiB: raise the Triangle Size or lower the texture resolution";
-      fail(MOLDTEX_ERROR_TOO_LARGE, m.str());
-    }
-    ThreadPool pool(params.thread_count);
-    intrinsic_ = intrinsic_domain_for(*surface_, d, bound, 0, pool, &intrinsic_from_cache_);
-    config_.intrinsic_bound = static_cast<float>(bound);
+    intrinsic_ = prepare_intrinsic_domain(*surface_, d, config_, params.thread_count, &intrinsic_from_cache_);
+    config_.intrinsic_bound = static_cast<float>(intrinsic_->bound);
     cell_area_ = intrinsic_->laplacian.total_area;
   }
   switch (config.backend) {

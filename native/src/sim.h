@@ -24,6 +24,14 @@ void validate_species_params(const moldtex_species_params& params);
 void validate_continuous_params(const moldtex_continuous_params& params);
 // The config a simulation keeps: for Gray-Scott, no agents and two planes (V, U).
 moldtex_sim_config reaction_config(const moldtex_sim_config& config);
+// The intrinsic domain a simulation of `config` (as kept: reaction_config, validated) on
+// `surface` with texture domain `texture` runs on: the config's bound or the texture's
+// default, refused if the machine lacks the memory, then built or taken from the cache
+// (intrinsic_domain_for: from_cache, progress).
+std::shared_ptr<const IntrinsicDomain> prepare_intrinsic_domain(const Surface& surface, const TextureDomain& texture,
+                                                                const moldtex_sim_config& config, unsigned thread_count,
+                                                                bool* from_cache = nullptr,
+                                                                WorkProgress* progress = nullptr);
 
 class Simulation {
  public:

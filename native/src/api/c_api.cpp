@@ -19,6 +19,7 @@
 #endif
 #include "moldtex.h"
 #include "bake/bake.h"
+#include "domain_build.h"
 #include "brush/brush.h"
 #include "domain/corner_raster.h"
 #include "agents/parameter_maps.h"
@@ -39,6 +40,9 @@ struct moldtex_sim_t {
 };
 struct moldtex_bake_t {
   std::unique_ptr<moldtex::Bake> bake;
+};
+struct moldtex_domain_build_t {
+  std::unique_ptr<moldtex::DomainBuild> build;
 };
 
 namespace {
@@ -681,6 +685,47 @@ moldtex_status moldtex_bake_wait(moldtex_bake bake) {
 }
 
 void moldtex_bake_release(moldtex_bake bake) { delete bake; }
+
+void moldtex_domain_build_progress_init(moldtex_domain_build_progress* p) {
+  if (!p) return;
+  std::memset(p, 0, sizeof(*p));
+  p->struct_size = sizeof(*p);
+}
+
+moldtex_status moldtex_domain_build_start(moldtex_surface surface, const moldtex_sim_config* config,
+                                          uint32_t thread_count, moldtex_domain_build* out) {
+  return guarded([&] {
+    require(out != nullptr, "out_build is NULL");
+    *out = nullptr;
+    require(surface != nullptr, "The surface handle is NULL");
+    require(thread_count <= 256, "thread_count must be 0 (all cores) .. 256");
+    const moldtex_sim_config c = read_config(config);
+    *out = new moldtex_domain_build_t{std::make_unique<moldtex::DomainBuild>(surface->surface, c, thread_count)};
+  });
+}
+
+moldtex_status moldtex_domain_build_get_progress(moldtex_domain_build build,
+                                                 moldtex_domain_build_progress* progress) {
+  return guarded([&] {
+    require(build != nullptr, "The domain build handle is NULL");
+    read_struct(progress, "moldtex_domain_build_progress");
+    *progress = build->build->progress();
+  });
+}
+
+void moldtex_domain_build_cancel(moldtex_domain_build build) {
+  if (build) build->build->cancel();
+}
+
+moldtex_status moldtex_domain_build_wait(moldtex_domain_build build) {
+  if (!build) return set_error(MOLDTEX_ERROR_INVALID_ARGUMENT, "The domain build handle is NULL");
+  const moldtex_status status = build->build->wait();
+  if (status != MOLDTEX_OK) return set_error(status, build->build->message());
+  g_last_error.clear();
+  return MOLDTEX_OK;
+}
+
+void moldtex_domain_build_release(moldtex_domain_build build) { delete build; }
 
 void moldtex_opencl_device_info_init(moldtex_opencl_device_info* info) {
   if (!info) return;

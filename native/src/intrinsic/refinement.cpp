@@ -178,7 +178,17 @@ RefineReport refine(IntrinsicTriangulation& T, const RefineOptions& options) {
   std::set<std::array<uint32_t, 3>> given_up;
   std::vector<uint32_t> touched, queue;
   bool flip_capped = fr.capped;
+  const uint32_t start_vertices = m.vertex_count();
+  uint64_t since_report = 0;
   while (!pq.empty() && !flip_capped) {
+    if (options.progress && ++since_report == kProgressInterval) {
+      since_report = 0;
+      options.progress->check_cancel();
+      const double grown = m.vertex_count() - start_vertices, to_grow = options.expected_vertices - start_vertices;
+      options.progress->count.store(m.vertex_count(), std::memory_order_relaxed);
+      options.progress->stage_fraction.store(to_grow > 0 ? std::min(0.99, grown / to_grow) : 0.5,
+                                             std::memory_order_relaxed);
+    }
     const uint32_t f = pq.top().second;
     pq.pop();
     if (!(m.circumradius(f) > R) || small_angle(f) || given_up.count(vertex_triple(m, f))) continue;

@@ -39,6 +39,7 @@
 #include <cstdint>
 #include <string>
 
+#include "common/progress.h"
 #include "intrinsic/correspondence.h"
 
 namespace moldtex::intrinsic {
@@ -53,7 +54,13 @@ struct RefineOptions {
   double max_circumradius = 0;           // the bound, in mesh units (> 0)
   double min_input_angle = kPi / 3;      // skip faces at input vertices with a smaller total angle
   uint64_t max_insertions = 0;           // 0: 20 * area / bound^2 + 10 * faces + 1000
+  // Optional: reports the vertex count and the fraction of expected_vertices reached
+  // (stage_fraction), and stops with MOLDTEX_ERROR_CANCELLED when asked to (checked
+  // every kProgressInterval insertions).
+  WorkProgress* progress = nullptr;
+  double expected_vertices = 0;
 };
+constexpr uint64_t kProgressInterval = 1024;
 
 enum class StopReason { Converged, InsertionCap, FlipCap };
 
