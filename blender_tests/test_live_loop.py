@@ -37,19 +37,29 @@ class PacingTests(unittest.TestCase):
 
     def test_a_thread_grows_it_between_updates_and_yields_to_any_other_use(self):
         live = h.live()
+        engine = h.engine()
         settings = self.obj.moldtex
         self.assertEqual(settings.steps_per_update, 0, "time-paced by default")
         before = self.entry.stats["step_count"]
         live.start_stepper(self.entry, settings.update_time / 1000.0)
         import time
         began = time.perf_counter()
-        while self.entry.stats["step_count"] == before and time.perf_counter() - began < 30:
+
+        def grown():
+            return self.entry._stepper.sim.run_progress()["steps"]
+        while grown() == 0 and time.perf_counter() - began < 30:
             time.sleep(0.01)
-        self.assertGreater(self.entry.stats["step_count"], before,
-                           "it stepped while this thread slept")
-        # Any use of entry.sim first stops the thread: the core is never called from
-        # two threads at once, and the count stays put afterwards.
+        self.assertGreater(grown(), 0, "the core stepped while Python slept")
+        # The core's thread steps it: the core refuses any other call meanwhile, so it
+        # never runs two calls on one simulation at once.
+        with self.assertRaises(engine.EngineError) as raised:
+            self.entry._sim.get_stats()
+        self.assertEqual(raised.exception.status, engine.ERROR_BUSY)
+        # Any use of entry.sim first stops the stepping; the count stays put afterwards
+        # and the cached stats are the simulation's.
         steps = self.entry.sim.get_stats()["step_count"]
+        self.assertGreater(steps, before)
+        self.assertIsNone(self.entry._stepper)
         self.assertFalse(live.stepper_waiting(self.entry))
         self.assertEqual(live.stop_stepper(self.entry), 0, "already stopped")
         time.sleep(0.05)
@@ -57,12 +67,13 @@ class PacingTests(unittest.TestCase):
         self.assertEqual(self.entry.stats["step_count"], steps)
         # Stopping it returns the steps it ran; a new one starts from there.
         live.start_stepper(self.entry, 0.01)
-        while not live.stepper_waiting(self.entry) and self.entry._stepper.steps == 0:
+        while grown() == 0:
             time.sleep(0.005)
         time.sleep(0.05)
         ran = live.stop_stepper(self.entry)
         self.assertGreater(ran, 0)
         self.assertEqual(self.entry.sim.get_stats()["step_count"], steps + ran)
+        self.assertEqual(self.entry.stats["step_count"], steps + ran)
 
     def test_stepping_thread_stops_when_the_simulation_goes(self):
         live = h.live()

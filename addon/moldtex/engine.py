@@ -305,6 +305,15 @@ class DomainBuildProgress(ctypes.Structure):
     ]
 
 
+class RunProgress(ctypes.Structure):
+    _fields_ = [
+        ("struct_size", ctypes.c_uint32),
+        ("running", ctypes.c_uint32),
+        ("steps", ctypes.c_uint64),
+        ("step_seconds", ctypes.c_double),
+    ]
+
+
 class OpenCLDeviceInfo(ctypes.Structure):
     _fields_ = [
         ("struct_size", ctypes.c_uint32),
@@ -541,6 +550,10 @@ _SIGNATURES = {
     "moldtex_bake_cancel": (None, [_Bake]),
     "moldtex_bake_wait": (_status, [_Bake]),
     "moldtex_bake_release": (None, [_Bake]),
+    "moldtex_run_progress_init": (None, [_P(RunProgress)]),
+    "moldtex_sim_run_start": (_status, [_Sim, ctypes.c_double, ctypes.c_double, ctypes.c_double]),
+    "moldtex_sim_run_get_progress": (_status, [_Sim, _P(RunProgress)]),
+    "moldtex_sim_run_stop": (_status, [_Sim, _P(RunProgress)]),
     "moldtex_domain_build_progress_init": (None, [_P(DomainBuildProgress)]),
     "moldtex_domain_build_start": (_status, [_Surface, _P(SimConfig), ctypes.c_uint32,
                                              _P(_DomainBuild)]),
@@ -1484,6 +1497,32 @@ class Simulation:
 
     def step(self, steps=1):
         _check(_lib.moldtex_sim_step(self.handle, int(steps)), "Stepping the simulation")
+
+    def run_start(self, chunk_seconds, limit_seconds=5.0, step_seconds_hint=0.0):
+        """Steps on the core's own thread (moldtex_sim_run_start) in chunks of about
+        chunk_seconds until run_stop, or by itself after limit_seconds; meanwhile every
+        other call raises EngineError (ERROR_BUSY). No Python runs on that thread."""
+        _check(_lib.moldtex_sim_run_start(self.handle, float(chunk_seconds),
+                                          float(limit_seconds), float(step_seconds_hint)),
+               "Starting the live stepping")
+
+    def run_progress(self):
+        """dict: running (bool), steps (since run_start), step_seconds (mean cost of a
+        step). Never blocks."""
+        p = RunProgress()
+        _lib.moldtex_run_progress_init(ctypes.byref(p))
+        _check(_lib.moldtex_sim_run_get_progress(self.handle, ctypes.byref(p)),
+               "Reading the live stepping's progress")
+        return {"running": bool(p.running), "steps": p.steps, "step_seconds": p.step_seconds}
+
+    def run_stop(self):
+        """Stops the live stepping after its current chunk and waits (without holding
+        Python's lock); returns its last run_progress() (steps 0 if none ran). Raises
+        EngineError with the error a step raised, if one did."""
+        p = RunProgress()
+        _lib.moldtex_run_progress_init(ctypes.byref(p))
+        _check(_lib.moldtex_sim_run_stop(self.handle, ctypes.byref(p)), "The live stepping")
+        return {"running": bool(p.running), "steps": p.steps, "step_seconds": p.step_seconds}
 
     def new_rgba_buffer(self):
         """A zeroed array('f') of width*height*4 floats for read_rgba / foreach_set."""

@@ -12,7 +12,6 @@ This module talks to the core only through engine.py.
 
 import array
 import math
-import threading
 import time
 import zlib
 
@@ -46,7 +45,7 @@ class LiveSim:
 
     def __init__(self, name):
         self.name = name
-        self._stepper = None      # _Stepper thread growing the sim between live updates
+        self._stepper = None      # _Stepper: the core steps the sim between live updates
         self.grown_steps = 0      # steps stopped threads ran that no live update counted
         self.food_left = None     # last sim.get_food() (the panel's, while a thread runs)
         self._sim = None
@@ -107,15 +106,13 @@ class LiveSim:
         # can run that Step again with another count: (sim, path, step count at its end).
         self.step_snapshot = None
 
-    # While Start runs, a _Stepper thread steps the simulation between two live updates
-    # (so that it grows while Blender redraws). Anything else that reaches for the
-    # simulation through entry.sim first waits for that thread to stop (at most one
-    # chunk of steps, about Update Time), so the core is never called from two threads
-    # at once.
+    # While Start runs, the core steps the simulation on its own thread between two live
+    # updates (so that it grows while Blender redraws; _Stepper). Anything else that
+    # reaches for the simulation through entry.sim first stops that (waiting at most one
+    # chunk of steps, about Update Time): the core refuses other calls meanwhile.
     @property
     def sim(self):
-        stepper = self._stepper
-        if stepper is not None and stepper is not threading.current_thread():
+        if self._stepper is not None:
             stop_stepper(self)
         return self._sim
 
@@ -1148,9 +1145,9 @@ def step(entry, obj, steps):
 
 
 # The live loop (moldtex.start) is paced by time, not by a count of steps: with Steps
-# per Update 0 a _Stepper thread grows the mold between two updates, in chunks of about
-# settings.update_time, while Blender uploads and redraws; Step's long runs use
-# step_for_time.
+# per Update 0 the core's own thread grows the mold between two updates (_Stepper), in
+# chunks of about settings.update_time, while Blender uploads and redraws; Step's long
+# runs use step_for_time.
 
 
 def step_for_time(entry, obj, seconds, min_steps=1, max_steps=None):
@@ -1201,66 +1198,43 @@ def note_update(entry, steps, update_start, stepping_end):
     entry.last_update_end = stepping_end
 
 
-class _Stepper(threading.Thread):
-    """Steps one simulation in chunks of about `chunk_seconds` until stopped (the core's
-    step releases the GIL: ctypes), and at most `limit_seconds` in all, should nobody
-    come back for it."""
+class _Stepper:
+    """The simulation stepping on the core's own thread (Simulation.run_start) between
+    two live updates. No Python thread: Blender 3.4 crashed now and then inside its own
+    operators (bpy.ops.screen.screenshot) while a Python thread of ours waited in the
+    core (docs/ARCHITECTURE.md)."""
 
-    def __init__(self, entry, chunk_seconds, limit_seconds=5.0):
-        super().__init__(name=f"Moldtex stepper {entry.name}", daemon=True)
-        self.entry = entry
-        self.sim = entry._sim
-        self.chunk_seconds = chunk_seconds
-        self.limit_seconds = limit_seconds
-        self.stop_event = threading.Event()
-        self.steps = 0
-        self.error = None
-
-    def run(self):
-        entry, sim = self.entry, self.sim
-        began = time.perf_counter()
-        try:
-            while (not self.stop_event.is_set()
-                   and time.perf_counter() - began < self.limit_seconds):
-                if entry.step_seconds > 0.0:
-                    chunk = max(1, min(1000, int(self.chunk_seconds / entry.step_seconds)))
-                else:
-                    chunk = 1
-                start = time.perf_counter()
-                sim.step(chunk)
-                per_step = (time.perf_counter() - start) / chunk
-                entry.step_seconds = (per_step if entry.step_seconds <= 0.0
-                                      else 0.5 * entry.step_seconds + 0.5 * per_step)
-                self.steps += chunk
-                entry.stats = sim.get_stats()
-        except Exception as error:  # handed to the main thread by stop_stepper
-            self.error = error
+    def __init__(self, sim):
+        self.sim = sim
 
 
-def start_stepper(entry, chunk_seconds):
-    """Lets a thread step entry's simulation until stop_stepper (the live loop calls
-    this after each update, so the mold grows while Blender redraws)."""
+def start_stepper(entry, chunk_seconds, limit_seconds=5.0):
+    """Lets the core step entry's simulation on its thread, in chunks of about
+    chunk_seconds, until stop_stepper (the live loop calls this after each update, so
+    the mold grows while Blender redraws), and at most limit_seconds should nobody come
+    back for it."""
     stop_stepper(entry)
     if entry._sim is None or entry.bake is not None:
         return
-    stepper = _Stepper(entry, chunk_seconds)
-    entry._stepper = stepper
-    stepper.start()
+    entry._sim.run_start(chunk_seconds, limit_seconds, entry.step_seconds)
+    entry._stepper = _Stepper(entry._sim)
 
 
 def stop_stepper(entry):
-    """Stops and waits for entry's stepping thread; returns the steps it ran (0 if none
-    ran). Re-raises what went wrong in it."""
+    """Stops entry's stepping and waits for its current chunk; returns the steps it ran
+    (0 if none ran) and refreshes entry.stats. Re-raises what went wrong in it."""
     stepper = entry._stepper
     if stepper is None:
         return 0
-    stepper.stop_event.set()
-    stepper.join()
     entry._stepper = None
-    entry.grown_steps += stepper.steps
-    if stepper.error is not None:
-        raise stepper.error
-    return stepper.steps
+    last = stepper.sim.run_stop()
+    steps = int(last["steps"])
+    entry.grown_steps += steps
+    if last["step_seconds"] > 0.0:
+        entry.step_seconds = last["step_seconds"]
+    if steps and stepper.sim is entry._sim:
+        entry.stats = stepper.sim.get_stats()
+    return steps
 
 
 def take_grown_steps(entry):
@@ -1274,9 +1248,12 @@ def take_grown_steps(entry):
 
 
 def stepper_waiting(entry):
-    """True while entry's stepping thread runs and has not finished a chunk yet."""
+    """True while entry's stepping runs and has not finished a chunk yet."""
     stepper = entry._stepper
-    return stepper is not None and stepper.is_alive() and stepper.steps == 0
+    if stepper is None:
+        return False
+    progress = stepper.sim.run_progress()
+    return progress["running"] and progress["steps"] == 0
 
 
 def prepare_step(entry, obj):

@@ -538,6 +538,31 @@ MOLDTEX_API moldtex_status moldtex_sim_reset(moldtex_sim sim);
 /* Advances `steps` steps (sense, turn, move, deposit, blur, evaporate). */
 MOLDTEX_API moldtex_status moldtex_sim_step(moldtex_sim sim, uint32_t steps);
 
+/* Live stepping on the core's own thread (Blender's Start grows the mold this way while
+ * the interface redraws; no caller code runs on that thread). moldtex_sim_run_start steps
+ * in chunks of about chunk_seconds (0 < s <= 10) of work, from the measured cost of a step
+ * (step_seconds_hint > 0 seeds it; 0 = unknown, the first chunk is one step), until
+ * moldtex_sim_run_stop, or by itself after limit_seconds (0 < s <= 3600) should nobody
+ * come back for it. Meanwhile every other call on the simulation answers
+ * MOLDTEX_ERROR_BUSY except these three. Steps run this way are the steps
+ * moldtex_sim_step would run: the same seed gives the same state. */
+typedef struct moldtex_run_progress {
+  uint32_t struct_size;
+  uint32_t running;        /* 1 while the thread steps */
+  uint64_t steps;          /* steps run since moldtex_sim_run_start */
+  double step_seconds;     /* the running mean cost of one step */
+} moldtex_run_progress;
+
+MOLDTEX_API void moldtex_run_progress_init(moldtex_run_progress* progress);
+MOLDTEX_API moldtex_status moldtex_sim_run_start(moldtex_sim sim, double chunk_seconds, double limit_seconds,
+                                                 double step_seconds_hint);
+/* Thread-safe; returns at once. MOLDTEX_ERROR_INVALID_ARGUMENT if no run was started. */
+MOLDTEX_API moldtex_status moldtex_sim_run_get_progress(moldtex_sim sim, moldtex_run_progress* progress);
+/* Stops after the current chunk (at most 1000 steps) and waits; `progress` (may be NULL)
+ * receives the run's last progress. Returns MOLDTEX_OK, or the error a step raised. A
+ * simulation without a run answers MOLDTEX_OK with steps = 0. */
+MOLDTEX_API moldtex_status moldtex_sim_run_stop(moldtex_sim sim, moldtex_run_progress* progress);
+
 /* Copies the pheromone as RGBA float, Blender's order (row 0 is the bottom row, each
  * row left to right): width * height * 4 floats. With one species R = G = B = the
  * pheromone in [0, 1]; A is 1 on the islands and their gutter (a mask). With 2 to 4

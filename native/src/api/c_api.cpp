@@ -20,6 +20,7 @@
 #include "moldtex.h"
 #include "bake/bake.h"
 #include "domain_build.h"
+#include "bake/live_run.h"
 #include "brush/brush.h"
 #include "domain/corner_raster.h"
 #include "agents/parameter_maps.h"
@@ -37,6 +38,7 @@ struct moldtex_surface_t {
 };
 struct moldtex_sim_t {
   std::shared_ptr<moldtex::Simulation> sim;  // shared with a running bake
+  std::unique_ptr<moldtex::LiveRun> run;     // moldtex_sim_run_*: stopped before release
 };
 struct moldtex_bake_t {
   std::unique_ptr<moldtex::Bake> bake;
@@ -86,6 +88,9 @@ moldtex::Simulation& use(moldtex_sim sim) {
   if (sim->sim->busy)
     moldtex::fail(MOLDTEX_ERROR_BUSY,
                   "A bake is running on this simulation: wait for it to finish or cancel it");
+  if (sim->run && sim->run->running())
+    moldtex::fail(MOLDTEX_ERROR_BUSY,
+                  "The simulation is stepping on its live thread: stop it first (moldtex_sim_run_stop)");
   return *sim->sim;
 }
 
@@ -535,6 +540,55 @@ moldtex_status moldtex_sim_step(moldtex_sim sim, uint32_t steps) {
   return guarded([&] {
     use(sim).step(steps);
   });
+}
+
+void moldtex_run_progress_init(moldtex_run_progress* p) {
+  if (!p) return;
+  std::memset(p, 0, sizeof(*p));
+  p->struct_size = sizeof(*p);
+}
+
+moldtex_status moldtex_sim_run_start(moldtex_sim sim, double chunk_seconds, double limit_seconds,
+                                     double step_seconds_hint) {
+  return guarded([&] {
+    use(sim);
+    if (sim->run) {  // an earlier run that ended by itself: its error was not collected
+      sim->run->stop();
+      sim->run.reset();
+    }
+    sim->run = std::make_unique<moldtex::LiveRun>(sim->sim, chunk_seconds, limit_seconds, step_seconds_hint);
+  });
+}
+
+moldtex_status moldtex_sim_run_get_progress(moldtex_sim sim, moldtex_run_progress* progress) {
+  return guarded([&] {
+    require(sim != nullptr, "The simulation handle is NULL");
+    require(progress != nullptr, "progress is NULL");
+    require(progress->struct_size >= sizeof(moldtex_run_progress), "progress.struct_size is too small");
+    require(sim->run != nullptr, "No live run was started on this simulation");
+    *progress = sim->run->progress();
+  });
+}
+
+moldtex_status moldtex_sim_run_stop(moldtex_sim sim, moldtex_run_progress* progress) {
+  if (!sim) return set_error(MOLDTEX_ERROR_INVALID_ARGUMENT, "The simulation handle is NULL");
+  moldtex_run_progress last{};
+  last.struct_size = sizeof last;
+  moldtex_status status = MOLDTEX_OK;
+  std::string message;
+  if (sim->run) {
+    status = sim->run->stop();
+    last = sim->run->progress();
+    message = sim->run->message();
+    sim->run.reset();
+  }
+  if (progress) {
+    if (progress->struct_size < sizeof last) return set_error(MOLDTEX_ERROR_INVALID_ARGUMENT, "progress.struct_size is too small");
+    *progress = last;
+  }
+  if (status != MOLDTEX_OK) return set_error(status, message);
+  g_last_error.clear();
+  return MOLDTEX_OK;
 }
 
 moldtex_status moldtex_sim_read_rgba(moldtex_sim sim, float* rgba, size_t float_count) {
