@@ -60,7 +60,7 @@ empty_icd="$(mktemp -d)"
 trap 'rm -rf "$empty_icd" "${fuzz_dir:-}"' EXIT
 export OCL_ICD_VENDORS="$empty_icd"
 echo "== CTest under ASan/UBSan (without the statistical pattern tests; OpenCL skips)"
-slow='^Pattern\.|^Food\.(HungryAgentsGather|FiniteSourceEmpties)|^Fields\.(Maze|AttractorDraws)|^Species\.CompetingSpecies|^SurfaceUnits\.(NoTrail|IslandsThatTouch|OpenBoundaries|SameCells|ResultFollows|UvSpherePoles)|^SurfaceUnitsBackends|^ContinuousModel\.(SeedSpread|Character|Turnover|Stretched|MomasInContrast|MeanConcentration)|^ContinuousOpenCl|^ContinuousBackends|^ParameterMaps\.(DepositMapScales|ReadStimulus|MoveRateMap|BiasTowardASink|DiffusionMapOfZero|OpenClAgrees)|^ReactionDiffusion\.(SphereAndPlane|SpacingScales|NoTraceOf|NoBlowUp|DiffusionMapScales|IntrinsicDomain)|^ReactionDiffusionBackends|^IntrinsicSimulation\.(NoTrace|Skinny|Halving)'
+slow='^Pattern\.|^Food\.(HungryAgentsGather|FiniteSourceEmpties)|^Fields\.(Maze|AttractorDraws)|^Species\.CompetingSpecies|^SurfaceUnits\.(NoTrail|IslandsThatTouch|OpenBoundaries|SameCells|ResultFollows|UvSpherePoles)|^SurfaceUnitsBackends|^ContinuousModel\.(SeedSpread|Character|Turnover|Stretched|MomasInContrast|MeanConcentration)|^ContinuousOpenCl|^ContinuousBackends|^ParameterMaps\.(DepositMapScales|ReadStimulus|MoveRateMap|BiasTowardASink|DiffusionMapOfZero|OpenClAgrees)|^ReactionDiffusion\.(SphereAndPlane|SpacingScales|NoTraceOf|NoBlowUp|DiffusionMapScales|IntrinsicDomain)|^ReactionDiffusionBackends|^IntrinsicSimulation\.(NoTrace|Skinny|Halving|Stretched)'
 ctest --test-dir "$BUILD" --output-on-failure -j"$JOBS" -E "$slow"
 tested=$SECONDS
 

@@ -552,6 +552,43 @@ TEST(IntrinsicBackends, OpenClAgreesWithTheCpu) {
 
 // MoMaS works in texels; OpenCL does not run the intrinsic domain yet: both refused with
 // a message that says what to choose instead.
+// Fig. 12, UV stretch: a 4 x 4 plane whose UVs are warped u -> u^2, so a texel on the
+// left covers far less surface than one on the right. The texture the user sees (the
+// intrinsic vertices gathered into it) must show the same characteristic length in 3D
+// in both halves within 10% (the bound), as the texture domain's own test does
+// (ContinuousModel.StretchedUvsDoNotChangeTheLengthIn3D); 2 seeds.
+TEST(IntrinsicSimulation, StretchedUvsDoNotChangeTheLengthIn3D) {
+  static const Mesh warped = make_plane(64, 64, 0, 0, 4, 4, [](double x, double y) {
+    const double u = x / 4;
+    return Vec2{u * u, y / 4};
+  });
+  RunSpec r;
+  r.mesh = &warped;
+  r.size = 512;
+  r.agents = 40000;
+  double left = 0, right = 0;
+  for (uint64_t seed : {1, 2}) {
+    r.seed = seed;
+    const Result out = Simulate(r);
+    ASSERT_FALSE(out.shown.empty());
+    const TexelGeometry g = Texels(warped, r.size, r.size);
+    for (int half = 0; half < 2; ++half) {
+      TexelGeometry h = g;
+      for (size_t i = 0; i < h.triangle.size(); ++i) {
+        if (!h.inside(i)) continue;
+        const double x = h.position[i][0], y = h.position[i][1];
+        // 3D halves, away from the plane's border (0.3 units) and from the middle.
+        const bool in = half == 0 ? (x > 0.3 && x < 1.8) : (x > 2.2 && x < 3.7);
+        if (!in || y < 0.3 || y > 3.7) h.triangle[i] = -1;
+      }
+      (half == 0 ? left : right) += GradientLength(h, out.shown.back()) / 2;
+    }
+  }
+  std::printf("intrinsic domain, gradient length in 3D: compressed half %.4f, stretched half %.4f (ratio %.3f)\n",
+              left, right, left / right);
+  EXPECT_NEAR(left / right, 1.0, 0.10);
+}
+
 TEST(IntrinsicSimulation, RefusesWhatItDoesNotRun) {
   auto s = create_surface(Torus());
   ASSERT_TRUE(s);
