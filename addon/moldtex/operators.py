@@ -533,7 +533,7 @@ def _named_or_active_object(context, name):
 _FORMAT_NAMES = {identifier: label for identifier, label, _ in BAKE_FORMAT_ITEMS}
 
 
-class MOLDTEX_OT_bake(bpy.types.Operator):
+class MOLDTEX_OT_bake(_DomainBuildPhase, bpy.types.Operator):
     """Bake the growth into an image sequence, one file per frame, from the current \
 settings (restarts the simulation as Reset does). Press again or Esc to cancel"""
     bl_idname = "moldtex.bake"
@@ -550,6 +550,7 @@ settings (restarts the simulation as Reset does). Press again or Esc to cancel""
     _job = None
     _timer = None
     _window = None
+    _name = ""
 
     # ---- synchronous: scripts (EXEC_DEFAULT), background mode, the command line ----
     def execute(self, context):
@@ -584,6 +585,17 @@ settings (restarts the simulation as Reset does). Press again or Esc to cancel""
             return {'FINISHED'}
         if bpy.app.background or context.window is None:
             return self.execute(context)
+        if live.cancel_domain_build(obj):  # pressed again while its domain builds
+            return {'FINISHED'}
+        try:
+            if self.begin_domain_build(context, obj, rebuild=True):
+                return {'RUNNING_MODAL'}  # then _start_bake
+        except USER_ERRORS as error:
+            self.report({'ERROR'}, str(error))
+            return {'CANCELLED'}
+        return self._start_bake(context, obj)
+
+    def _start_bake(self, context, obj, modal_added=False):
         try:
             plan = bake.plan_for(obj, context.scene)
             self._job = bake.BakeJob(obj, context.evaluated_depsgraph_get(), plan)
@@ -597,11 +609,20 @@ settings (restarts the simulation as Reset does). Press again or Esc to cancel""
         window_manager.progress_begin(0, max(1, plan.frame_count))
         self._window = context.window
         self._timer = window_manager.event_timer_add(0.1, window=context.window)
-        window_manager.modal_handler_add(self)
+        if not modal_added:
+            window_manager.modal_handler_add(self)
         self._show_progress(context, self._job.progress)
         return {'RUNNING_MODAL'}
 
     def modal(self, context, event):
+        if self._domain_build is not None:
+            outcome = self.domain_build_modal(context, event)
+            if outcome == 'RUNNING':
+                return {'PASS_THROUGH'} if event.type != 'ESC' else {'RUNNING_MODAL'}
+            obj = bpy.data.objects.get(self._name)
+            if outcome == 'STOPPED' or obj is None:
+                return {'CANCELLED'}
+            return self._start_bake(context, obj, modal_added=True)
         job = self._job
         if job is None:
             return {'CANCELLED'}
@@ -626,6 +647,7 @@ settings (restarts the simulation as Reset does). Press again or Esc to cancel""
 
     def cancel(self, context):
         # Blender ends the modal (another file is loaded, Blender quits): stop the bake.
+        self.cancel_domain_build(context)
         if self._job is not None:
             self._job.cancel()
             try:
