@@ -274,6 +274,17 @@ class _DomainBuildPhase:
             self.report({'ERROR'}, progress["message"] or "Building the intrinsic triangulation failed.")
         return 'STOPPED'
 
+    def domain_build_then(self, context, event, then):
+        """The modal step of an operator whose build runs: waits for it, ends with
+        CANCELLED when it was cancelled or failed, else returns then(context, obj)."""
+        outcome = self.domain_build_modal(context, event)
+        if outcome == 'RUNNING':
+            return {'PASS_THROUGH'} if event.type != 'ESC' else {'RUNNING_MODAL'}
+        obj = bpy.data.objects.get(self._name)
+        if outcome == 'STOPPED' or obj is None:
+            return {'CANCELLED'}
+        return then(context, obj)
+
     def cancel_domain_build(self, context):
         if self._domain_build is not None:
             _end_modal_progress(self, context)
@@ -305,12 +316,7 @@ seed, backend and UV map)"""
         return self.execute(context)
 
     def modal(self, context, event):
-        outcome = self.domain_build_modal(context, event)
-        if outcome == 'RUNNING':
-            return {'PASS_THROUGH'} if event.type != 'ESC' else {'RUNNING_MODAL'}
-        if outcome == 'STOPPED':
-            return {'CANCELLED'}
-        return self.execute(context)
+        return self.domain_build_then(context, event, lambda context, _obj: self.execute(context))
 
     def cancel(self, context):
         self.cancel_domain_build(context)
@@ -393,15 +399,9 @@ class MOLDTEX_OT_start(_DomainBuildPhase, bpy.types.Operator):
         return {'RUNNING_MODAL'}
 
     def modal(self, context, event):
-        if self._domain_build is not None:
-            outcome = self.domain_build_modal(context, event)
-            if outcome == 'RUNNING':
-                return {'PASS_THROUGH'} if event.type != 'ESC' else {'RUNNING_MODAL'}
-            obj = bpy.data.objects.get(self._name)
-            if outcome == 'STOPPED' or obj is None:
-                return {'CANCELLED'}
-            result = self.begin_running(context, obj, modal_added=True)
-            return result if result == {'CANCELLED'} else {'RUNNING_MODAL'}
+        if self._domain_build is not None:  # (begin_running: RUNNING_MODAL or CANCELLED)
+            return self.domain_build_then(
+                context, event, lambda context, obj: self.begin_running(context, obj, modal_added=True))
         if event.type == 'ESC' and event.value == 'PRESS':
             self._finish(context)
             return {'FINISHED'}
@@ -616,13 +616,8 @@ settings (restarts the simulation as Reset does). Press again or Esc to cancel""
 
     def modal(self, context, event):
         if self._domain_build is not None:
-            outcome = self.domain_build_modal(context, event)
-            if outcome == 'RUNNING':
-                return {'PASS_THROUGH'} if event.type != 'ESC' else {'RUNNING_MODAL'}
-            obj = bpy.data.objects.get(self._name)
-            if outcome == 'STOPPED' or obj is None:
-                return {'CANCELLED'}
-            return self._start_bake(context, obj, modal_added=True)
+            return self.domain_build_then(
+                context, event, lambda context, obj: self._start_bake(context, obj, modal_added=True))
         job = self._job
         if job is None:
             return {'CANCELLED'}
