@@ -83,7 +83,7 @@ bool FirstOpenClDevice(moldtex_opencl_device_info* info, std::string* why) {
 Case* GetCase(const std::string& name, const mtx::Mesh& mesh, uint32_t w, uint32_t h,
               uint32_t agents, moldtex_backend backend, double texels_per_unit = 0,
               bool continuous = false, uint32_t integrator = MOLDTEX_INTEGRATOR_AUTO,
-              uint32_t domain = MOLDTEX_DOMAIN_TEXTURE) {
+              uint32_t domain = MOLDTEX_DOMAIN_TEXTURE, const moldtex_sim_params* params = nullptr) {
   static std::map<std::string, std::unique_ptr<Case>> cases;
   auto& c = cases[name];
   if (c) return c.get();
@@ -97,8 +97,8 @@ Case* GetCase(const std::string& name, const mtx::Mesh& mesh, uint32_t w, uint32
     std::fprintf(stderr, "surface_create failed (%d): %s\n", int(st), moldtex_last_error());
     std::exit(1);
   }
-  moldtex_sim_params p = mtx::default_params();
-  p.thread_count = 0;  // all cores
+  moldtex_sim_params p = params ? *params : mtx::default_params();
+  if (!params) p.thread_count = 0;  // all cores
   // Surface units: one length unit spans `texels_per_unit` mean texels (0 = texel units).
   if (texels_per_unit > 0)
     p.length_unit = float(texels_per_unit * std::sqrt(mesh.total_area() / (mesh.total_uv_area() * double(w) * h)));
@@ -188,6 +188,46 @@ void BM_PlaneSurface(benchmark::State& state, moldtex_backend backend, const cha
 
 void BM_SphereSurface(benchmark::State& state, moldtex_backend backend, const char* key) {
   RunSteps(state, GetCase(key, mtx::make_uv_sphere(64, 32, 1.0), 2048, 2048, 1000000, backend, 2.0));
+}
+
+// The classic flat model's geometry (Jones 2010, as the public flat implementations run
+// it): sensors 45 degrees apart at 9 texels, a step of 1 texel with one deposit (one
+// substep), turns of up to 45 degrees; 1024^2, 1M agents, all cores. The figure to set
+// beside flat peers.
+moldtex_sim_params JonesParams(unsigned threads) {
+  moldtex_sim_params p = mtx::default_params();
+  p.thread_count = threads;
+  p.vision_angle = 45.0f;
+  p.vision_distance = 0.9f;  // in units of 10 texels (MTX_VISION_UNIT_TEXELS)
+  p.movement_speed = 1.0f;
+  p.substeps = 1;
+  p.turn_speed = 0.25f / p.time_step;  // max turn = turn_speed * pi * dt = pi / 4
+  return p;
+}
+
+void BM_PlaneJones(benchmark::State& state) {
+  const moldtex_sim_params p = JonesParams(0);
+  RunSteps(state, GetCase("plane-jones", mtx::make_quad(), 1024, 1024, 1000000, MOLDTEX_BACKEND_CPU, 0.0, false,
+                          MOLDTEX_INTEGRATOR_AUTO, MOLDTEX_DOMAIN_TEXTURE, &p));
+}
+
+// Scaling (issue 15): mesh (0 plane, 1 UV sphere 64 x 32), texture side, thousands of
+// agents, threads; the default MoMaS parameters (texel units) as PlaneCpu / SphereCpu.
+void BM_Scaling(benchmark::State& state) {
+  const bool sphere = state.range(0) == 1;
+  const uint32_t side = uint32_t(state.range(1)), agents = uint32_t(state.range(2)) * 1000u;
+  moldtex_sim_params p = mtx::default_params();
+  p.thread_count = uint32_t(state.range(3));
+  const std::string key = "scaling-" + std::to_string(state.range(0)) + "-" + std::to_string(side) + "-" +
+                          std::to_string(agents) + "-" + std::to_string(p.thread_count);
+  RunSteps(state, GetCase(key, sphere ? mtx::make_uv_sphere(64, 32, 1.0) : mtx::make_quad(), side, side, agents,
+                          MOLDTEX_BACKEND_CPU, 0.0, false, MOLDTEX_INTEGRATOR_AUTO, MOLDTEX_DOMAIN_TEXTURE, &p));
+}
+
+// A finely tessellated mesh: the UV sphere 128 x 64 (16,128 triangles, as many as Suzanne
+// with Subdivision 2), 1024^2, 300k agents, all cores: sensors and moves cross edges.
+void BM_FineMesh(benchmark::State& state) {
+  RunSteps(state, GetCase("fine-mesh", mtx::make_uv_sphere(128, 64, 1.0), 1024, 1024, 300000, MOLDTEX_BACKEND_CPU));
 }
 
 // ---- brushes ----
@@ -406,6 +446,14 @@ BENCHMARK(BM_RayCast)->Name("RayCast")->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_AddAgents)->Name("AddAgents/1M+2000")->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 
+BENCHMARK(BM_PlaneJones)->Name("PlaneJonesCpu/1024x1024/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Scaling)->Name("Scaling")->ArgNames({"sphere", "side", "kagents", "threads"})
+    ->Args({0, 1024, 1000, 1})->Args({0, 1024, 1000, 2})
+    ->Args({0, 1024, 256, 2})->Args({0, 1024, 4000, 2})
+    ->Args({0, 2048, 1000, 2})->Args({0, 4096, 1000, 2})
+    ->Args({1, 2048, 1000, 1})->Args({1, 2048, 1000, 2})
+    ->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FineMesh)->Name("FineSphereCpu/128x64/1024x1024/300k")->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Plane, cpu, MOLDTEX_BACKEND_CPU, "plane-cpu")
     ->Name("PlaneCpu/1024x1024/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Plane, opencl, MOLDTEX_BACKEND_OPENCL, "plane-opencl")

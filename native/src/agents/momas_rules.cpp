@@ -1,5 +1,6 @@
 #include "agents/momas_rules.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -52,12 +53,29 @@ mtx_surface_tables surface_tables(const Surface& s, const TextureDomain& d) {
 void momas_update_agents(const mtx_surface_tables& tables, const MomasStepConstants& c,
                          const float* pheromone, const float* field, uint8_t* marks,
                          Agents& agents, size_t begin, size_t end) {
-  for (size_t i = begin; i < end; ++i) {
-    Walker w = agents.load(i);
-    float hunger = agents.hunger[i];
-    mtx_momas_agent_step(tables, pheromone, field, marks, &w, &hunger, agents.species[i], i, &c);
-    agents.store(i, w);
-    agents.hunger[i] = hunger;
+  // In batches: trace every agent's sensors first and ask for the texels they end on,
+  // so the batch's reads travel from memory together instead of one after another.
+  constexpr size_t kBatch = 16;
+  Walker w[kBatch];
+  mtx_momas_probes probes[kBatch];
+  const size_t plane = size_t(c.width) * c.height;
+  for (size_t b = begin; b < end; b += kBatch) {
+    const size_t n = std::min(kBatch, end - b);
+    for (size_t j = 0; j < n; ++j) {
+      w[j] = agents.load(b + j);
+      const uint32_t species = agents.species[b + j];
+      mtx_momas_probe(tables, &w[j], species, &c, &probes[j]);
+      for (int k = 0; k < 3; ++k) __builtin_prefetch(pheromone + species * plane + probes[j].texel[k]);
+      __builtin_prefetch(tables.classes + probes[j].here);  // where it moves and marks
+    }
+    for (size_t j = 0; j < n; ++j) {
+      const size_t i = b + j;
+      float hunger = agents.hunger[i];
+      mtx_momas_agent_finish(tables, pheromone, field, marks, &w[j], &hunger, agents.species[i], i, &c,
+                             &probes[j]);
+      agents.store(i, w[j]);
+      agents.hunger[i] = hunger;
+    }
   }
 }
 

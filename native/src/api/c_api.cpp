@@ -377,7 +377,7 @@ moldtex_status moldtex_sim_create(moldtex_surface surface, const moldtex_sim_con
     moldtex_sim_config c = read_config(config);
     moldtex_sim_params p = read_params(params);
     auto sim = std::make_shared<moldtex::Simulation>(surface->surface, c, p);
-    *out = new moldtex_sim_t{std::move(sim)};
+    *out = new moldtex_sim_t{std::move(sim), nullptr};
   });
 }
 

@@ -166,19 +166,41 @@ MTX_FN float mtx_sense_footprint(mtx_surface_tables s, MTX_GLOBAL const float* p
   return sum / count;
 }
 
+/* An agent's three sensor probes (left, front, right): where each trace over the surface
+ * ends and the texel there. Computed apart from the reading (mtx_momas_agent_finish), so
+ * a backend can trace a batch of agents first and fetch their texels together. */
+typedef struct mtx_momas_probes {
+  mtx_walker at[3];
+  mtx_u32 texel[3];
+  mtx_u32 here; /* the texel under the agent */
+} mtx_momas_probes;
+
+MTX_FN void mtx_momas_probe(mtx_surface_tables s, const mtx_walker* w, mtx_u32 species,
+                            const mtx_momas_constants* k, mtx_momas_probes* p) {
+  const float c = k->sensor_cos[species], sn = k->sensor_sin[species];
+  const float length = k->sensor_length[species];
+  for (int i = 0; i < 3; ++i) {
+    mtx_walker* probe = &p->at[i];
+    *probe = *w;
+    if (i != 1) probe->heading = mtx_rotate(w->heading, c, i == 0 ? sn : -sn);
+    /* Most traces end in the agent's own triangle: the short way, then the general. */
+    if (!mtx_walk_inside(s.frames, probe, length))
+      mtx_walk_across(s.frames, s.adjacency, probe, length, 0, 0, 0);
+    p->texel[i] = mtx_walker_texel(s.corner_uvs, probe, k->width, k->height);
+  }
+  p->here = mtx_walker_texel(s.corner_uvs, w, k->width, k->height);
+}
+
+/* What species `species` reads at the end of a sensor trace (`probe`, over `texel`). */
 MTX_FN float mtx_sense(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
-                       MTX_GLOBAL const float* field, const mtx_walker* from, float c, float sn,
+                       MTX_GLOBAL const float* field, const mtx_walker* probe, mtx_u32 texel,
                        mtx_u32 species, const mtx_momas_constants* k) {
-  mtx_walker probe = *from;
-  probe.heading = mtx_rotate(probe.heading, c, sn);
-  mtx_walk(s.frames, s.adjacency, &probe, k->sensor_length[species], 0, 0);
-  const mtx_u32 texel = mtx_walker_texel(s.corner_uvs, &probe, k->width, k->height);
   int rx = MTX_CAST(int, k->sensor_size), ry = rx;
-  if (rx == 0 && k->surface_mode) return mtx_sense_footprint(s, pheromone, field, &probe, texel, species, k);
+  if (rx == 0 && k->surface_mode) return mtx_sense_footprint(s, pheromone, field, probe, texel, species, k);
   if (rx == 0) return mtx_sensed_value(pheromone, field, texel, species, k);
   if (k->surface_mode) {
     /* The square's reach is in surface units: r length units along each texel axis. */
-    MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * probe.triangle;
+    MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * probe->triangle;
     const float fx = MTX_CAST(float, rx) * k->length_unit * tpu[0] + 0.5f;
     const float fy = MTX_CAST(float, ry) * k->length_unit * tpu[1] + 0.5f;
     rx = fx < MTX_MAX_FOOTPRINT_TEXELS ? MTX_CAST(int, fx) : MTX_MAX_FOOTPRINT_TEXELS;
@@ -315,18 +337,17 @@ MTX_FN void mtx_food_steer(mtx_surface_tables s, mtx_walker* w, float* hunger,
   if (h.x * h.x + h.y * h.y > 0.0f) w->heading = mtx_unit(h);
 }
 
-/* Updates walker w (agent number `agent`, of species `species`) by one step. `pheromone`
- * holds species_count planes of width * height texels, `marks` as many byte planes;
- * `field` is the static field plane (read only when k->has_fields); `hunger` is the
- * agent's hunger, changed only while k->hunger_step > 0. */
-MTX_FN void mtx_momas_agent_step(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
-                                 MTX_GLOBAL const float* field, MTX_GLOBAL mtx_u8* marks,
-                                 mtx_walker* w, float* hunger, mtx_u32 species, mtx_u64 agent,
-                                 const mtx_momas_constants* k) {
-  const float sc = k->sensor_cos[species], ss = k->sensor_sin[species];
-  const float left = mtx_sense(s, pheromone, field, w, sc, ss, species, k);
-  const float front = mtx_sense(s, pheromone, field, w, 1.0f, 0.0f, species, k);
-  const float right = mtx_sense(s, pheromone, field, w, sc, -ss, species, k);
+/* The rest of one step of walker w (agent number `agent`, of species `species`), given
+ * its probes (mtx_momas_probe). `pheromone` holds species_count planes of width * height
+ * texels, `marks` as many byte planes; `field` is the static field plane (read only when
+ * k->has_fields); `hunger` is the agent's hunger, changed only while k->hunger_step > 0. */
+MTX_FN void mtx_momas_agent_finish(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
+                                   MTX_GLOBAL const float* field, MTX_GLOBAL mtx_u8* marks,
+                                   mtx_walker* w, float* hunger, mtx_u32 species, mtx_u64 agent,
+                                   const mtx_momas_constants* k, const mtx_momas_probes* probes) {
+  const float left = mtx_sense(s, pheromone, field, &probes->at[0], probes->texel[0], species, k);
+  const float front = mtx_sense(s, pheromone, field, &probes->at[1], probes->texel[1], species, k);
+  const float right = mtx_sense(s, pheromone, field, &probes->at[2], probes->texel[2], species, k);
 
   /* Steering: keep going only while the front is strictly strongest, else turn toward
    * the stronger side, or to a random side on a tie (so agents on bare ground wander
@@ -357,7 +378,7 @@ MTX_FN void mtx_momas_agent_step(mtx_surface_tables s, MTX_GLOBAL const float* p
    * agent ever stands in an obstacle it did not start in. */
   const float sub_length = k->move_length[species] / MTX_CAST(float, k->substeps);
   MTX_GLOBAL mtx_u8* own_marks = marks + species * mtx_texel_count(k);
-  mtx_u32 texel = mtx_walker_texel(s.corner_uvs, w, k->width, k->height);
+  mtx_u32 texel = probes->here;
   for (mtx_u32 i = 0; i < k->substeps; ++i) {
     const mtx_walker before = *w;
     const mtx_u32 before_texel = texel;
@@ -379,6 +400,17 @@ MTX_FN void mtx_momas_agent_step(mtx_surface_tables s, MTX_GLOBAL const float* p
     if (s.classes[texel] != MTX_TEXEL_INSIDE) continue;
     MTX_MARK(own_marks, texel);
   }
+}
+
+/* Updates walker w (agent number `agent`, of species `species`) by one step: its probes,
+ * then the rest (mtx_momas_agent_finish). */
+MTX_FN void mtx_momas_agent_step(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
+                                 MTX_GLOBAL const float* field, MTX_GLOBAL mtx_u8* marks,
+                                 mtx_walker* w, float* hunger, mtx_u32 species, mtx_u64 agent,
+                                 const mtx_momas_constants* k) {
+  mtx_momas_probes probes;
+  mtx_momas_probe(s, w, species, k, &probes);
+  mtx_momas_agent_finish(s, pheromone, field, marks, w, hunger, species, agent, k, &probes);
 }
 
 MTX_END_NAMESPACE
