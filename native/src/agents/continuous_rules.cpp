@@ -158,16 +158,41 @@ void continuous_update_agents(const mtx_surface_tables& tables, const Continuous
                               const float* u, const float* field, int32_t* sums,
                               const AliasTable& alias, const float* bias, const float* maps,
                               const float* spawn_max, Agents& agents, size_t begin, size_t end) {
-  for (size_t i = begin; i < end; ++i) {
-    Walker w = agents.load(i);
-    mtx_agent_life life{agents.clock[i], agents.age[i], agents.exposure[i], agents.threshold[i]};
-    mtx_continuous_agent_step(tables, u, field, sums, alias.prob.data(), alias.alias.data(), bias, maps,
-                              spawn_max, &w, &life, agents.species[i], i, &c);
-    agents.store(i, w);
-    agents.clock[i] = life.clock;
-    agents.age[i] = life.age;
-    agents.exposure[i] = life.exposure;
-    agents.threshold[i] = life.threshold;
+  // In batches: the first part of every agent's step (turnover, maps, its sensor traces),
+  // with the cells its sensors will read asked from memory, then the rest; the reads of a
+  // batch overlap instead of waiting one after another. Agents of one step are
+  // independent (they read the concentration of the step's start and add deposits into
+  // exact integer sums), so the batching changes no result.
+  constexpr size_t kBatch = 16;
+  Walker w[kBatch];
+  mtx_agent_life life[kBatch];
+  mtx_continuous_plan plan[kBatch];
+  const size_t plane = size_t(c.width) * c.height;
+  for (size_t b = begin; b < end; b += kBatch) {
+    const size_t n = std::min(kBatch, end - b);
+    for (size_t j = 0; j < n; ++j) {
+      const size_t i = b + j;
+      w[j] = agents.load(i);
+      life[j] = mtx_agent_life{agents.clock[i], agents.age[i], agents.exposure[i], agents.threshold[i]};
+      mtx_continuous_agent_begin(tables, alias.prob.data(), alias.alias.data(), bias, maps, spawn_max, &w[j],
+                                 &life[j], i, &c, &plan[j]);
+      if (!plan[j].decide) continue;
+      const float* own = u + agents.species[i] * plane;
+      for (const mtx_texel_stencil& st : plan[j].probe) {
+        __builtin_prefetch(own + st.cell[0]);
+        __builtin_prefetch(own + st.cell[2]);
+        if (tables.vertex_cells) __builtin_prefetch(own + st.cell[1]);
+      }
+    }
+    for (size_t j = 0; j < n; ++j) {
+      const size_t i = b + j;
+      mtx_continuous_agent_finish(tables, u, field, sums, bias, &w[j], &life[j], agents.species[i], i, &c, &plan[j]);
+      agents.store(i, w[j]);
+      agents.clock[i] = life[j].clock;
+      agents.age[i] = life[j].age;
+      agents.exposure[i] = life[j].exposure;
+      agents.threshold[i] = life[j].threshold;
+    }
   }
 }
 

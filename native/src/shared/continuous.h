@@ -157,51 +157,63 @@ MTX_FN void mtx_respawn_weighted(mtx_surface_tables s, MTX_GLOBAL const float* a
 /* -ln X for X uniform in (0, 1]. */
 MTX_FN float mtx_exponential(mtx_u64* rng) { return -log(1.0f - mtx_rng_float(rng)); }
 
-/* What species `species` senses at the point of walker p: its attraction-weighted sum of
- * every species' concentration relative to U, plus the static field, bilinear over the
- * island's cells. An obstacle anywhere in the stencil reads as the obstacle. */
-MTX_FN float mtx_continuous_sense(mtx_surface_tables s, MTX_GLOBAL const float* u,
-                                  MTX_GLOBAL const float* field, const mtx_walker* p,
-                                  mtx_u32 species, const mtx_continuous_constants* k) {
-  mtx_texel_stencil st;
-  mtx_texel_stencil_of(s, p, k->width, k->height, 1, &st);
-  if (st.count == 0) return 0.0f;
+/* What species `species` senses over a reading stencil (mtx_texel_stencil_of with
+ * reading = 1): its attraction-weighted sum of every species' concentration relative to
+ * U, plus the static field, bilinear over the island's cells. An obstacle anywhere in the
+ * stencil reads as the obstacle. */
+MTX_FN float mtx_continuous_read(MTX_GLOBAL const float* u, MTX_GLOBAL const float* field,
+                                 const mtx_texel_stencil* st, mtx_u32 species,
+                                 const mtx_continuous_constants* k) {
+  if (st->count == 0) return 0.0f;
   const mtx_u32 texels = k->width * k->height;
   float v = 0.0f;
   for (int c = 0; c < 4; ++c) {
-    if (!(st.weight[c] > 0.0f)) continue;
+    if (!(st->weight[c] > 0.0f)) continue;
     float here = 0.0f;
     for (mtx_u32 q = 0; q < MTX_SPECIES_COUNT(k); ++q)
-      here += k->attraction[MTX_MAX_SPECIES * species + q] * k->sense_scale[q] * u[q * texels + st.cell[c]];
+      here += k->attraction[MTX_MAX_SPECIES * species + q] * k->sense_scale[q] * u[q * texels + st->cell[c]];
     if (MTX_FIELDS && k->has_fields) {
-      const float f = field[st.cell[c]];
+      const float f = field[st->cell[c]];
       if (f < MTX_OBSTACLE_THRESHOLD) return f;
       here += f;
     }
-    v += st.weight[c] * here;
+    v += st->weight[c] * here;
   }
   return v;
 }
 
-MTX_FN float mtx_continuous_probe(mtx_surface_tables s, MTX_GLOBAL const float* u,
-                                  MTX_GLOBAL const float* field, const mtx_walker* from, float c,
-                                  float sn, float length, mtx_u32 species, const mtx_continuous_constants* k) {
+/* The reading stencil at the end of a sensor trace of `length` from walker `from`, its
+ * heading turned by (c, sn). */
+MTX_FN void mtx_continuous_probe(mtx_surface_tables s, const mtx_walker* from, float c, float sn,
+                                 float length, const mtx_continuous_constants* k, mtx_texel_stencil* st) {
   mtx_walker probe = *from;
   probe.heading = mtx_rotate(probe.heading, c, sn);
   mtx_walk(s.frames, s.adjacency, &probe, length, 0, 0);
-  return mtx_continuous_sense(s, u, field, &probe, species, k);
+  mtx_texel_stencil_of(s, &probe, k->width, k->height, 1, st);
 }
 
-/* One step of agent `agent` (walker w, clocks life, species `species`). `sums` holds one
- * fixed-point plane per species (k->deposit_units per whole deposit of r_dep * dt). */
-MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const float* u,
-                                      MTX_GLOBAL const float* field, MTX_GLOBAL mtx_i32* sums,
-                                      MTX_GLOBAL const float* alias_prob,
-                                      MTX_GLOBAL const mtx_u32* alias_index,
-                                      MTX_GLOBAL const float* bias, MTX_GLOBAL const float* maps,
-                                      MTX_GLOBAL const float* spawn_max, mtx_walker* w,
-                                      mtx_agent_life* life, mtx_u32 species, mtx_u64 agent,
-                                      const mtx_continuous_constants* k) {
+/* What an agent carries from the first part of its step (mtx_continuous_agent_begin) to
+ * the rest (mtx_continuous_agent_finish): its parameters where it stands (the maps
+ * applied), its age at the start of the step, and whether it decides this step; if so,
+ * the stencils of its first decision's three sensors (left, front, right). */
+typedef struct mtx_continuous_plan {
+  float move_length, sensor_length, sensor_cos, sensor_sin, turn_impulse, activation_time;
+  float born;
+  mtx_i32 deposit_units;
+  int decide;
+  mtx_texel_stencil probe[3];
+} mtx_continuous_plan;
+
+/* The first part of one step of agent `agent` (walker w, clocks life): turnover, the
+ * parameter maps where it then stands, its decision clock, and where it decides, the
+ * first decision's sensor traces. Reads no concentration, so a backend can run it for a
+ * batch of agents and fetch the cells their sensors read together. */
+MTX_FN void mtx_continuous_agent_begin(mtx_surface_tables s, MTX_GLOBAL const float* alias_prob,
+                                       MTX_GLOBAL const mtx_u32* alias_index,
+                                       MTX_GLOBAL const float* bias, MTX_GLOBAL const float* maps,
+                                       MTX_GLOBAL const float* spawn_max, mtx_walker* w,
+                                       mtx_agent_life* life, mtx_u64 agent,
+                                       const mtx_continuous_constants* k, mtx_continuous_plan* plan) {
   /* Turnover (§3.2): exposure grows by dt / tau; past the threshold the agent decays and
    * a new one starts at a uniform point of the surface (or one drawn by the spawn map),
    * age 0, a fresh threshold. A lifetime map scales tau where the agent is (§3.3); where
@@ -239,7 +251,7 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
       life->clock = k->decision_period * mtx_rng_float(&rng);
     }
   }
-  const float born = life->age; /* age at the start of this step */
+  plan->born = life->age; /* age at the start of this step */
   life->age += k->dt;
 
   /* The other parameter maps, where the agent is now (§3.3). */
@@ -263,17 +275,52 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
       deposit_units = MTX_CAST(mtx_i32, MTX_CAST(float, deposit_units) * mtx_map_value(maps, k, MTX_MAP_DEPOSIT, texel) + 0.5f);
   }
 
+  plan->move_length = move_length;
+  plan->sensor_length = sensor_length;
+  plan->sensor_cos = sensor_cos;
+  plan->sensor_sin = sensor_sin;
+  plan->turn_impulse = turn_impulse;
+  plan->activation_time = activation_time;
+  plan->deposit_units = deposit_units;
+  life->clock += k->dt;
+  plan->decide = life->clock >= k->decision_period;
+  if (plan->decide) {
+    mtx_continuous_probe(s, w, sensor_cos, sensor_sin, sensor_length, k, &plan->probe[0]);
+    mtx_continuous_probe(s, w, 1.0f, 0.0f, sensor_length, k, &plan->probe[1]);
+    mtx_continuous_probe(s, w, sensor_cos, -sensor_sin, sensor_length, k, &plan->probe[2]);
+  }
+}
+
+/* The rest of the step (after mtx_continuous_agent_begin, with its plan). `sums` holds
+ * one fixed-point plane per species (k->deposit_units per whole deposit of r_dep * dt). */
+MTX_FN void mtx_continuous_agent_finish(mtx_surface_tables s, MTX_GLOBAL const float* u,
+                                        MTX_GLOBAL const float* field, MTX_GLOBAL mtx_i32* sums,
+                                        MTX_GLOBAL const float* bias, mtx_walker* w, mtx_agent_life* life,
+                                        mtx_u32 species, mtx_u64 agent, const mtx_continuous_constants* k,
+                                        const mtx_continuous_plan* plan) {
+  const float move_length = plan->move_length, sensor_length = plan->sensor_length;
+  const float sensor_cos = plan->sensor_cos, sensor_sin = plan->sensor_sin, turn_impulse = plan->turn_impulse;
+  const float activation_time = plan->activation_time, born = plan->born;
+  const mtx_i32 deposit_units = plan->deposit_units;
   /* Turn decisions at f_i: each one senses and turns by the impulse omega / f_i (Jones'
    * rule: straight while the front is strongest, a random side when both sides beat
-   * the front, else toward the stronger side; all equal: straight). */
-  life->clock += k->dt;
-  if (life->clock >= k->decision_period) {
+   * the front, else toward the stronger side; all equal: straight). The first one's
+   * sensors were traced in the plan; later ones (a step longer than 1 / f_i) trace anew
+   * from the turned heading. */
+  if (plan->decide) {
     mtx_u64 rng = mtx_rng_init(k->seed, MTX_RNG_DECIDE, agent, k->step);
     for (int d = 0; d < MTX_MAX_DECISIONS_PER_STEP && life->clock >= k->decision_period; ++d) {
       life->clock -= k->decision_period;
-      const float left = mtx_continuous_probe(s, u, field, w, sensor_cos, sensor_sin, sensor_length, species, k);
-      const float front = mtx_continuous_probe(s, u, field, w, 1.0f, 0.0f, sensor_length, species, k);
-      const float right = mtx_continuous_probe(s, u, field, w, sensor_cos, -sensor_sin, sensor_length, species, k);
+      mtx_texel_stencil fresh[3];
+      if (d > 0) {
+        mtx_continuous_probe(s, w, sensor_cos, sensor_sin, sensor_length, k, &fresh[0]);
+        mtx_continuous_probe(s, w, 1.0f, 0.0f, sensor_length, k, &fresh[1]);
+        mtx_continuous_probe(s, w, sensor_cos, -sensor_sin, sensor_length, k, &fresh[2]);
+      }
+      const mtx_texel_stencil* st = d > 0 ? fresh : plan->probe;
+      const float left = mtx_continuous_read(u, field, &st[0], species, k);
+      const float front = mtx_continuous_read(u, field, &st[1], species, k);
+      const float right = mtx_continuous_read(u, field, &st[2], species, k);
       const float coin = mtx_rng_float(&rng);
       float side = 0.0f;
       if (front > left && front > right)
@@ -349,6 +396,21 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
     /* Piece i's whole share: the pieces' shares add up to exactly deposit_units. */
     if (st.count > 0) mtx_texel_deposit(own, &st, share + (i < extra ? 1 : 0));
   }
+}
+
+/* One step of agent `agent` (walker w, clocks life, species `species`): the two parts in
+ * a row. `sums` holds one fixed-point plane per species. */
+MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const float* u,
+                                      MTX_GLOBAL const float* field, MTX_GLOBAL mtx_i32* sums,
+                                      MTX_GLOBAL const float* alias_prob,
+                                      MTX_GLOBAL const mtx_u32* alias_index,
+                                      MTX_GLOBAL const float* bias, MTX_GLOBAL const float* maps,
+                                      MTX_GLOBAL const float* spawn_max, mtx_walker* w,
+                                      mtx_agent_life* life, mtx_u32 species, mtx_u64 agent,
+                                      const mtx_continuous_constants* k) {
+  mtx_continuous_plan plan;
+  mtx_continuous_agent_begin(s, alias_prob, alias_index, bias, maps, spawn_max, w, life, agent, k, &plan);
+  mtx_continuous_agent_finish(s, u, field, sums, bias, w, life, species, agent, k, &plan);
 }
 
 MTX_END_NAMESPACE
