@@ -5,6 +5,7 @@
 // the clocks of the continuous model (turn-decision clock, age, exposure and its
 // threshold; see shared/continuous.h). 43 bytes per agent.
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -62,6 +63,18 @@ struct Agents {
     threshold[i] = from.threshold[j];
   }
 };
+
+// Agents begin .. end in batches of `Batch`: first(i, j) for every agent i of a batch (j
+// its place in the batch), then rest(i, j) for each. A step split this way has the first
+// parts' memory reads of a whole batch under way before any agent of it needs them.
+template <size_t Batch, class First, class Rest>
+void for_each_in_batches(size_t begin, size_t end, First&& first, Rest&& rest) {
+  for (size_t b = begin; b < end; b += Batch) {
+    const size_t n = std::min(Batch, end - b);
+    for (size_t j = 0; j < n; ++j) first(b + j, j);
+    for (size_t j = 0; j < n; ++j) rest(b + j, j);
+  }
+}
 
 // Reorders agents by the texture tile they stand in (a stable counting sort), so that
 // neighbouring agents read neighbouring texels and stay in cache. Deterministic.

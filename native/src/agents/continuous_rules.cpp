@@ -1,6 +1,5 @@
 #include "agents/continuous_rules.h"
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -168,32 +167,30 @@ void continuous_update_agents(const mtx_surface_tables& tables, const Continuous
   mtx_agent_life life[kBatch];
   mtx_continuous_plan plan[kBatch];
   const size_t plane = size_t(c.width) * c.height;
-  for (size_t b = begin; b < end; b += kBatch) {
-    const size_t n = std::min(kBatch, end - b);
-    for (size_t j = 0; j < n; ++j) {
-      const size_t i = b + j;
-      w[j] = agents.load(i);
-      life[j] = mtx_agent_life{agents.clock[i], agents.age[i], agents.exposure[i], agents.threshold[i]};
-      mtx_continuous_agent_begin(tables, alias.prob.data(), alias.alias.data(), bias, maps, spawn_max, &w[j],
-                                 &life[j], i, &c, &plan[j]);
-      if (!plan[j].decide) continue;
-      const float* own = u + agents.species[i] * plane;
-      for (const mtx_texel_stencil& st : plan[j].probe) {
-        __builtin_prefetch(own + st.cell[0]);
-        __builtin_prefetch(own + st.cell[2]);
-        if (tables.vertex_cells) __builtin_prefetch(own + st.cell[1]);
-      }
-    }
-    for (size_t j = 0; j < n; ++j) {
-      const size_t i = b + j;
-      mtx_continuous_agent_finish(tables, u, field, sums, bias, &w[j], &life[j], agents.species[i], i, &c, &plan[j]);
-      agents.store(i, w[j]);
-      agents.clock[i] = life[j].clock;
-      agents.age[i] = life[j].age;
-      agents.exposure[i] = life[j].exposure;
-      agents.threshold[i] = life[j].threshold;
-    }
-  }
+  for_each_in_batches<kBatch>(
+      begin, end,
+      [&](size_t i, size_t j) {
+        w[j] = agents.load(i);
+        life[j] = mtx_agent_life{agents.clock[i], agents.age[i], agents.exposure[i], agents.threshold[i]};
+        mtx_continuous_agent_begin(tables, alias.prob.data(), alias.alias.data(), bias, maps, spawn_max, &w[j],
+                                   &life[j], i, &c, &plan[j]);
+        if (!plan[j].decide) return;
+        const float* own = u + agents.species[i] * plane;
+        for (const mtx_texel_stencil& st : plan[j].probe) {
+          __builtin_prefetch(own + st.cell[0]);
+          __builtin_prefetch(own + st.cell[2]);
+          if (tables.vertex_cells) __builtin_prefetch(own + st.cell[1]);
+        }
+      },
+      [&](size_t i, size_t j) {
+        mtx_continuous_agent_finish(tables, u, field, sums, bias, &w[j], &life[j], agents.species[i], i, &c,
+                                    &plan[j]);
+        agents.store(i, w[j]);
+        agents.clock[i] = life[j].clock;
+        agents.age[i] = life[j].age;
+        agents.exposure[i] = life[j].exposure;
+        agents.threshold[i] = life[j].threshold;
+      });
 }
 
 }  // namespace moldtex

@@ -1,6 +1,5 @@
 #include "agents/momas_rules.h"
 
-#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -59,24 +58,22 @@ void momas_update_agents(const mtx_surface_tables& tables, const MomasStepConsta
   Walker w[kBatch];
   mtx_momas_probes probes[kBatch];
   const size_t plane = size_t(c.width) * c.height;
-  for (size_t b = begin; b < end; b += kBatch) {
-    const size_t n = std::min(kBatch, end - b);
-    for (size_t j = 0; j < n; ++j) {
-      w[j] = agents.load(b + j);
-      const uint32_t species = agents.species[b + j];
-      mtx_momas_probe(tables, &w[j], species, &c, &probes[j]);
-      for (int k = 0; k < 3; ++k) __builtin_prefetch(pheromone + species * plane + probes[j].texel[k]);
-      __builtin_prefetch(tables.classes + probes[j].here);  // where it moves and marks
-    }
-    for (size_t j = 0; j < n; ++j) {
-      const size_t i = b + j;
-      float hunger = agents.hunger[i];
-      mtx_momas_agent_finish(tables, pheromone, field, marks, &w[j], &hunger, agents.species[i], i, &c,
-                             &probes[j]);
-      agents.store(i, w[j]);
-      agents.hunger[i] = hunger;
-    }
-  }
+  for_each_in_batches<kBatch>(
+      begin, end,
+      [&](size_t i, size_t j) {
+        w[j] = agents.load(i);
+        const uint32_t species = agents.species[i];
+        mtx_momas_probe(tables, &w[j], species, &c, &probes[j]);
+        for (int k = 0; k < 3; ++k) __builtin_prefetch(pheromone + species * plane + probes[j].texel[k]);
+        __builtin_prefetch(tables.classes + probes[j].here);  // where it moves and marks
+      },
+      [&](size_t i, size_t j) {
+        float hunger = agents.hunger[i];
+        mtx_momas_agent_finish(tables, pheromone, field, marks, &w[j], &hunger, agents.species[i], i, &c,
+                               &probes[j]);
+        agents.store(i, w[j]);
+        agents.hunger[i] = hunger;
+      });
 }
 
 }  // namespace moldtex

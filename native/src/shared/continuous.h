@@ -192,6 +192,14 @@ MTX_FN void mtx_continuous_probe(mtx_surface_tables s, const mtx_walker* from, f
   mtx_texel_stencil_of(s, &probe, k->width, k->height, 1, st);
 }
 
+/* The reading stencils of the three sensors (left, front, right) of walker `from`. */
+MTX_FN void mtx_continuous_probes(mtx_surface_tables s, const mtx_walker* from, float c, float sn,
+                                  float length, const mtx_continuous_constants* k, mtx_texel_stencil* st) {
+  mtx_continuous_probe(s, from, c, sn, length, k, &st[0]);
+  mtx_continuous_probe(s, from, 1.0f, 0.0f, length, k, &st[1]);
+  mtx_continuous_probe(s, from, c, -sn, length, k, &st[2]);
+}
+
 /* What an agent carries from the first part of its step (mtx_continuous_agent_begin) to
  * the rest (mtx_continuous_agent_finish): its parameters where it stands (the maps
  * applied), its age at the start of the step, and whether it decides this step; if so,
@@ -284,11 +292,7 @@ MTX_FN void mtx_continuous_agent_begin(mtx_surface_tables s, MTX_GLOBAL const fl
   plan->deposit_units = deposit_units;
   life->clock += k->dt;
   plan->decide = life->clock >= k->decision_period;
-  if (plan->decide) {
-    mtx_continuous_probe(s, w, sensor_cos, sensor_sin, sensor_length, k, &plan->probe[0]);
-    mtx_continuous_probe(s, w, 1.0f, 0.0f, sensor_length, k, &plan->probe[1]);
-    mtx_continuous_probe(s, w, sensor_cos, -sensor_sin, sensor_length, k, &plan->probe[2]);
-  }
+  if (plan->decide) mtx_continuous_probes(s, w, sensor_cos, sensor_sin, sensor_length, k, plan->probe);
 }
 
 /* The rest of the step (after mtx_continuous_agent_begin, with its plan). `sums` holds
@@ -312,11 +316,7 @@ MTX_FN void mtx_continuous_agent_finish(mtx_surface_tables s, MTX_GLOBAL const f
     for (int d = 0; d < MTX_MAX_DECISIONS_PER_STEP && life->clock >= k->decision_period; ++d) {
       life->clock -= k->decision_period;
       mtx_texel_stencil fresh[3];
-      if (d > 0) {
-        mtx_continuous_probe(s, w, sensor_cos, sensor_sin, sensor_length, k, &fresh[0]);
-        mtx_continuous_probe(s, w, 1.0f, 0.0f, sensor_length, k, &fresh[1]);
-        mtx_continuous_probe(s, w, sensor_cos, -sensor_sin, sensor_length, k, &fresh[2]);
-      }
+      if (d > 0) mtx_continuous_probes(s, w, sensor_cos, sensor_sin, sensor_length, k, fresh);
       const mtx_texel_stencil* st = d > 0 ? fresh : plan->probe;
       const float left = mtx_continuous_read(u, field, &st[0], species, k);
       const float front = mtx_continuous_read(u, field, &st[1], species, k);

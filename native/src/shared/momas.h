@@ -183,9 +183,7 @@ MTX_FN void mtx_momas_probe(mtx_surface_tables s, const mtx_walker* w, mtx_u32 s
     mtx_walker* probe = &p->at[i];
     *probe = *w;
     if (i != 1) probe->heading = mtx_rotate(w->heading, c, i == 0 ? sn : -sn);
-    /* Most traces end in the agent's own triangle: the short way, then the general. */
-    if (!mtx_walk_inside(s.frames, probe, length))
-      mtx_walk_across(s.frames, s.adjacency, probe, length, 0, 0, 0);
+    mtx_walk(s.frames, s.adjacency, probe, length, 0, 0);
     p->texel[i] = mtx_walker_texel(s.corner_uvs, probe, k->width, k->height);
   }
   p->here = mtx_walker_texel(s.corner_uvs, w, k->width, k->height);

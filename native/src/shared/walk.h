@@ -140,15 +140,19 @@ MTX_FN int mtx_walk_across(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const 
   }
 }
 
-/* Does weight b, changing at rate db per unit length, fall to 0 within `length`? Decided
- * as mtx_walk_across decides it (tau = -b / db < length), but without that division where
- * b + length db keeps a margin of 1e-6 b, which rounding cannot cross: then the true tau
- * exceeds length by a relative 9e-7 and its float quotient (relative error 6e-8) cannot
- * fall below it. A weight under 1e-30 always takes the division. */
+/* Is weight b, changing at rate db per unit length, clear of its edge over `length`?
+ * True where it does not fall (db >= 0) or where b + length db keeps a margin of 1e-6 b,
+ * which rounding cannot cross: then the true tau = -b / db exceeds length by a relative
+ * 9e-7 and its float quotient (relative error 6e-8) cannot fall below it, so
+ * mtx_walk_across would not stop there either. No branches; a weight under 1e-30 is
+ * never called clear. */
+MTX_FN int mtx_clear_of_edge(float b, float db, float length) {
+  return (db >= 0.0f) | ((b > 1e-30f) & (b + length * db >= 1e-6f * b));
+}
+
+/* Does weight b fall to 0 within `length`? Decided as mtx_walk_across decides it. */
 MTX_FN int mtx_meets_edge(float b, float db, float length) {
-  if (!(db < 0.0f)) return 0;
-  if (b > 1e-30f && b + length * db >= 1e-6f * b) return 0;
-  return (b > 0.0f ? -b / db : 0.0f) < length;
+  return db < 0.0f && (b > 0.0f ? -b / db : 0.0f) < length;
 }
 
 /* The common case: a walk that ends inside the walker's own triangle, done without the
@@ -163,9 +167,8 @@ MTX_FN int mtx_walk_inside(MTX_GLOBAL const mtx_frame* frames, mtx_walker* w, fl
   /* Usually every weight is clear of its edge: one test without branches on the
    * (random) signs of the rates; the exact decision only next to an edge. */
   const float b0 = w->bary[0], b1 = w->bary[1], b2 = w->bary[2];
-  const int clear = ((db0 >= 0.0f) | ((b0 > 1e-30f) & (b0 + length * db0 >= 1e-6f * b0))) &
-                    ((db1 >= 0.0f) | ((b1 > 1e-30f) & (b1 + length * db1 >= 1e-6f * b1))) &
-                    ((db2 >= 0.0f) | ((b2 > 1e-30f) & (b2 + length * db2 >= 1e-6f * b2)));
+  const int clear = mtx_clear_of_edge(b0, db0, length) & mtx_clear_of_edge(b1, db1, length) &
+                    mtx_clear_of_edge(b2, db2, length);
   if (!clear && (mtx_meets_edge(b0, db0, length) || mtx_meets_edge(b1, db1, length) ||
                  mtx_meets_edge(b2, db2, length)))
     return 0;
