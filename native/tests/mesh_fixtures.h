@@ -6,6 +6,7 @@
 #define MOLDTEX_TESTS_MESH_FIXTURES_H
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -18,13 +19,19 @@ namespace mtx {
 using Vec2 = std::array<double, 2>;
 using Vec3 = std::array<double, 3>;
 
-Vec3 sub(const Vec3& a, const Vec3& b);
-Vec3 add(const Vec3& a, const Vec3& b);
-Vec3 scale(const Vec3& a, double s);
-double dot(const Vec3& a, const Vec3& b);
-Vec3 cross(const Vec3& a, const Vec3& b);
-double norm(const Vec3& a);
-Vec3 normalized(const Vec3& a);
+// Inline: the pattern measures call them for every pair of texels they compare.
+inline Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+inline Vec3 add(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
+inline Vec3 scale(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
+inline double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+inline Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+inline Vec3 normalized(const Vec3& a) {
+  const double n = norm(a);
+  return n > 0 ? scale(a, 1.0 / n) : a;
+}
 
 // A triangle mesh with a UV layout, in the layout moldtex_mesh_desc wants.
 struct Mesh {

@@ -116,40 +116,46 @@ Agents spawn_agents(const Surface& s, const SpawnSpec& spec, ThreadPool& pool) {
 
 namespace {
 
-// Stable counting sort of the agents by key (< buckets).
-void sort_by_key(Agents& a, const std::vector<uint32_t>& key, size_t buckets) {
+// Stable counting sort of the agents by scratch.key (< buckets).
+void sort_by_key(Agents& a, TileSortScratch& scratch, size_t buckets) {
   const size_t n = a.size();
-  std::vector<uint32_t> start(buckets + 1, 0);
+  const std::vector<uint32_t>& key = scratch.key;
+  std::vector<uint32_t>& start = scratch.start;
+  start.assign(buckets + 1, 0);
   for (size_t i = 0; i < n; ++i) ++start[key[i] + 1];
   for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
-  Agents sorted;
+  Agents& sorted = scratch.sorted;
   sorted.resize(n);
   for (size_t i = 0; i < n; ++i) sorted.copy_from(start[key[i]]++, a, i);
-  a = std::move(sorted);
+  std::swap(a, sorted);  // the old order becomes the next call's scratch
 }
 
 }  // namespace
 
-void sort_by_tile(const Surface& s, uint32_t width, uint32_t height, Agents& a) {
+void sort_by_tile(const Surface& s, uint32_t width, uint32_t height, Agents& a,
+                  TileSortScratch& scratch, ThreadPool& pool) {
   constexpr uint32_t kTile = 32;
   const uint32_t tiles_x = (width + kTile - 1) / kTile, tiles_y = (height + kTile - 1) / kTile;
   const size_t n = a.size();
-  std::vector<uint32_t> key(n);
-  for (size_t i = 0; i < n; ++i) {
-    Walker w = a.load(i);
-    float uv[2];
-    s.evaluate(w.triangle, w.bary, nullptr, uv);
-    auto tile = [](float x, uint32_t size, uint32_t tiles) {
-      // Clamped before the cast (surfaces keep |uv| <= 1e4, but a float -> int
-      // conversion out of range would be undefined); the same tiles as clamping after.
-      const float f = x * static_cast<float>(size);
-      if (!(f >= 0.f)) return 0u;
-      if (f >= static_cast<float>(size)) return tiles - 1;
-      return std::min(static_cast<uint32_t>(f) / kTile, tiles - 1);
-    };
-    key[i] = tile(uv[1], height, tiles_y) * tiles_x + tile(uv[0], width, tiles_x);
-  }
-  sort_by_key(a, key, static_cast<size_t>(tiles_x) * tiles_y);
+  std::vector<uint32_t>& key = scratch.key;
+  key.resize(n);
+  pool.parallel_for(n, 4096, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      Walker w = a.load(i);
+      float uv[2];
+      s.evaluate(w.triangle, w.bary, nullptr, uv);
+      auto tile = [](float x, uint32_t size, uint32_t tiles) {
+        // Clamped before the cast (surfaces keep |uv| <= 1e4, but a float -> int
+        // conversion out of range would be undefined); the same tiles as clamping after.
+        const float f = x * static_cast<float>(size);
+        if (!(f >= 0.f)) return 0u;
+        if (f >= static_cast<float>(size)) return tiles - 1;
+        return std::min(static_cast<uint32_t>(f) / kTile, tiles - 1);
+      };
+      key[i] = tile(uv[1], height, tiles_y) * tiles_x + tile(uv[0], width, tiles_x);
+    }
+  });
+  sort_by_key(a, scratch, static_cast<size_t>(tiles_x) * tiles_y);
 }
 
 }  // namespace moldtex

@@ -76,9 +76,18 @@ void for_each_in_batches(size_t begin, size_t end, First&& first, Rest&& rest) {
   }
 }
 
+// What sort_by_tile keeps between calls: the keys and the sorted copy, so a regrouping
+// every few steps allocates (and page-faults) nothing once they have grown.
+struct TileSortScratch {
+  std::vector<uint32_t> key, start;
+  Agents sorted;
+};
+
 // Reorders agents by the texture tile they stand in (a stable counting sort), so that
-// neighbouring agents read neighbouring texels and stay in cache. Deterministic.
-void sort_by_tile(const Surface& surface, uint32_t width, uint32_t height, Agents& agents);
+// neighbouring agents read neighbouring texels and stay in cache. Deterministic: the
+// keys are computed on the pool's threads, each agent's alone, the sort is serial.
+void sort_by_tile(const Surface& surface, uint32_t width, uint32_t height, Agents& agents,
+                  TileSortScratch& scratch, ThreadPool& pool);
 
 // How to place agents (moldtex_sim_config's seed fields, validated).
 struct SpawnSpec {

@@ -45,7 +45,7 @@ MomasStepConstants momas_constants(const StepSettings& settings, const TextureDo
 mtx_surface_tables surface_tables(const Surface& s, const TextureDomain& d) {
   return mtx_surface_tables{s.frames.data(), s.adjacency.data(), s.corner_uvs.data(),
                             d.classes.data(), s.frame3d.data(), nullptr, nullptr,
-                            d.texels_per_unit.data(), d.texel_triangle.data(), s.island.data(),
+                            d.texels_per_unit.data(), s.island.data(),
                             d.texel_island.data(), d.interior_bits.data(), nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, 0u};
 }
 

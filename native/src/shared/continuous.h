@@ -360,7 +360,7 @@ MTX_FN void mtx_continuous_agent_finish(mtx_surface_tables s, MTX_GLOBAL const f
    * r_dep / v per unit length, whatever dt or the piece count (Eq. 4). A piece that
    * would enter an obstacle from free ground is undone and the agent turns back. */
   MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * w->triangle;
-  const float texels_moved = move_length * fmax(tpu[0], tpu[1]);
+  const float texels_moved = move_length * mtx_max(tpu[0], tpu[1]);
   int pieces = MTX_CAST(int, ceil(texels_moved / k->max_piece));
   pieces = pieces < 1 ? 1 : (pieces > MTX_MAX_DEPOSIT_PIECES ? MTX_MAX_DEPOSIT_PIECES : pieces);
   const float piece = move_length / MTX_CAST(float, pieces);

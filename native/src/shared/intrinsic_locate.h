@@ -56,7 +56,7 @@ MTX_FN mtx_u32 mtx_locate_intrinsic(MTX_GLOBAL const mtx_u32* grid, MTX_GLOBAL c
     MTX_GLOBAL const float* m = map + 9 * k;
     float w[3];
     for (int r = 0; r < 3; ++r) w[r] = m[3 * r] * b[0] + m[3 * r + 1] * b[1] + m[3 * r + 2] * b[2];
-    const float score = fmin(w[0], fmin(w[1], w[2]));
+    const float score = mtx_min(w[0], mtx_min(w[1], w[2]));
     if (score > best_score) {
       best_score = score;
       best = face[k];
@@ -84,7 +84,7 @@ MTX_FN mtx_u32 mtx_locate_intrinsic(MTX_GLOBAL const mtx_u32* grid, MTX_GLOBAL c
     best_c[m] = wb;
     best_c[(m + 1) % 3] = wa;
     best_c[(m + 2) % 3] = t;
-    best_score = fmin(best_c[0], fmin(best_c[1], best_c[2]));
+    best_score = mtx_min(best_c[0], mtx_min(best_c[1], best_c[2]));
   }
   float sum = 0.0f;
   for (int r = 0; r < 3; ++r) {

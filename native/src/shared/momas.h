@@ -45,12 +45,12 @@ typedef struct mtx_surface_tables {
   MTX_GLOBAL const float* food;
   MTX_GLOBAL mtx_u32* eaters;
   /* Surface units (k->surface_mode): texels per mesh unit along x and y, 2 per triangle
-   * (W / |dP/du|, H / |dP/dv|); the triangle under each texel (-1 outside islands) and
-   * the UV island of each triangle, so a footprint stays on its own island. */
+   * (W / |dP/du|, H / |dP/dv|), and the UV island of each triangle, so a footprint stays
+   * on its own island. */
   MTX_GLOBAL const float* texels_per_unit;
-  MTX_GLOBAL const int* texel_triangle;
   MTX_GLOBAL const mtx_u32* island;
-  /* The island of each island texel, -1 elsewhere (the continuous model's stencils). */
+  /* The island of each island texel, -1 elsewhere (the continuous model's stencils, the
+   * MoMaS footprints of surface units). */
   MTX_GLOBAL const int* texel_island;
   MTX_GLOBAL const mtx_u32* interior_bits; /* see TextureDomain::interior_bits */
   /* The intrinsic domain (domain/intrinsic_domain.h; vertex_cells = 1): agents walk the
@@ -117,8 +117,8 @@ typedef struct mtx_footprint {
 MTX_FN int mtx_footprint_box(mtx_surface_tables s, const mtx_walker* w,
                              const mtx_momas_constants* k, mtx_footprint* box) {
   MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * w->triangle;
-  const float ex = fmin(0.5f * k->length_unit * tpu[0], MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
-  const float ey = fmin(0.5f * k->length_unit * tpu[1], MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
+  const float ex = mtx_min(0.5f * k->length_unit * tpu[0], MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
+  const float ey = mtx_min(0.5f * k->length_unit * tpu[1], MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
   if (ex < 0.5f && ey < 0.5f) return 0;
   MTX_GLOBAL const float* uv = s.corner_uvs + 6 * w->triangle;
   const float x = (w->bary[0] * uv[0] + w->bary[1] * uv[2] + w->bary[2] * uv[4]) * MTX_CAST(float, k->width);
@@ -138,8 +138,7 @@ MTX_FN int mtx_footprint_box(mtx_surface_tables s, const mtx_walker* w,
 
 /* Is texel i an island texel of the footprint's island? */
 MTX_FN int mtx_in_footprint(mtx_surface_tables s, mtx_u32 i, const mtx_footprint* box) {
-  const int t = s.texel_triangle[i];
-  return t >= 0 && s.classes[i] == MTX_TEXEL_INSIDE && s.island[t] == box->island;
+  return s.texel_island[i] == MTX_CAST(int, box->island); /* -1 off the islands */
 }
 
 /* Surface units, single-point sensor: the mean over the texels of the walker's island
@@ -232,10 +231,10 @@ MTX_FN float mtx_footprint_cover(mtx_surface_tables s, const mtx_momas_constants
   box->y1 = box->y1 >= h_ ? h_ - 1 : box->y1;
   float covered = 0.0f;
   for (int iy = box->y0; iy <= box->y1; ++iy) {
-    const float oy = fmin(y + ey, MTX_CAST(float, iy + 1)) - fmax(y - ey, MTX_CAST(float, iy));
+    const float oy = mtx_min(y + ey, MTX_CAST(float, iy + 1)) - mtx_max(y - ey, MTX_CAST(float, iy));
     if (!(oy > 0.0f)) continue;
     for (int ix = box->x0; ix <= box->x1; ++ix) {
-      const float ox = fmin(x + ex, MTX_CAST(float, ix + 1)) - fmax(x - ex, MTX_CAST(float, ix));
+      const float ox = mtx_min(x + ex, MTX_CAST(float, ix + 1)) - mtx_max(x - ex, MTX_CAST(float, ix));
       const mtx_u32 i = MTX_CAST(mtx_u32, iy) * k->width + MTX_CAST(mtx_u32, ix);
       if (ox > 0.0f && mtx_in_footprint(s, i, box)) covered += ox * oy;
     }
@@ -259,8 +258,8 @@ MTX_FN void mtx_mark_footprint(mtx_surface_tables s, MTX_GLOBAL const float* fie
   if (s.classes[texel] == MTX_TEXEL_INSIDE) MTX_MARK(own_marks, texel);
   MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * w->triangle;
   const float limit = MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS);
-  float ex = fmin(0.5f * k->length_unit * tpu[0], limit);
-  float ey = fmin(0.5f * k->length_unit * tpu[1], limit);
+  float ex = mtx_min(0.5f * k->length_unit * tpu[0], limit);
+  float ey = mtx_min(0.5f * k->length_unit * tpu[1], limit);
   if (ex < 0.5f && ey < 0.5f) return;
   MTX_GLOBAL const float* uv = s.corner_uvs + 6 * w->triangle;
   const float x = (w->bary[0] * uv[0] + w->bary[1] * uv[2] + w->bary[2] * uv[4]) * MTX_CAST(float, k->width);
@@ -270,9 +269,9 @@ MTX_FN void mtx_mark_footprint(mtx_surface_tables s, MTX_GLOBAL const float* fie
   box.island = s.island[w->triangle];
   float covered = mtx_footprint_cover(s, k, x, y, ex, ey, &box);
   for (int grow = 0; grow < 3 && covered < 0.999f * target && ex < limit && ey < limit; ++grow) {
-    const float f = covered > 0.0f ? fmin(2.0f, sqrt(target / covered)) : 2.0f;
-    ex = fmin(ex * f, limit);
-    ey = fmin(ey * f, limit);
+    const float f = covered > 0.0f ? mtx_min(2.0f, sqrt(target / covered)) : 2.0f;
+    ex = mtx_min(ex * f, limit);
+    ey = mtx_min(ey * f, limit);
     covered = mtx_footprint_cover(s, k, x, y, ex, ey, &box);
   }
   const int w_ = MTX_CAST(int, k->width), h_ = MTX_CAST(int, k->height);
@@ -328,7 +327,7 @@ MTX_FN void mtx_food_steer(mtx_surface_tables s, mtx_walker* w, float* hunger,
    * pull is felt only when quite hungry. Heading vectors are blended, not angles, so no
    * jump where angles wrap around. */
   const float h2 = *hunger * *hunger, h4 = h2 * h2;
-  const float weight = fmin(1.0f, h4 * h4 * s.food[4 * best + 3] / best_d2);
+  const float weight = mtx_min(1.0f, h4 * h4 * s.food[4 * best + 3] / best_d2);
   mtx_vec2 h;
   h.x = (1.0f - weight) * w->heading.x + weight * toward.x;
   h.y = (1.0f - weight) * w->heading.y + weight * toward.y;
@@ -366,7 +365,7 @@ MTX_FN void mtx_momas_agent_finish(mtx_surface_tables s, MTX_GLOBAL const float*
     w->heading = mtx_unit(mtx_rotate(w->heading, cos(turn), sin(turn)));
   }
   if (MTX_FOOD && k->hunger_step > 0.0f) {
-    *hunger = fmin(1.0f, *hunger + k->hunger_step);
+    *hunger = mtx_min(1.0f, *hunger + k->hunger_step);
     if (k->food_count > 0) mtx_food_steer(s, w, hunger, k);
   }
 

@@ -24,6 +24,8 @@ typedef long mtx_i64;
 #define MTX_ADD_I32(sums, index, value) atomic_add((sums) + (index), (value))
 #define MTX_BEGIN_NAMESPACE
 #define MTX_END_NAMESPACE
+#define mtx_min(a, b) fmin((a), (b))
+#define mtx_max(a, b) fmax((a), (b))
 #else
 #include <atomic>
 #include <cmath>
@@ -55,6 +57,10 @@ using std::exp;
 using std::log;
 using std::sin;
 using std::sqrt;
+/* The smaller and the larger of two floats, as fmin/fmax for numbers (the shared code
+ * never passes NaN), but inlined: C++'s fmin is a libm call unless NaNs are ruled out. */
+inline float mtx_min(float a, float b) { return b < a ? b : a; }
+inline float mtx_max(float a, float b) { return a < b ? b : a; }
 #endif
 
 #endif

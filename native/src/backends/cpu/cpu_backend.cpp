@@ -69,7 +69,7 @@ void CpuBackend::step(const StepSettings& settings, uint64_t seed, uint64_t step
   const moldtex_sim_params& p = settings.params;
   const MomasStepConstants c = momas_constants(settings, d, seed, step_index);
   // Agents drift apart in memory order as they move; regroup them now and then.
-  if (step_index % kSortInterval == 0) sort_by_tile(*surface_, d.width, d.height, agents_);
+  if (step_index % kSortInterval == 0) sort_by_tile(*surface_, d.width, d.height, agents_, sort_scratch_, *pool_);
   // 1. Agents sense the field as it was at the start of the step (read-only) and mark
   //    where they deposit: no thread reads what another is writing.
   mtx_surface_tables tables = surface_tables(*surface_, d);
@@ -111,7 +111,7 @@ void CpuBackend::step_continuous(const StepSettings& settings, uint64_t seed, ui
   const TexelLaplacian& base = base_laplacian();
   if (alias_.prob.empty()) alias_ = build_area_alias_table(*surface_);
   if (sums_.size() != pheromone_.size()) sums_.assign(pheromone_.size(), 0);
-  if (step_index % kSortInterval == 0) sort_by_tile(*surface_, d.width, d.height, agents_);
+  if (step_index % kSortInterval == 0) sort_by_tile(*surface_, d.width, d.height, agents_, sort_scratch_, *pool_);
   ContinuousStepConstants c =
       continuous_constants(settings, d, settings.u_metric, surface_->triangle_count(), agents_.size(), seed,
                            step_index);
@@ -230,7 +230,8 @@ size_t CpuBackend::bytes() const {
                       alias_.prob.capacity() * 4 + alias_.alias.capacity() * 4;
   if (laplacian_) continuous += laplacian_->bytes();
   if (intrinsic_) continuous += intrinsic_->bytes() + vertex_maps_.bytes();
-  return agents_.bytes() +
+  return agents_.bytes() + sort_scratch_.sorted.bytes() +
+         (sort_scratch_.key.capacity() + sort_scratch_.start.capacity()) * 4 +
          (pheromone_.capacity() + scratch_.capacity() + field_.capacity()) * sizeof(float) +
          marks_.capacity() + continuous;
 }

@@ -63,6 +63,7 @@ class CpuBackend final : public Backend {
   uint32_t species_count_;
   std::unique_ptr<ThreadPool> pool_;
   Agents agents_;
+  TileSortScratch sort_scratch_;
   // species_count_ planes each, of texels or (intrinsic domain) of vertex values.
   std::vector<float> pheromone_, scratch_;
   std::vector<float> field_;  // per texel, or per vertex

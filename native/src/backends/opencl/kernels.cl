@@ -36,7 +36,7 @@ __kernel void momas_agents(__global const mtx_frame* frames, __global const uint
                            __global const uchar* species, __global float* hunger,
                            __global const float* frame3d, __global const float* food,
                            __global uint* eaters, __global const float* texels_per_unit,
-                           __global const int* texel_triangle, __global const uint* island,
+                           __global const int* texel_island, __global const uint* island,
                            const mtx_momas_constants k, const uint count) {
   const uint i = get_global_id(0);
   if (i >= count) return;
@@ -49,9 +49,8 @@ __kernel void momas_agents(__global const mtx_frame* frames, __global const uint
   s.food = food;
   s.eaters = eaters;
   s.texels_per_unit = texels_per_unit;
-  s.texel_triangle = texel_triangle;
   s.island = island;
-  s.texel_island = 0;
+  s.texel_island = texel_island;
   s.interior_bits = 0;
   s.face_vertices = 0;
   s.locator_grid = 0;
@@ -255,8 +254,7 @@ __kernel void continuous_agents(__global const mtx_frame* frames, __global const
                                 __global int* sums, __global uint* triangle, __global float* b1,
                                 __global float* b2, __global float* hx, __global float* hy,
                                 __global const uchar* species, __global float4* lives,
-                                __global const float* texels_per_unit,
-                                __global const int* texel_triangle, __global const uint* island,
+                                __global const float* texels_per_unit, __global const uint* island,
                                 __global const int* texel_island, __global const uint* interior_bits,
                                 __global const float* alias_prob, __global const uint* alias_index,
                                 __global const float* bias, __global const float* maps,
@@ -277,7 +275,6 @@ __kernel void continuous_agents(__global const mtx_frame* frames, __global const
   s.food = 0;
   s.eaters = 0;
   s.texels_per_unit = texels_per_unit;
-  s.texel_triangle = texel_triangle;
   s.island = island;
   s.texel_island = texel_island;
   s.interior_bits = interior_bits;

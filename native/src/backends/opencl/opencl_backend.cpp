@@ -251,6 +251,7 @@ OpenClBackend::OpenClBackend(std::shared_ptr<const Surface> surface,
   s.frame3d = s.buffer(sf.frame3d.size() * 4, sf.frame3d.data(), device_bytes_);
   s.texels_per_unit = s.buffer(d.texels_per_unit.size() * 4, d.texels_per_unit.data(), device_bytes_);
   s.texel_triangle = s.buffer(texels * 4, d.texel_triangle.data(), device_bytes_);
+  s.texel_island = s.buffer(texels * 4, d.texel_island.data(), device_bytes_);
   s.island = s.buffer(sf.island.size() * 4, sf.island.data(), device_bytes_);
   s.seam_texel = s.buffer(d.seam_texel.size() * 4, d.seam_texel.empty() ? nullptr : d.seam_texel.data(), device_bytes_);
   s.seam_neighbour = s.buffer(d.seam_neighbour.size() * 4,
@@ -412,7 +413,7 @@ void OpenClBackend::step(const StepSettings& settings, uint64_t seed, uint64_t s
   cl_kernel k = agent_kernel(c.hunger_step > 0.0f, c.has_fields != 0);
   s.args(k, s.frames, s.adjacency, s.corner_uvs, s.classes, s.pheromone, s.field, s.marks,
          s.triangle, s.b1, s.b2, s.hx, s.hy, s.species, s.hunger, s.frame3d, s.food, s.eaters,
-         s.texels_per_unit, s.texel_triangle, s.island, c, static_cast<cl_uint>(agent_count_));
+         s.texels_per_unit, s.texel_island, s.island, c, static_cast<cl_uint>(agent_count_));
   s.run(k, agent_count_);
   if (c.food_count > 0)  // the host needs the counts before the next step's food
     check(s.r.clEnqueueReadBuffer(s.queue, s.eaters, CL_TRUE, 0, c.food_count * 4ull, eaters, 0,
@@ -511,9 +512,7 @@ void OpenClBackend::prepare_continuous() {
   }
   const AliasTable alias = build_area_alias_table(sf);
   auto data = [](const auto& v) { return v.empty() ? nullptr : static_cast<const void*>(v.data()); };
-  const size_t texels = d.texel_count();
   s.sums = s.buffer(cells_ * 4 * species_count_, nullptr, device_bytes_);
-  s.texel_island = s.buffer(texels * 4, d.texel_island.data(), device_bytes_);
   s.interior_bits = s.buffer(d.interior_bits.size() * 4, d.interior_bits.data(), device_bytes_);
   const cl_int zero = 0;
   check(s.r.clEnqueueFillBuffer(s.queue, s.sums, &zero, 4, 0, cells_ * 4 * species_count_, 0, nullptr, nullptr),
@@ -599,7 +598,7 @@ void OpenClBackend::step_continuous(const StepSettings& settings, uint64_t seed,
   cl_kernel k = continuous_kernel(c.has_fields != 0);
   s.args(k, s.frames, s.adjacency, s.corner_uvs, s.classes, s.pheromone, s.field, s.sums, s.triangle,
          s.b1, s.b2, s.hx, s.hy, s.species, s.lives, intrinsic_ ? s.cells_per_unit : s.texels_per_unit,
-         s.texel_triangle, s.island, s.texel_island, s.interior_bits, spawn_map ? s.spawn_prob : s.alias_prob,
+         s.island, s.texel_island, s.interior_bits, spawn_map ? s.spawn_prob : s.alias_prob,
          spawn_map ? s.spawn_index : s.alias_index, s.bias, s.map_planes, s.spawn_max, s.face_vertices,
          s.locator_grid, s.locator_cells, s.locator_face, s.locator_map, s.locator_next, s.locator_across,
          static_cast<cl_uint>(intrinsic_ ? 1 : 0), c, static_cast<cl_uint>(agent_count_));
