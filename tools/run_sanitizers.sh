@@ -5,7 +5,7 @@
 # from the seed corpus in native/fuzz/corpus/. Any sanitizer report fails the run
 # (-fno-sanitize-recover=undefined, ASan aborts by default).
 #
-# Installs its own Debian packages (as root, like tools/common.sh). About 6 minutes on a
+# Installs its own Debian packages (as root, like tools/common.sh). About 10-18 minutes on a
 # 2-core machine. Knobs: MOLDTEX_ASAN_BUILD (default build-asan), MOLDTEX_FUZZ_SECONDS
 # (default 90), MOLDTEX_FUZZ_SEED, MOLDTEX_FUZZ_RUNS, MOLDTEX_SANITIZER_JOBS (default nproc).
 #
@@ -17,7 +17,11 @@
 #    measures of SurfaceUnits.* and the continuous model's discretisation checks
 #    (ContinuousModel.*, Continuous{Backends,OpenCl}.*): 30..160 s each in Release): 12..50 s each
 #    under ASan (2.5 minutes together on 2 cores), and the code they run is the step
-#    that the shorter tests of the same files run too;
+#    that the shorter tests of the same files run too. Likewise three that took 108..258 s
+#    each under ASan on 2026-12-02 (40% of that CTest): ContinuousModel.BiasAlignsTheTrails
+#    and .NoTraceOfTheTextureBorderSeam (bias and seams also run in RespawnsFaceTheBias and
+#    the TexelLaplacian seam tests) and TexelLaplacian.LocalTimeSteppingAgreesWithBackwardEuler
+#    (local time steps also run in ConservesTheAmountAcrossSeams and BitIdenticalForAnyThreadCount);
 #  - the OpenCL instances (PoCL compiles kernels with its own LLVM at run time, which
 #    does not mix with ASan's interceptors): OCL_ICD_VENDORS points at an empty folder
 #    so no OpenCL platform is found and, with MOLDTEX_REQUIRE_OPENCL=0, those tests skip.
@@ -60,7 +64,7 @@ empty_icd="$(mktemp -d)"
 trap 'rm -rf "$empty_icd" "${fuzz_dir:-}"' EXIT
 export OCL_ICD_VENDORS="$empty_icd"
 echo "== CTest under ASan/UBSan (without the statistical pattern tests; OpenCL skips)"
-slow='^Pattern\.|^Food\.(HungryAgentsGather|FiniteSourceEmpties)|^Fields\.(Maze|AttractorDraws)|^Species\.CompetingSpecies|^SurfaceUnits\.(NoTrail|IslandsThatTouch|OpenBoundaries|SameCells|ResultFollows|UvSpherePoles)|^SurfaceUnitsBackends|^ContinuousModel\.(SeedSpread|Character|Turnover|Stretched|MomasInContrast|MeanConcentration)|^ContinuousOpenCl|^ContinuousBackends|^ParameterMaps\.(DepositMapScales|ReadStimulus|MoveRateMap|BiasTowardASink|DiffusionMapOfZero|OpenClAgrees)|^ReactionDiffusion\.(SphereAndPlane|SpacingScales|NoTraceOf|NoBlowUp|DiffusionMapScales|IntrinsicDomain)|^ReactionDiffusionBackends|^IntrinsicSimulation\.(NoTrace|Skinny|Halving|Stretched)'
+slow='^Pattern\.|^Food\.(HungryAgentsGather|FiniteSourceEmpties)|^Fields\.(Maze|AttractorDraws)|^Species\.CompetingSpecies|^SurfaceUnits\.(NoTrail|IslandsThatTouch|OpenBoundaries|SameCells|ResultFollows|UvSpherePoles)|^SurfaceUnitsOpenCl|^ContinuousModel\.(SeedSpread|Character|Turnover|Stretched|MomasInContrast|MeanConcentration|BiasAligns|NoTraceOfTheTextureBorderSeam)|^TexelLaplacian\.LocalTimeSteppingAgrees|^ContinuousOpenCl|^ContinuousBackends|^ParameterMaps\.(DepositMapScales|ReadStimulus|MoveRateMap|BiasTowardASink|DiffusionMapOfZero|OpenClAgrees)|^ReactionDiffusion\.(SphereAndPlane|SpacingScales|NoTraceOf|NoBlowUp|DiffusionMapScales|IntrinsicDomain)|^ReactionDiffusionBackends|^IntrinsicSimulation\.(NoTrace|Skinny|Halving|Stretched)'
 ctest --test-dir "$BUILD" --output-on-failure -j"$JOBS" -E "$slow"
 tested=$SECONDS
 

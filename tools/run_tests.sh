@@ -60,7 +60,7 @@ for target in "venv-bpy $MOLDTEX_BPY_VERSION" "venv-bpy5 $MOLDTEX_BPY5_VERSION";
 done
 
 # Last, as it builds the core a second time: the core and its CTest suite under
-# ASan/UBSan, then the C API fuzz target on a fixed set of inputs (about 6 minutes in all).
+# ASan/UBSan, then the C API fuzz target on a fixed set of inputs (10-18 minutes in all on 2 cores).
 echo "== Native core under AddressSanitizer/UBSan and the C API fuzz target"
 "$MOLDTEX_ROOT/tools/run_sanitizers.sh"
 
