@@ -6,7 +6,8 @@
 //   build/native/bench/moldtex_fingerprint > after.txt && diff before.txt after.txt
 //
 // Cases: MoMaS in texel units on a plane (2 triangles), a UV sphere and an open cylinder
-// (walls), MoMaS in surface units on a torus, the continuous model on a UV sphere. All
+// (walls), MoMaS in surface units on a torus, the continuous model on a UV sphere on the
+// texture domain and on the intrinsic domain (its texture is read from the vertices). All
 // on the CPU backend with every core; the results do not depend on the thread count.
 #include <cstdint>
 #include <cstdio>
@@ -30,6 +31,7 @@ struct Case {
   mtx::Mesh mesh;
   bool continuous;
   float length_unit;
+  uint32_t domain = MOLDTEX_DOMAIN_TEXTURE;
 };
 
 }  // namespace
@@ -40,7 +42,8 @@ int main() {
                         {"sphere", mtx::make_uv_sphere(32, 16, 1.0), false, 0.f},
                         {"cylinder", mtx::make_open_cylinder(24, 6, 0.5, 1.5), false, 0.f},
                         {"torus-surface-units", mtx::make_torus(48, 24, 1.0, 0.35), false, 0.02f},
-                        {"sphere-continuous", mtx::make_uv_sphere(32, 16, 1.0), true, 0.f}};
+                        {"sphere-continuous", mtx::make_uv_sphere(32, 16, 1.0), true, 0.f},
+                        {"sphere-intrinsic", mtx::make_uv_sphere(32, 16, 1.0), true, 0.f, MOLDTEX_DOMAIN_INTRINSIC}};
   int failures = 0;
   for (const Case& c : cases) {
     moldtex_status st;
@@ -49,6 +52,7 @@ int main() {
     p.length_unit = c.length_unit;
     moldtex_sim_config config = mtx::make_config(kSide, kSide, kAgents, 7);
     if (c.continuous) config.model = MOLDTEX_MODEL_CONTINUOUS;
+    config.domain = c.domain;
     mtx::SimPtr sim = surface ? mtx::create_sim(surface.get(), config, p, &st) : nullptr;
     if (!sim || moldtex_sim_step(sim.get(), kSteps) != MOLDTEX_OK) {
       std::printf("%-20s failed: %s\n", c.name, moldtex_last_error());

@@ -157,40 +157,65 @@ void continuous_update_agents(const mtx_surface_tables& tables, const Continuous
                               const float* u, const float* field, int32_t* sums,
                               const AliasTable& alias, const float* bias, const float* maps,
                               const float* spawn_max, Agents& agents, size_t begin, size_t end) {
-  // In batches: the first part of every agent's step (turnover, maps, its sensor traces),
-  // with the cells its sensors will read asked from memory, then the rest; the reads of a
-  // batch overlap instead of waiting one after another. Agents of one step are
-  // independent (they read the concentration of the step's start and add deposits into
-  // exact integer sums), so the batching changes no result.
+  // In batches, in stages: the first part of every agent's step (turnover, maps, its
+  // sensor traces); then its sensors' reading stencils; then the rest. Each stage asks
+  // memory for what the next one reads (on the intrinsic domain the locator's cell, then
+  // its candidates' maps; then the cells the sensors read), so the reads of a batch
+  // overlap instead of waiting one after another. Agents of one step are independent
+  // (they read the concentration of the step's start and add deposits into exact integer
+  // sums), so the batching changes no result.
   constexpr size_t kBatch = 16;
   Walker w[kBatch];
   mtx_agent_life life[kBatch];
   mtx_continuous_plan plan[kBatch];
+  uint32_t cell[kBatch][3];
   const size_t plane = size_t(c.width) * c.height;
-  for_each_in_batches<kBatch>(
-      begin, end,
-      [&](size_t i, size_t j) {
-        w[j] = agents.load(i);
-        life[j] = mtx_agent_life{agents.clock[i], agents.age[i], agents.exposure[i], agents.threshold[i]};
-        mtx_continuous_agent_begin(tables, alias.prob.data(), alias.alias.data(), bias, maps, spawn_max, &w[j],
-                                   &life[j], i, &c, &plan[j]);
-        if (!plan[j].decide) return;
-        const float* own = u + agents.species[i] * plane;
-        for (const mtx_texel_stencil& st : plan[j].probe) {
-          __builtin_prefetch(own + st.cell[0]);
-          __builtin_prefetch(own + st.cell[2]);
-          if (tables.vertex_cells) __builtin_prefetch(own + st.cell[1]);
-        }
-      },
-      [&](size_t i, size_t j) {
-        mtx_continuous_agent_finish(tables, u, field, sums, bias, &w[j], &life[j], agents.species[i], i, &c,
-                                    &plan[j]);
-        agents.store(i, w[j]);
-        agents.clock[i] = life[j].clock;
-        agents.age[i] = life[j].age;
-        agents.exposure[i] = life[j].exposure;
-        agents.threshold[i] = life[j].threshold;
-      });
+  const bool located = tables.vertex_cells != 0;
+  for (size_t first = begin; first < end; first += kBatch) {
+    const size_t n = std::min(kBatch, end - first);
+    for (size_t j = 0; j < n; ++j) {
+      const size_t i = first + j;
+      w[j] = agents.load(i);
+      life[j] = mtx_agent_life{agents.clock[i], agents.age[i], agents.exposure[i], agents.threshold[i]};
+      mtx_continuous_agent_begin(tables, alias.prob.data(), alias.alias.data(), bias, maps, spawn_max, &w[j],
+                                 &life[j], i, &c, &plan[j]);
+      if (!located || !plan[j].decide) continue;
+      for (int k = 0; k < 3; ++k) {
+        cell[j][k] = mtx_locator_cell(tables.locator_grid, plan[j].at[k].triangle, plan[j].at[k].bary);
+        if (cell[j][k] != MTX_NO_NEIGHBOUR) __builtin_prefetch(tables.locator_cells + cell[j][k]);
+      }
+    }
+    if (located)
+      for (size_t j = 0; j < n; ++j) {
+        if (!plan[j].decide) continue;
+        for (int k = 0; k < 3; ++k)
+          if (cell[j][k] != MTX_NO_NEIGHBOUR) {
+            const uint32_t candidate = tables.locator_cells[cell[j][k]];
+            __builtin_prefetch(tables.locator_map + 9 * size_t(candidate));
+            __builtin_prefetch(tables.locator_map + 9 * size_t(candidate) + 8);
+            __builtin_prefetch(tables.locator_face + candidate);
+          }
+      }
+    for (size_t j = 0; j < n; ++j) {
+      if (!plan[j].decide) continue;
+      mtx_continuous_plan_stencils(tables, &c, &plan[j]);
+      const float* own = u + agents.species[first + j] * plane;
+      for (const mtx_texel_stencil& st : plan[j].probe) {
+        __builtin_prefetch(own + st.cell[0]);
+        __builtin_prefetch(own + st.cell[2]);
+        if (located) __builtin_prefetch(own + st.cell[1]);
+      }
+    }
+    for (size_t j = 0; j < n; ++j) {
+      const size_t i = first + j;
+      mtx_continuous_agent_finish(tables, u, field, sums, bias, &w[j], &life[j], agents.species[i], i, &c, &plan[j]);
+      agents.store(i, w[j]);
+      agents.clock[i] = life[j].clock;
+      agents.age[i] = life[j].age;
+      agents.exposure[i] = life[j].exposure;
+      agents.threshold[i] = life[j].threshold;
+    }
+  }
 }
 
 }  // namespace moldtex

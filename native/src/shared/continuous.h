@@ -182,33 +182,37 @@ MTX_FN float mtx_continuous_read(MTX_GLOBAL const float* u, MTX_GLOBAL const flo
   return v;
 }
 
-/* The reading stencil at the end of a sensor trace of `length` from walker `from`, its
- * heading turned by (c, sn). */
-MTX_FN void mtx_continuous_probe(mtx_surface_tables s, const mtx_walker* from, float c, float sn,
-                                 float length, const mtx_continuous_constants* k, mtx_texel_stencil* st) {
-  mtx_walker probe = *from;
-  probe.heading = mtx_rotate(probe.heading, c, sn);
-  mtx_walk(s.frames, s.adjacency, &probe, length, 0, 0);
-  mtx_texel_stencil_of(s, &probe, k->width, k->height, 1, st);
+/* The ends of the three sensor traces (left, front, right) of `length` from walker
+ * `from`, the sides turned by (c, +-sn). */
+MTX_FN void mtx_continuous_traces(mtx_surface_tables s, const mtx_walker* from, float c, float sn,
+                                  float length, mtx_walker* at) {
+  for (int i = 0; i < 3; ++i) {
+    at[i] = *from;
+    /* (The front turned by (1, 0) too, as it always was: that keeps the sign of a zero.) */
+    at[i].heading = i == 1 ? mtx_rotate(from->heading, 1.0f, 0.0f) : mtx_rotate(from->heading, c, i == 0 ? sn : -sn);
+    mtx_walk(s.frames, s.adjacency, &at[i], length, 0, 0);
+  }
 }
 
 /* The reading stencils of the three sensors (left, front, right) of walker `from`. */
 MTX_FN void mtx_continuous_probes(mtx_surface_tables s, const mtx_walker* from, float c, float sn,
                                   float length, const mtx_continuous_constants* k, mtx_texel_stencil* st) {
-  mtx_continuous_probe(s, from, c, sn, length, k, &st[0]);
-  mtx_continuous_probe(s, from, 1.0f, 0.0f, length, k, &st[1]);
-  mtx_continuous_probe(s, from, c, -sn, length, k, &st[2]);
+  mtx_walker at[3];
+  mtx_continuous_traces(s, from, c, sn, length, at);
+  for (int i = 0; i < 3; ++i) mtx_texel_stencil_of(s, &at[i], k->width, k->height, 1, &st[i]);
 }
 
 /* What an agent carries from the first part of its step (mtx_continuous_agent_begin) to
  * the rest (mtx_continuous_agent_finish): its parameters where it stands (the maps
  * applied), its age at the start of the step, and whether it decides this step; if so,
- * the stencils of its first decision's three sensors (left, front, right). */
+ * where its first decision's three sensor traces end (left, front, right) and, once
+ * mtx_continuous_plan_stencils has run, their reading stencils. */
 typedef struct mtx_continuous_plan {
   float move_length, sensor_length, sensor_cos, sensor_sin, turn_impulse, activation_time;
   float born;
   mtx_i32 deposit_units;
   int decide;
+  mtx_walker at[3];
   mtx_texel_stencil probe[3];
 } mtx_continuous_plan;
 
@@ -292,10 +296,19 @@ MTX_FN void mtx_continuous_agent_begin(mtx_surface_tables s, MTX_GLOBAL const fl
   plan->deposit_units = deposit_units;
   life->clock += k->dt;
   plan->decide = life->clock >= k->decision_period;
-  if (plan->decide) mtx_continuous_probes(s, w, sensor_cos, sensor_sin, sensor_length, k, plan->probe);
+  if (plan->decide) mtx_continuous_traces(s, w, sensor_cos, sensor_sin, sensor_length, plan->at);
 }
 
-/* The rest of the step (after mtx_continuous_agent_begin, with its plan). `sums` holds
+/* The second part: the reading stencils where the plan's sensor traces end. Apart from
+ * the first, so a backend can fetch what locating them reads for a batch of agents. */
+MTX_FN void mtx_continuous_plan_stencils(mtx_surface_tables s, const mtx_continuous_constants* k,
+                                         mtx_continuous_plan* plan) {
+  if (!plan->decide) return;
+  for (int i = 0; i < 3; ++i) mtx_texel_stencil_of(s, &plan->at[i], k->width, k->height, 1, &plan->probe[i]);
+}
+
+/* The rest of the step (after mtx_continuous_agent_begin and mtx_continuous_plan_stencils,
+ * with their plan). `sums` holds
  * one fixed-point plane per species (k->deposit_units per whole deposit of r_dep * dt). */
 MTX_FN void mtx_continuous_agent_finish(mtx_surface_tables s, MTX_GLOBAL const float* u,
                                         MTX_GLOBAL const float* field, MTX_GLOBAL mtx_i32* sums,
@@ -398,8 +411,8 @@ MTX_FN void mtx_continuous_agent_finish(mtx_surface_tables s, MTX_GLOBAL const f
   }
 }
 
-/* One step of agent `agent` (walker w, clocks life, species `species`): the two parts in
- * a row. `sums` holds one fixed-point plane per species. */
+/* One step of agent `agent` (walker w, clocks life, species `species`): the three parts
+ * in a row. `sums` holds one fixed-point plane per species. */
 MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const float* u,
                                       MTX_GLOBAL const float* field, MTX_GLOBAL mtx_i32* sums,
                                       MTX_GLOBAL const float* alias_prob,
@@ -410,6 +423,7 @@ MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const flo
                                       const mtx_continuous_constants* k) {
   mtx_continuous_plan plan;
   mtx_continuous_agent_begin(s, alias_prob, alias_index, bias, maps, spawn_max, w, life, agent, k, &plan);
+  mtx_continuous_plan_stencils(s, k, &plan);
   mtx_continuous_agent_finish(s, u, field, sums, bias, w, life, species, agent, k, &plan);
 }
 

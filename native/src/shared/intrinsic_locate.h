@@ -34,22 +34,30 @@ MTX_BEGIN_NAMESPACE
  * best one across the edge opposite its most negative weight, face to face: next holds
  * per face and edge k (opposite corner k) the neighbour's face << 2 | m (its halfedge m
  * runs the edge, so its corner m + 2 lies across; MTX_NO_NEIGHBOUR at the boundary), and
- * across the weights (in this face) of that corner, 3 per edge. Writes the weights into c
- * and returns the face. */
-MTX_FN mtx_u32 mtx_locate_intrinsic(MTX_GLOBAL const mtx_u32* grid, MTX_GLOBAL const mtx_u32* cells,
-                                    MTX_GLOBAL const mtx_u32* face, MTX_GLOBAL const float* map,
-                                    MTX_GLOBAL const mtx_u32* next, MTX_GLOBAL const float* across,
-                                    mtx_u32 triangle, const float* b, float* c) {
+ * across the weights (in this face) of that corner, 3 per edge. mtx_locate_intrinsic
+ * writes the weights into c and returns the face; it is the two steps below in a row. */
+
+/* The first step of a lookup (mtx_locate_intrinsic): the locator cell that holds the
+ * point with weights b on input triangle `triangle`, or MTX_NO_NEIGHBOUR when that
+ * triangle has no cells. Apart, so a backend can fetch the cells of a batch together. */
+MTX_FN mtx_u32 mtx_locator_cell(MTX_GLOBAL const mtx_u32* grid, mtx_u32 triangle, const float* b) {
   const mtx_u32 first = grid[2 * triangle], g = grid[2 * triangle + 1];
-  if (g == 0) {
-    c[0] = c[1] = c[2] = 1.0f / 3.0f;
-    return 0;
-  }
+  if (g == 0) return MTX_NO_NEIGHBOUR;
   const int G = MTX_CAST(int, g);
   int i = MTX_CAST(int, b[1] * MTX_CAST(float, G)), j = MTX_CAST(int, b[2] * MTX_CAST(float, G));
   i = i < 0 ? 0 : (i > G - 1 ? G - 1 : i);
   j = j < 0 ? 0 : (j > G - 1 - i ? G - 1 - i : j);
-  const mtx_u32 cell = first + MTX_CAST(mtx_u32, i * G - (i * (i - 1)) / 2 + j);
+  return first + MTX_CAST(mtx_u32, i * G - (i * (i - 1)) / 2 + j);
+}
+
+/* The rest of the lookup, in the point's cell (mtx_locator_cell). */
+MTX_FN mtx_u32 mtx_locate_in_cell(MTX_GLOBAL const mtx_u32* cells, MTX_GLOBAL const mtx_u32* face,
+                                  MTX_GLOBAL const float* map, MTX_GLOBAL const mtx_u32* next,
+                                  MTX_GLOBAL const float* across, mtx_u32 cell, const float* b, float* c) {
+  if (cell == MTX_NO_NEIGHBOUR) {
+    c[0] = c[1] = c[2] = 1.0f / 3.0f;
+    return 0;
+  }
   mtx_u32 best = 0;
   float best_score = -1e30f, best_c[3] = {1.0f / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f};
   for (mtx_u32 k = cells[cell]; k < cells[cell + 1]; ++k) {
@@ -97,6 +105,13 @@ MTX_FN mtx_u32 mtx_locate_intrinsic(MTX_GLOBAL const mtx_u32* grid, MTX_GLOBAL c
     c[0] = c[1] = c[2] = 1.0f / 3.0f;
   }
   return best;
+}
+
+MTX_FN mtx_u32 mtx_locate_intrinsic(MTX_GLOBAL const mtx_u32* grid, MTX_GLOBAL const mtx_u32* cells,
+                                    MTX_GLOBAL const mtx_u32* face, MTX_GLOBAL const float* map,
+                                    MTX_GLOBAL const mtx_u32* next, MTX_GLOBAL const float* across,
+                                    mtx_u32 triangle, const float* b, float* c) {
+  return mtx_locate_in_cell(cells, face, map, next, across, mtx_locator_cell(grid, triangle, b), b, c);
 }
 
 MTX_END_NAMESPACE
