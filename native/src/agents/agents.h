@@ -64,15 +64,18 @@ struct Agents {
   }
 };
 
-// Agents begin .. end in batches of `Batch`: first(i, j) for every agent i of a batch (j
-// its place in the batch), then rest(i, j) for each. A step split this way has the first
-// parts' memory reads of a whole batch under way before any agent of it needs them.
-template <size_t Batch, class First, class Rest>
-void for_each_in_batches(size_t begin, size_t end, First&& first, Rest&& rest) {
+// Agents begin .. end in batches of `Batch`, a step split in stages: the first stage(i, j)
+// for every agent i of a batch (j its place in the batch), then the next stage for each,
+// and so on. Each stage has the memory reads of the next under way for a whole batch
+// before any agent of it needs them.
+template <size_t Batch, class... Stages>
+void for_each_in_batches(size_t begin, size_t end, Stages&&... stages) {
   for (size_t b = begin; b < end; b += Batch) {
     const size_t n = std::min(Batch, end - b);
-    for (size_t j = 0; j < n; ++j) first(b + j, j);
-    for (size_t j = 0; j < n; ++j) rest(b + j, j);
+    auto run = [&](auto& stage) {
+      for (size_t j = 0; j < n; ++j) stage(b + j, j);
+    };
+    (run(stages), ...);
   }
 }
 

@@ -171,51 +171,48 @@ void continuous_update_agents(const mtx_surface_tables& tables, const Continuous
   uint32_t cell[kBatch][3];
   const size_t plane = size_t(c.width) * c.height;
   const bool located = tables.vertex_cells != 0;
-  for (size_t first = begin; first < end; first += kBatch) {
-    const size_t n = std::min(kBatch, end - first);
-    for (size_t j = 0; j < n; ++j) {
-      const size_t i = first + j;
-      w[j] = agents.load(i);
-      life[j] = mtx_agent_life{agents.clock[i], agents.age[i], agents.exposure[i], agents.threshold[i]};
-      mtx_continuous_agent_begin(tables, alias.prob.data(), alias.alias.data(), bias, maps, spawn_max, &w[j],
-                                 &life[j], i, &c, &plan[j]);
-      if (!located || !plan[j].decide) continue;
-      for (int k = 0; k < 3; ++k) {
-        cell[j][k] = mtx_locator_cell(tables.locator_grid, plan[j].at[k].triangle, plan[j].at[k].bary);
-        if (cell[j][k] != MTX_NO_NEIGHBOUR) __builtin_prefetch(tables.locator_cells + cell[j][k]);
-      }
-    }
-    if (located)
-      for (size_t j = 0; j < n; ++j) {
-        if (!plan[j].decide) continue;
+  for_each_in_batches<kBatch>(
+      begin, end,
+      [&](size_t i, size_t j) {  // turnover, maps, sensor traces; ask for the locator cells
+        w[j] = agents.load(i);
+        life[j] = mtx_agent_life{agents.clock[i], agents.age[i], agents.exposure[i], agents.threshold[i]};
+        mtx_continuous_agent_begin(tables, alias.prob.data(), alias.alias.data(), bias, maps, spawn_max, &w[j],
+                                   &life[j], i, &c, &plan[j]);
+        if (!located || !plan[j].decide) return;
+        for (int k = 0; k < 3; ++k) {
+          cell[j][k] = mtx_locator_cell(tables.locator_grid, plan[j].at[k].triangle, plan[j].at[k].bary);
+          if (cell[j][k] != MTX_NO_CELL) __builtin_prefetch(tables.locator_cells + cell[j][k]);
+        }
+      },
+      [&](size_t, size_t j) {  // ask for the cells' first candidates
+        if (!located || !plan[j].decide) return;
         for (int k = 0; k < 3; ++k)
-          if (cell[j][k] != MTX_NO_NEIGHBOUR) {
+          if (cell[j][k] != MTX_NO_CELL) {
             const uint32_t candidate = tables.locator_cells[cell[j][k]];
             __builtin_prefetch(tables.locator_map + 9 * size_t(candidate));
             __builtin_prefetch(tables.locator_map + 9 * size_t(candidate) + 8);
             __builtin_prefetch(tables.locator_face + candidate);
           }
-      }
-    for (size_t j = 0; j < n; ++j) {
-      if (!plan[j].decide) continue;
-      mtx_continuous_plan_stencils(tables, &c, &plan[j]);
-      const float* own = u + agents.species[first + j] * plane;
-      for (const mtx_texel_stencil& st : plan[j].probe) {
-        __builtin_prefetch(own + st.cell[0]);
-        __builtin_prefetch(own + st.cell[2]);
-        if (located) __builtin_prefetch(own + st.cell[1]);
-      }
-    }
-    for (size_t j = 0; j < n; ++j) {
-      const size_t i = first + j;
-      mtx_continuous_agent_finish(tables, u, field, sums, bias, &w[j], &life[j], agents.species[i], i, &c, &plan[j]);
-      agents.store(i, w[j]);
-      agents.clock[i] = life[j].clock;
-      agents.age[i] = life[j].age;
-      agents.exposure[i] = life[j].exposure;
-      agents.threshold[i] = life[j].threshold;
-    }
-  }
+      },
+      [&](size_t i, size_t j) {  // the reading stencils; ask for the cells they read
+        if (!plan[j].decide) return;
+        mtx_continuous_plan_stencils(tables, &c, &plan[j]);
+        const float* own = u + agents.species[i] * plane;
+        for (const mtx_texel_stencil& st : plan[j].probe) {
+          __builtin_prefetch(own + st.cell[0]);
+          __builtin_prefetch(own + st.cell[2]);
+          if (located) __builtin_prefetch(own + st.cell[1]);
+        }
+      },
+      [&](size_t i, size_t j) {  // the rest
+        mtx_continuous_agent_finish(tables, u, field, sums, bias, &w[j], &life[j], agents.species[i], i, &c,
+                                    &plan[j]);
+        agents.store(i, w[j]);
+        agents.clock[i] = life[j].clock;
+        agents.age[i] = life[j].age;
+        agents.exposure[i] = life[j].exposure;
+        agents.threshold[i] = life[j].threshold;
+      });
 }
 
 }  // namespace moldtex

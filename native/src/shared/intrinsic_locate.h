@@ -24,6 +24,9 @@ MTX_BEGIN_NAMESPACE
 /* Weights this far below 0 still count as inside (float round-off of c = M b). */
 #define MTX_LOCATE_SLACK 1e-5f
 
+/* mtx_locator_cell's answer for an input triangle without cells. */
+#define MTX_NO_CELL 0xffffffffu
+
 /* At most this many steps of the walk that finishes a lookup. */
 #define MTX_LOCATE_MAX_STEPS 32
 
@@ -38,11 +41,11 @@ MTX_BEGIN_NAMESPACE
  * writes the weights into c and returns the face; it is the two steps below in a row. */
 
 /* The first step of a lookup (mtx_locate_intrinsic): the locator cell that holds the
- * point with weights b on input triangle `triangle`, or MTX_NO_NEIGHBOUR when that
+ * point with weights b on input triangle `triangle`, or MTX_NO_CELL when that
  * triangle has no cells. Apart, so a backend can fetch the cells of a batch together. */
 MTX_FN mtx_u32 mtx_locator_cell(MTX_GLOBAL const mtx_u32* grid, mtx_u32 triangle, const float* b) {
   const mtx_u32 first = grid[2 * triangle], g = grid[2 * triangle + 1];
-  if (g == 0) return MTX_NO_NEIGHBOUR;
+  if (g == 0) return MTX_NO_CELL;
   const int G = MTX_CAST(int, g);
   int i = MTX_CAST(int, b[1] * MTX_CAST(float, G)), j = MTX_CAST(int, b[2] * MTX_CAST(float, G));
   i = i < 0 ? 0 : (i > G - 1 ? G - 1 : i);
@@ -54,7 +57,7 @@ MTX_FN mtx_u32 mtx_locator_cell(MTX_GLOBAL const mtx_u32* grid, mtx_u32 triangle
 MTX_FN mtx_u32 mtx_locate_in_cell(MTX_GLOBAL const mtx_u32* cells, MTX_GLOBAL const mtx_u32* face,
                                   MTX_GLOBAL const float* map, MTX_GLOBAL const mtx_u32* next,
                                   MTX_GLOBAL const float* across, mtx_u32 cell, const float* b, float* c) {
-  if (cell == MTX_NO_NEIGHBOUR) {
+  if (cell == MTX_NO_CELL) {
     c[0] = c[1] = c[2] = 1.0f / 3.0f;
     return 0;
   }
