@@ -385,7 +385,7 @@ MTX_FN void mtx_continuous_agent_finish(mtx_surface_tables s, MTX_GLOBAL const f
   const mtx_i32 share = deposit_units / pieces, extra = deposit_units - share * pieces;
   for (int i = 0; i < pieces; ++i) {
     const mtx_walker before = *w;
-    if (mtx_walk_until(s.frames, s.adjacency, w, piece, 0, 0, MTX_CAST(int, k->absorb)) < 0) {
+    if (mtx_walk_until(s.frames, s.adjacency, w, piece, 0, 0, k->absorb ? MTX_BOUNDARY_STOP : MTX_BOUNDARY_BOUNCE, 0) < 0) {
       /* Absorbed by an open boundary: the agent ends here and is reborn next step. */
       life->exposure = 0.0f;
       life->threshold = 0.0f;

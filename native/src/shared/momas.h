@@ -182,7 +182,10 @@ MTX_FN void mtx_momas_probe(mtx_surface_tables s, const mtx_walker* w, mtx_u32 s
     mtx_walker* probe = &p->at[i];
     *probe = *w;
     if (i != 1) probe->heading = mtx_rotate(w->heading, c, i == 0 ? sn : -sn);
-    mtx_walk(s.frames, s.adjacency, probe, length, 0, 0);
+    /* A trace ends where it meets an open boundary, and the sensor reads there (as Layton
+     * et al. do): a bounced trace would read the mirror image of the agent's own
+     * neighbourhood, and trails along the wall would merge with their images. */
+    mtx_walk_until(s.frames, s.adjacency, probe, length, 0, 0, MTX_BOUNDARY_STOP, 0);
     p->texel[i] = mtx_walker_texel(s.corner_uvs, probe, k->width, k->height);
   }
   p->here = mtx_walker_texel(s.corner_uvs, w, k->width, k->height);
@@ -372,14 +375,17 @@ MTX_FN void mtx_momas_agent_finish(mtx_surface_tables s, MTX_GLOBAL const float*
   /* Move in equal substeps, leaving a deposit after each: a line-integrated trail whose
    * total length does not depend on the substep count. A substep that would carry the
    * agent from free ground into an obstacle is undone and the agent turns back, so no
-   * agent ever stands in an obstacle it did not start in. */
+   * agent ever stands in an obstacle it did not start in. At an open boundary the agent
+   * scatters (the cosine law, drawing on its steering numbers): with a mirror bounce a
+   * trail along the wall kept every agent that drifted against it, and open boundaries
+   * held 1.8-1.9x the interior's pheromone. */
   const float sub_length = k->move_length[species] / MTX_CAST(float, k->substeps);
   MTX_GLOBAL mtx_u8* own_marks = marks + species * mtx_texel_count(k);
   mtx_u32 texel = probes->here;
   for (mtx_u32 i = 0; i < k->substeps; ++i) {
     const mtx_walker before = *w;
     const mtx_u32 before_texel = texel;
-    mtx_walk(s.frames, s.adjacency, w, sub_length, 0, 0);
+    mtx_walk_until(s.frames, s.adjacency, w, sub_length, 0, 0, MTX_BOUNDARY_SCATTER, &rng);
     texel = mtx_walker_texel(s.corner_uvs, w, k->width, k->height);
     if (mtx_is_obstacle(field, texel, k)) {
       if (!mtx_is_obstacle(field, before_texel, k)) {

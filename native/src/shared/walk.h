@@ -5,17 +5,28 @@
  * +x, corner 2 above), so lengths and angles in a frame are true 3D lengths and angles.
  * A walker keeps its position as barycentric weights and its heading as a unit vector
  * in the frame of its triangle. At an edge it unfolds the heading about that edge into
- * the neighbour's frame (keeping the angle to the edge, hence a geodesic), or mirrors it
- * at an open boundary (a bounce). Any number of edges may be crossed in one walk. */
+ * the neighbour's frame (keeping the angle to the edge, hence a geodesic). At an open
+ * boundary it bounces (mirrors the heading), scatters (a new heading by the cosine law)
+ * or stops, as the caller asks. Any number of edges may be crossed in one walk. */
 #ifndef MOLDTEX_SHARED_WALK_H
 #define MOLDTEX_SHARED_WALK_H
 
 #ifndef __OPENCL_C_VERSION__
 #include "shared/constants.h"
 #include "shared/portable.h"
+#include "shared/rng.h"
 #endif
 
 MTX_BEGIN_NAMESPACE
+
+/* What a walk does at an open boundary edge. */
+#define MTX_BOUNDARY_BOUNCE 0  /* mirrors the heading about the edge (a specular bounce) */
+#define MTX_BOUNDARY_STOP 1    /* ends there and returns -1 (sensor traces; absorption) */
+/* Leaves the edge in a random direction drawn by the cosine (Lambert) law about the
+ * inward normal. Like a bounce, it keeps a free random walk uniform over the surface;
+ * unlike a bounce, it does not guide a walker along the wall at a grazing angle, so a
+ * trail along an open boundary holds its agents no better than a trail elsewhere. */
+#define MTX_BOUNDARY_SCATTER 2
 
 typedef struct mtx_vec2 {
   float x, y;
@@ -73,7 +84,7 @@ MTX_FN void mtx_clamp_bary(float* b) {
 /* The general walk of mtx_walk_until, edge by edge (see there). */
 MTX_FN int mtx_walk_across(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const mtx_u32* adjacency,
                           mtx_walker* w, float length, mtx_walker* events, int capacity,
-                          int stop_at_boundary) {
+                          int boundary, mtx_u64* scatter_rng) {
   float remaining = length;
   for (int count = 0;; ++count) {
     const mtx_frame f = frames[w->triangle];
@@ -109,12 +120,19 @@ MTX_FN int mtx_walk_across(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const 
     const float along = w->heading.x * e.x + w->heading.y * e.y;
     const float across = fmax(fabs(w->heading.x * -e.y + w->heading.y * e.x), MTX_MIN_CROSSING_SINE);
     const mtx_u32 code = adjacency[3 * w->triangle + MTX_CAST(mtx_u32, exit)];
-    if (code == MTX_NO_NEIGHBOUR && stop_at_boundary) return -1;
+    if (code == MTX_NO_NEIGHBOUR && boundary == MTX_BOUNDARY_STOP) return -1;
     if (code == MTX_NO_NEIGHBOUR) {
-      /* Bounce: mirror the heading about the boundary edge. */
+      /* Bounce: mirror the heading about the boundary edge (along the edge unchanged,
+       * across it now inward). Scatter: sin of the angle to the inward normal uniform in
+       * [-1, 1), which is the cosine law. */
+      float out_along = along, out_across = across;
+      if (boundary == MTX_BOUNDARY_SCATTER) {
+        out_along = 2.0f * mtx_rng_float(scatter_rng) - 1.0f;
+        out_across = mtx_max(sqrt(1.0f - out_along * out_along), MTX_MIN_CROSSING_SINE);
+      }
       mtx_vec2 h;
-      h.x = along * e.x - across * e.y;
-      h.y = along * e.y + across * e.x;
+      h.x = out_along * e.x - out_across * e.y;
+      h.y = out_along * e.y + out_across * e.x;
       w->heading = mtx_unit(h);
     } else {
       const mtx_u32 next = code >> 3;
@@ -181,19 +199,22 @@ MTX_FN int mtx_walk_inside(MTX_GLOBAL const mtx_frame* frames, mtx_walker* w, fl
 
 /* Walks `length` 3D units. If `events` is not null, the walker's state after each edge
  * crossing or bounce is stored there, up to `capacity` of them. Returns the number of
- * crossings and bounces. With `stop_at_boundary`, the walk ends where it first meets an
- * open boundary edge (without bouncing) and returns -1. Most walks of an agent's step
- * stay inside one triangle: they take the short way. */
+ * crossings and bounces. At an open boundary edge it does what `boundary` says
+ * (MTX_BOUNDARY_*); with MTX_BOUNDARY_STOP the walk ends where it first meets one and
+ * returns -1; MTX_BOUNDARY_SCATTER draws from `scatter_rng` (unused otherwise, may be
+ * null then). Most walks of an agent's step stay inside one triangle: they take the
+ * short way. */
 MTX_FN int mtx_walk_until(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const mtx_u32* adjacency,
                           mtx_walker* w, float length, mtx_walker* events, int capacity,
-                          int stop_at_boundary) {
+                          int boundary, mtx_u64* scatter_rng) {
   if (mtx_walk_inside(frames, w, length)) return 0;
-  return mtx_walk_across(frames, adjacency, w, length, events, capacity, stop_at_boundary);
+  return mtx_walk_across(frames, adjacency, w, length, events, capacity, boundary, scatter_rng);
 }
 
+/* A walk that bounces at open boundaries. */
 MTX_FN int mtx_walk(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const mtx_u32* adjacency,
                     mtx_walker* w, float length, mtx_walker* events, int capacity) {
-  return mtx_walk_until(frames, adjacency, w, length, events, capacity, 0);
+  return mtx_walk_until(frames, adjacency, w, length, events, capacity, MTX_BOUNDARY_BOUNCE, 0);
 }
 
 MTX_END_NAMESPACE
