@@ -407,6 +407,64 @@ TEST(SurfaceUnits, OpenBoundariesNeitherLoseNorGain) {
   }
 }
 
+// Directional gradient length over the texels where in(x, y): mean f / mean |df/ds| of
+// the pairs along the texel rows (axis 0) or columns (axis 1), s the 3D distance.
+double AxisGradientLength(const TexelGeometry& g, const std::vector<double>& f, int axis,
+                          const std::function<bool(uint32_t, uint32_t)>& in) {
+  double slope = 0, weight = 0, sum = 0, area = 0;
+  for (uint32_t y = 0; y + 1 < g.height; ++y)
+    for (uint32_t x = 0; x + 1 < g.width; ++x) {
+      const size_t i = size_t(y) * g.width + x, j = axis == 0 ? i + 1 : i + g.width;
+      if (!g.inside(i) || !g.inside(j) || !in(x, y)) continue;
+      const Vec3 &a = g.position[i], &b = g.position[j];
+      const double d = std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+      slope += g.area[i] * std::fabs(f[j] - f[i]) / d;
+      weight += g.area[i];
+      sum += g.area[i] * f[i];
+      area += g.area[i];
+    }
+  return (sum / area) / (slope / weight);
+}
+// Strongly stretched UVs (issue #9: "where one texel spans more than ~5 mean texels the
+// pattern turns into streaks"): a 4 x 4 plane whose UVs are warped u -> u^2, so on the
+// left a texel is up to 6.7 texel-lengths wide in 3D and one tall. The pattern's
+// gradient length along the texel rows over that along the columns, in the texels
+// wider than 3 units, must stay within 25% of what an isotropic synthetic 3D field
+// gives there (0.945: the sampling's own bias). Known defect, hence disabled: a deposit
+// marks at least the one texel under the agent, so a trail across wide texels is as
+// wide as they are, and trails along them stay sharp. Measured over 3 seeds: surface
+// units 1.88 / 1.44 / 2.01, texel units 3.78 / 1.62 / 1.76, where texels 0.7-1.4 units
+// wide read 0.96-1.15. The intrinsic domain (#11) does not have it.
+TEST(SurfaceUnits, DISABLED_StretchedTexelsShowNoStreaks) {
+  static const Mesh warped = make_plane(64, 64, 0, 0, 4, 4, [](double x, double y) {
+    const double u = x / 4;
+    return Vec2{u * u, y / 4};
+  });
+  const uint32_t W = 256;
+  const TexelGeometry g = Texels(warped, W, W);
+  const double unit = TexelLength(warped, W);
+  auto stretched = [&](uint32_t x, uint32_t y) {
+    const size_t i = size_t(y) * W + x;
+    const Vec3& p = g.position[i];
+    const double width = std::fabs(g.position[i + 1][0] - p[0]) / unit;
+    return width > 3 && p[0] > 0.25 && p[1] > 0.25 && p[1] < 3.75;
+  };
+  std::vector<double> synthetic(g.position.size(), 0.0);
+  for (size_t i = 0; i < synthetic.size(); ++i) {
+    const Vec3& p = g.position[i];
+    synthetic[i] = 0.5 + 0.25 * std::sin(20 * p[0] + 3 * p[1]) * std::cos(17 * p[1] - 4 * p[0]);
+  }
+  auto elongation = [&](const std::vector<double>& f) {
+    return AxisGradientLength(g, f, 0, stretched) / AxisGradientLength(g, f, 1, stretched);
+  };
+  const double floor = elongation(synthetic);
+  for (uint64_t seed : {1, 2, 3}) {
+    const double e = elongation(Grow(warped, W, W, W * W / 2, seed, SurfaceParams(unit), 400, 100));
+    std::printf("  seed %d: elongation %.3f (isotropic field %.3f)\n", int(seed), e, floor);
+    EXPECT_NEAR(e / floor, 1.0, 0.25);
+  }
+}
+
 TEST(SurfaceUnits, SameCellsAtEveryResolution) {
   // One length unit (the texel length at 128^2) and one agent count: at 128^2, 256^2 and
   // 512^2 (1, 2 and 4 texels per unit, as 512^2 / 1024^2 / 2048^2 are at the add-on's
