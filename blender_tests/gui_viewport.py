@@ -63,6 +63,7 @@ addon_utils.enable("moldtex", default_set=True)
 from moldtex import live  # noqa: E402
 
 NAME = "Canvas"
+EXPORTS = []  # objects whose mesh live.export_object read (the intrinsic Start)
 GRID = 16
 # The network's cells differ by about 0.2 in mean luminance (std over the cells). A
 # viewport that draws its pixels correlates at 0.974–0.985 with them (Blender 3.4 under
@@ -424,6 +425,15 @@ def _tick():
               "Start pressed again cancelled the build, and nothing started")
         check(entry.sim.get_config()["domain"] == 0,
               "the simulation is the one from before (Texture domain)")
+        # Count the mesh exports of this Start: the build's arrays make the simulation too.
+        STATE["export_object"] = live.export_object
+        EXPORTS.clear()
+
+        def counting_export(*args, **kwargs):
+            EXPORTS.append(args[0].name)
+            return STATE["export_object"](*args, **kwargs)
+
+        live.export_object = counting_export
         check(call(bpy.ops.moldtex.start, 'INVOKE_DEFAULT') == {'RUNNING_MODAL'},
               "Start again")
         goto("intrinsic_running")
@@ -437,6 +447,9 @@ def _tick():
               f"after the build the simulation runs on the triangulation it made ({info})")
         print(f"     intrinsic: {info.get('cell_count', 0):,} vertices, built ahead in "
               f"{waited():.1f} s")
+        check(EXPORTS == [NAME], f"Start read the mesh once, for the build and the "
+                                 f"simulation ({len(EXPORTS)} exports)")
+        live.export_object = STATE["export_object"]
         call(bpy.ops.moldtex.start, 'INVOKE_DEFAULT')  # pause
         goto("intrinsic_bake")
         return 1.0

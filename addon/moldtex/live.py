@@ -156,6 +156,7 @@ def names():
 
 
 def free(name):
+    _build_exports.pop(name, None)
     entry = _registry.pop(name, None)
     if entry is not None:
         entry.release()
@@ -171,6 +172,9 @@ def mark_dirty(name=None):
     for key, entry in _registry.items():
         if name is None or key == name:
             entry.dirty = True
+    for key in list(_build_exports):
+        if name is None or key == name:
+            del _build_exports[key]
 
 
 def opencl_devices():
@@ -938,7 +942,7 @@ def ensure(obj, depsgraph, rebuild=False):
     settings = obj.moldtex
     uv_map = entry.uv_map_setting if (entry is not None and entry.sim is not None
                                       and not rebuild) else settings.uv_map
-    mesh = export_object(obj, depsgraph, uv_map)
+    mesh = _take_build_export(obj.name, uv_map) or export_object(obj, depsgraph, uv_map)
     if entry is None:
         entry = LiveSim(obj.name)
     if entry.sim is not None and not rebuild and mesh.signature == entry.signature:
@@ -961,6 +965,18 @@ def ensure(obj, depsgraph, rebuild=False):
 # Intrinsic-domain builds running ahead of a simulation (Start and Reset in the
 # interface): {object name: engine.DomainBuild}, read by the panel.
 _domain_builds = {}
+# The mesh each of those builds was made from, {object name: (UV map, MeshArrays)}:
+# the next ensure() of that object creates its simulation from the same arrays instead
+# of reading the mesh again (a second export of a big mesh; and the simulation then
+# matches the domain the core has cached). Dropped when the build fails or is
+# cancelled, and when the object's geometry changes (mark_dirty), so it is never stale.
+_build_exports = {}
+
+
+def _take_build_export(name, uv_map):
+    """The arrays a finished domain build of `name` exported with `uv_map`, once."""
+    held = _build_exports.pop(name, None)
+    return held[1] if held is not None and held[0] == uv_map else None
 
 
 def start_domain_build(obj, depsgraph, rebuild=False):
@@ -987,6 +1003,7 @@ def start_domain_build(obj, depsgraph, rebuild=False):
     finally:
         surface.release()  # (the build keeps its own reference)
     _domain_builds[obj.name] = build
+    _build_exports[obj.name] = (settings.uv_map, mesh)
     return build
 
 
@@ -1000,8 +1017,11 @@ def cancel_domain_build(obj):
     return True
 
 
-def end_domain_build(obj_name):
-    """Forgets (and cancels, if it still runs) the domain build of an object."""
+def end_domain_build(obj_name, finished=False):
+    """Forgets (and cancels, if it still runs) the domain build of an object; unless it
+    `finished`, also the mesh it exported."""
+    if not finished:
+        _build_exports.pop(obj_name, None)
     build = _domain_builds.pop(obj_name, None)
     if build is not None:
         build.release()

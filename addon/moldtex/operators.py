@@ -237,7 +237,7 @@ class _DomainBuildPhase:
         if build is None:
             return False
         if not build.running() and build.progress()["state"] == engine.BAKE_FINISHED:
-            live.end_domain_build(obj.name)  # (the cache had it: nothing to wait for)
+            live.end_domain_build(obj.name, finished=True)  # (the cache had it)
             return False
         self._domain_build = build
         self._name = obj.name
@@ -264,7 +264,7 @@ class _DomainBuildPhase:
             return 'RUNNING'
         _end_modal_progress(self, context)
         self._domain_build = None
-        live.end_domain_build(self._name)
+        live.end_domain_build(self._name, finished=progress["state"] == engine.BAKE_FINISHED)
         _tag_redraw(context)
         if progress["state"] == engine.BAKE_FINISHED:
             return 'DONE'
