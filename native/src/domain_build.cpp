@@ -47,35 +47,27 @@ DomainBuild::~DomainBuild() {
 }
 
 void DomainBuild::run() {
-  uint32_t state = MOLDTEX_BAKE_FINISHED;
-  moldtex_status status = MOLDTEX_OK;
-  std::string message;
   std::shared_ptr<const IntrinsicDomain> built;
   bool from_cache = false;
-  try {
-    work_.enter(MOLDTEX_BUILD_TEXTURE);
-    TextureDomain texture;
-    {
-      ThreadPool pool(thread_count_);
-      texture = build_texture_domain(*surface_, config_.width, config_.height, pool);
-    }
-    work_.check_cancel();
-    built = prepare_intrinsic_domain(*surface_, texture, config_, thread_count_, &from_cache, &work_);
-    work_.count.store(built->vertex_count(), std::memory_order_relaxed);
-    work_.enter(MOLDTEX_BUILD_DONE);
-  } catch (const Error& e) {
-    status = e.status();
-    state = status == MOLDTEX_ERROR_CANCELLED ? MOLDTEX_BAKE_CANCELLED : MOLDTEX_BAKE_FAILED;
-    message = e.what();
-  } catch (const std::bad_alloc&) {
-    status = MOLDTEX_ERROR_OUT_OF_MEMORY;
-    state = MOLDTEX_BAKE_FAILED;
-    message = "Out of memory building the intrinsic triangulation: raise the Triangle Size";
-  } catch (const std::exception& e) {
-    status = MOLDTEX_ERROR_INTERNAL;
-    state = MOLDTEX_BAKE_FAILED;
-    message = std::string("Internal error: ") + e.what();
-  }
+  const JobOutcome outcome = run_job(
+      [&] {
+        work_.enter(MOLDTEX_BUILD_TEXTURE);
+        TextureDomain texture;
+        {
+          ThreadPool pool(thread_count_);
+          texture = build_texture_domain(*surface_, config_.width, config_.height, pool);
+        }
+        work_.check_cancel();
+        built = prepare_intrinsic_domain(*surface_, texture, config_, thread_count_, &from_cache, &work_);
+        work_.count.store(built->vertex_count(), std::memory_order_relaxed);
+        work_.enter(MOLDTEX_BUILD_DONE);
+      },
+      "Out of memory building the intrinsic triangulation: raise the Triangle Size", "Internal error: ");
+  const moldtex_status status = outcome.status;
+  const std::string& message = outcome.message;
+  const uint32_t state = status == MOLDTEX_OK                ? MOLDTEX_BAKE_FINISHED
+                         : status == MOLDTEX_ERROR_CANCELLED ? MOLDTEX_BAKE_CANCELLED
+                                                             : MOLDTEX_BAKE_FAILED;
   std::lock_guard<std::mutex> lock(mutex_);
   built_ = std::move(built);
   from_cache_ = from_cache;

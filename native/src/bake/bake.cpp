@@ -81,79 +81,70 @@ void Bake::write_metrics_csv(const std::vector<MetricRow>& rows) const {
   write_file_atomically(metrics_path(), text.data(), text.size());
 }
 
-void Bake::run() {
-  moldtex_status outcome = MOLDTEX_OK;
-  std::string message;
-  uint32_t state = MOLDTEX_BAKE_FINISHED;
-  try {
-    Simulation& sim = *sim_;
-    // Leftovers of a killed run are never frames; clear them.
-    std::error_code ec;
-    for (const auto& entry : std::filesystem::directory_iterator(options_.directory, ec)) {
-      const std::string name = entry.path().filename().string();
-      if (name.rfind(options_.prefix, 0) == 0 && name.size() > 8 &&
-          name.compare(name.size() - 8, 8, ".partial") == 0)
-        std::filesystem::remove(entry.path(), ec);
-    }
-    std::vector<MetricRow> rows;
-    int32_t next = options_.first_frame;
-    if (options_.resume && std::filesystem::exists(checkpoint_path())) {
-      rows = sim.load_checkpoint(checkpoint_path());  // frames validated: 0 .. 999999
-      // Keep the rows of this bake's range that the checkpoint vouches for.
-      std::erase_if(rows, [&](const MetricRow& r) { return r.frame < options_.first_frame; });
-      if (!rows.empty()) next = rows.back().frame + 1;
-      const uint64_t expected =
-          static_cast<uint64_t>(int64_t{next} - options_.first_frame) * options_.steps_per_frame;
-      if (sim.step_count() != expected)
-        fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
-             "The checkpoint was made with another frame range or steps per frame: bake from the start");
-      // The CSV is renamed into place after the checkpoint: a run killed in between left
-      // it a row short. The checkpoint's rows are the truth; write them now (also when
-      // no frame is left to bake).
-      write_metrics_csv(rows);
-    } else {
-      sim.reset();
-    }
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      progress_.frames_done = static_cast<uint32_t>(next - options_.first_frame);
-      progress_.last_frame_written = next - 1;
-      progress_.step_count = sim.step_count();
-    }
-    for (int32_t frame = next; frame <= options_.last_frame; ++frame) {
-      for (uint32_t i = 0; i < options_.steps_per_frame; ++i) {
-        if (cancel_) throw Error(MOLDTEX_OK, "cancelled");
-        sim.step(1);
-      }
-      sim.write_image(frame_path(frame), options_.format);
-      moldtex_sim_stats st = sim.stats();
-      rows.push_back({frame, 0, st.step_count, st.coverage, st.presence});
-      if (options_.write_checkpoints) sim.save_checkpoint(checkpoint_path(), rows);
-      write_metrics_csv(rows);
-      std::lock_guard<std::mutex> lock(mutex_);
-      progress_.frames_done = static_cast<uint32_t>(frame - options_.first_frame + 1);
-      progress_.last_frame_written = frame;
-      progress_.step_count = st.step_count;
-      progress_.coverage = st.coverage;
-      progress_.presence = st.presence;
-    }
-  } catch (const Error& e) {
-    if (e.status() == MOLDTEX_OK) {
-      state = MOLDTEX_BAKE_CANCELLED;
-    } else {
-      state = MOLDTEX_BAKE_FAILED;
-      outcome = e.status();
-      message = e.what();
-    }
-  } catch (const std::bad_alloc&) {
-    state = MOLDTEX_BAKE_FAILED;
-    outcome = MOLDTEX_ERROR_OUT_OF_MEMORY;
-    message = "Out of memory during the bake";
-  } catch (const std::exception& e) {
-    state = MOLDTEX_BAKE_FAILED;
-    outcome = MOLDTEX_ERROR_INTERNAL;
-    message = std::string("Internal error during the bake: ") + e.what();
+void Bake::bake_frames() {
+  Simulation& sim = *sim_;
+  // Leftovers of a killed run are never frames; clear them.
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(options_.directory, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(options_.prefix, 0) == 0 && name.size() > 8 &&
+        name.compare(name.size() - 8, 8, ".partial") == 0)
+      std::filesystem::remove(entry.path(), ec);
   }
+  std::vector<MetricRow> rows;
+  int32_t next = options_.first_frame;
+  if (options_.resume && std::filesystem::exists(checkpoint_path())) {
+    rows = sim.load_checkpoint(checkpoint_path());  // frames validated: 0 .. 999999
+    // Keep the rows of this bake's range that the checkpoint vouches for.
+    std::erase_if(rows, [&](const MetricRow& r) { return r.frame < options_.first_frame; });
+    if (!rows.empty()) next = rows.back().frame + 1;
+    const uint64_t expected =
+        static_cast<uint64_t>(int64_t{next} - options_.first_frame) * options_.steps_per_frame;
+    if (sim.step_count() != expected)
+      fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+           "The checkpoint was made with another frame range or steps per frame: bake from the start");
+    // The CSV is renamed into place after the checkpoint: a run killed in between left
+    // it a row short. The checkpoint's rows are the truth; write them now (also when
+    // no frame is left to bake).
+    write_metrics_csv(rows);
+  } else {
+    sim.reset();
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    progress_.frames_done = static_cast<uint32_t>(next - options_.first_frame);
+    progress_.last_frame_written = next - 1;
+    progress_.step_count = sim.step_count();
+  }
+  for (int32_t frame = next; frame <= options_.last_frame; ++frame) {
+    for (uint32_t i = 0; i < options_.steps_per_frame; ++i) {
+      if (cancel_) fail(MOLDTEX_ERROR_CANCELLED, "Cancelled.");
+      sim.step(1);
+    }
+    sim.write_image(frame_path(frame), options_.format);
+    moldtex_sim_stats st = sim.stats();
+    rows.push_back({frame, 0, st.step_count, st.coverage, st.presence});
+    if (options_.write_checkpoints) sim.save_checkpoint(checkpoint_path(), rows);
+    write_metrics_csv(rows);
+    std::lock_guard<std::mutex> lock(mutex_);
+    progress_.frames_done = static_cast<uint32_t>(frame - options_.first_frame + 1);
+    progress_.last_frame_written = frame;
+    progress_.step_count = st.step_count;
+    progress_.coverage = st.coverage;
+    progress_.presence = st.presence;
+  }
+}
+
+void Bake::run() {
+  const JobOutcome ended =
+      run_job([this] { bake_frames(); }, "Out of memory during the bake", "Internal error during the bake: ");
+  // A cancelled bake is no failure: its outcome stays MOLDTEX_OK, with no message.
+  const bool cancelled = ended.status == MOLDTEX_ERROR_CANCELLED;
+  const uint32_t state = ended.status == MOLDTEX_OK ? MOLDTEX_BAKE_FINISHED
+                         : cancelled               ? MOLDTEX_BAKE_CANCELLED
+                                                   : MOLDTEX_BAKE_FAILED;
+  const moldtex_status outcome = cancelled ? MOLDTEX_OK : ended.status;
+  const std::string message = cancelled ? std::string() : ended.message;
   std::lock_guard<std::mutex> lock(mutex_);
   progress_.state = state;
   std::snprintf(progress_.message, sizeof(progress_.message), "%s", message.c_str());

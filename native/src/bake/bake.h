@@ -39,6 +39,7 @@ class Bake {
 
  private:
   void run();
+  void bake_frames();  // the work of run(); throws on failure or cancel
   void write_metrics_csv(const std::vector<MetricRow>& rows) const;
 
   std::shared_ptr<Simulation> sim_;

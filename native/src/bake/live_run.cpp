@@ -28,33 +28,28 @@ LiveRun::LiveRun(std::shared_ptr<Simulation> sim, double chunk_seconds, double l
 
 LiveRun::~LiveRun() { stop(); }
 
-void LiveRun::run() {
+void LiveRun::step_until_stopped() {
   using clock = std::chrono::steady_clock;
   const auto began = clock::now();
-  try {
-    while (!stop_.load(std::memory_order_relaxed) &&
-           std::chrono::duration<double>(clock::now() - began).count() < limit_seconds_) {
-      const double per = step_seconds_.load(std::memory_order_relaxed);
-      const uint32_t chunk =
-          per > 0.0 ? static_cast<uint32_t>(std::clamp(chunk_seconds_ / per, 1.0, double(kMaxChunk))) : 1u;
-      const auto start = clock::now();
-      sim_->step(chunk);
-      const double now_per = std::chrono::duration<double>(clock::now() - start).count() / chunk;
-      step_seconds_.store(per > 0.0 ? 0.5 * per + 0.5 * now_per : now_per, std::memory_order_relaxed);
-      steps_.fetch_add(chunk, std::memory_order_relaxed);
-    }
-  } catch (const Error& e) {
+  while (!stop_.load(std::memory_order_relaxed) &&
+         std::chrono::duration<double>(clock::now() - began).count() < limit_seconds_) {
+    const double per = step_seconds_.load(std::memory_order_relaxed);
+    const uint32_t chunk =
+        per > 0.0 ? static_cast<uint32_t>(std::clamp(chunk_seconds_ / per, 1.0, double(kMaxChunk))) : 1u;
+    const auto start = clock::now();
+    sim_->step(chunk);
+    const double now_per = std::chrono::duration<double>(clock::now() - start).count() / chunk;
+    step_seconds_.store(per > 0.0 ? 0.5 * per + 0.5 * now_per : now_per, std::memory_order_relaxed);
+    steps_.fetch_add(chunk, std::memory_order_relaxed);
+  }
+}
+
+void LiveRun::run() {
+  const JobOutcome ended = run_job([this] { step_until_stopped(); }, "Out of memory while stepping", "Internal error: ");
+  if (ended.status != MOLDTEX_OK) {
     std::lock_guard<std::mutex> lock(mutex_);
-    status_ = e.status();
-    message_ = e.what();
-  } catch (const std::bad_alloc&) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    status_ = MOLDTEX_ERROR_OUT_OF_MEMORY;
-    message_ = "Out of memory while stepping";
-  } catch (const std::exception& e) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    status_ = MOLDTEX_ERROR_INTERNAL;
-    message_ = std::string("Internal error: ") + e.what();
+    status_ = ended.status;
+    message_ = ended.message;
   }
   running_.store(false, std::memory_order_release);  // the last touch of the simulation is above
 }

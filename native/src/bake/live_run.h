@@ -35,6 +35,7 @@ class LiveRun {
 
  private:
   void run();
+  void step_until_stopped();  // the work of run(); throws on failure
 
   std::shared_ptr<Simulation> sim_;
   double chunk_seconds_, limit_seconds_;

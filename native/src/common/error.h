@@ -1,6 +1,7 @@
 // Errors inside the core are C++ exceptions carrying a moldtex_status; the C API layer
 // catches every exception and turns it into a status code plus a message.
 #pragma once
+#include <new>
 #include <stdexcept>
 #include <string>
 
@@ -20,6 +21,30 @@ class Error : public std::runtime_error {
 
 [[noreturn]] inline void fail(moldtex_status status, const std::string& message) {
   throw Error(status, message);
+}
+
+// How a job on a worker thread (a bake, a domain build, a live run) ended: MOLDTEX_OK
+// with no message when it returned, else the status and message of what it threw.
+struct JobOutcome {
+  moldtex_status status = MOLDTEX_OK;
+  std::string message;
+};
+
+// Runs `job`, turning whatever it throws into a JobOutcome, so no exception leaves a
+// worker thread: an Error keeps its status and message; running out of memory reports
+// `out_of_memory`; anything else is an internal error, its message after `internal`.
+template <class Job>
+JobOutcome run_job(Job&& job, const char* out_of_memory, const char* internal) {
+  try {
+    job();
+    return {};
+  } catch (const Error& e) {
+    return {e.status(), e.what()};
+  } catch (const std::bad_alloc&) {
+    return {MOLDTEX_ERROR_OUT_OF_MEMORY, out_of_memory};
+  } catch (const std::exception& e) {
+    return {MOLDTEX_ERROR_INTERNAL, std::string(internal) + e.what()};
+  }
 }
 
 }  // namespace moldtex
