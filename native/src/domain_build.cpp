@@ -65,9 +65,7 @@ void DomainBuild::run() {
       "Out of memory building the intrinsic triangulation: raise the Triangle Size", "Internal error: ");
   const moldtex_status status = outcome.status;
   const std::string& message = outcome.message;
-  const uint32_t state = status == MOLDTEX_OK                ? MOLDTEX_BAKE_FINISHED
-                         : status == MOLDTEX_ERROR_CANCELLED ? MOLDTEX_BAKE_CANCELLED
-                                                             : MOLDTEX_BAKE_FAILED;
+  const uint32_t state = outcome.state();
   std::lock_guard<std::mutex> lock(mutex_);
   built_ = std::move(built);
   from_cache_ = from_cache;

@@ -140,9 +140,7 @@ void Bake::run() {
       run_job([this] { bake_frames(); }, "Out of memory during the bake", "Internal error during the bake: ");
   // A cancelled bake is no failure: its outcome stays MOLDTEX_OK, with no message.
   const bool cancelled = ended.status == MOLDTEX_ERROR_CANCELLED;
-  const uint32_t state = ended.status == MOLDTEX_OK ? MOLDTEX_BAKE_FINISHED
-                         : cancelled               ? MOLDTEX_BAKE_CANCELLED
-                                                   : MOLDTEX_BAKE_FAILED;
+  const uint32_t state = ended.state();
   const moldtex_status outcome = cancelled ? MOLDTEX_OK : ended.status;
   const std::string message = cancelled ? std::string() : ended.message;
   std::lock_guard<std::mutex> lock(mutex_);

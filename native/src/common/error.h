@@ -28,6 +28,12 @@ class Error : public std::runtime_error {
 struct JobOutcome {
   moldtex_status status = MOLDTEX_OK;
   std::string message;
+  // The MOLDTEX_BAKE_* state a job in this outcome ended in.
+  uint32_t state() const {
+    return status == MOLDTEX_OK                ? MOLDTEX_BAKE_FINISHED
+           : status == MOLDTEX_ERROR_CANCELLED ? MOLDTEX_BAKE_CANCELLED
+                                               : MOLDTEX_BAKE_FAILED;
+  }
 };
 
 // Runs `job`, turning whatever it throws into a JobOutcome, so no exception leaves a
