@@ -206,6 +206,7 @@ class BakeJob:
         if entry is not None and entry.baking:
             raise engine.EngineError(live.bake_running_message(entry, "Cannot bake"),
                                      engine.ERROR_BUSY)
+        check_uv_map(obj)
         if entry is not None and entry.running:
             entry.stop_requested = True  # the live Start pauses on its next tick
         try:
@@ -427,11 +428,21 @@ def _sequence_image(obj, first_path):
     return image
 
 
+def check_uv_map(obj):
+    """Raises BakeError for an object without a UV map: the frames are textures."""
+    if obj.type == 'MESH' and len(obj.data.uv_layers) == 0:
+        raise BakeError(
+            f"Object '{obj.name}' has no UV map, and a bake writes texture frames laid out "
+            f"by one: add a UV map (UV ▸ Smart UV Project in Edit Mode). Without one, Start "
+            f"shows the pattern as vertex colours (Intrinsic domain).")
+
+
 def use_sequence(obj, plan):
     """Makes obj's material play the baked frames: the Moldtex Image Texture node gets
     the sequence, so scene frame f shows file f. Sets the material up first if it has
     no Moldtex nodes. Returns (image, frame count). Raises BakeError if no frame is
     on disk."""
+    check_uv_map(obj)
     count = frames_on_disk(plan)
     if count == 0:
         raise BakeError(

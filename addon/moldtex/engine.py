@@ -106,6 +106,8 @@ class SurfaceInfo(ctypes.Structure):
         ("degenerate_triangle_count", ctypes.c_uint32),
         ("area", ctypes.c_double),
         ("uv_area", ctypes.c_double),
+        # appended: 1 when the mesh came without UVs (a placeholder atlas stands in)
+        ("generated_uvs", ctypes.c_uint32),
     ]
 
 
@@ -522,6 +524,7 @@ _SIGNATURES = {
     "moldtex_sim_reset": (_status, [_Sim]),
     "moldtex_sim_step": (_status, [_Sim, ctypes.c_uint32]),
     "moldtex_sim_read_rgba": (_status, [_Sim, ctypes.c_void_p, ctypes.c_size_t]),
+    "moldtex_sim_read_vertex_rgba": (_status, [_Sim, ctypes.c_void_p, ctypes.c_size_t]),
     "moldtex_sim_read_texel_classes": (_status, [_Sim, ctypes.c_void_p, ctypes.c_size_t]),
     "moldtex_sim_read_agents": (_status, [_Sim, _P(SurfacePoint), ctypes.c_uint32]),
     "moldtex_sim_stats_init": (None, [_P(SimStats)]),
@@ -951,15 +954,21 @@ class Surface:
 
     def __init__(self, positions, triangles, uvs, triangle_uvs=None):
         """positions: array('f') of x,y,z; triangles: array('I'/'i') of vertex indices,
-        3 per triangle; uvs: array('f') of u,v; triangle_uvs: array('I'/'i') of 3 uv
-        indices per triangle (Blender loop indices), or None for per-corner uvs."""
+        3 per triangle; uvs: array('f') of u,v, or None for a mesh without UVs (it runs
+        on the intrinsic domain only); triangle_uvs: array('I'/'i') of 3 uv indices per
+        triangle (Blender loop indices), or None for per-corner uvs."""
         lib = _require()
         self._handle = None
         desc = MeshDesc()
         lib.moldtex_mesh_desc_init(ctypes.byref(desc))
         desc.positions, n_pos = _float_ptr(positions)
         desc.triangles, n_tri = _uint_ptr(triangles)
-        desc.uvs, n_uv = _float_ptr(uvs)
+        if uvs is None:
+            if triangle_uvs is not None:
+                raise EngineError("triangle_uvs without uvs.", ERROR_INVALID_ARGUMENT)
+            n_uv = 0
+        else:
+            desc.uvs, n_uv = _float_ptr(uvs)
         if n_pos % 3 or n_tri % 3 or n_uv % 2:
             raise EngineError("Mesh arrays have the wrong length (positions need 3 floats "
                               "a vertex, triangles 3 indices, uvs 2 floats).",
@@ -1288,7 +1297,9 @@ class Simulation:
                                       ctypes.byref(handle)),
                "Creating the simulation")
         self._handle = handle
-        self.triangle_count = int(surface.info()["triangle_count"])
+        surface_info = surface.info()
+        self.triangle_count = int(surface_info["triangle_count"])
+        self.vertex_count = int(surface_info["vertex_count"])
         self.width = c.width
         self.height = c.height
         self.model = c.model
@@ -1536,6 +1547,17 @@ class Simulation:
         address, count = _buffer_address(buffer, ("f",), writable=True)
         _check(_lib.moldtex_sim_read_rgba(self.handle, ctypes.c_void_p(address), count),
                "Reading the pheromone")
+        return buffer
+
+    def read_vertex_rgba(self, buffer=None):
+        """The pheromone at each mesh vertex, encoded as read_rgba encodes a texel
+        (4 floats a vertex; intrinsic domain only), into `buffer` (array('f'), >=
+        vertex_count*4 floats), which it returns."""
+        if buffer is None:
+            buffer = array.array("f", bytes(16 * self.vertex_count))
+        address, count = _buffer_address(buffer, ("f",), writable=True)
+        _check(_lib.moldtex_sim_read_vertex_rgba(self.handle, ctypes.c_void_p(address), count),
+               "Reading the pheromone at the mesh vertices")
         return buffer
 
     def read_texel_classes(self, buffer=None):

@@ -27,7 +27,8 @@ def on_depsgraph_update_post(scene, depsgraph=None):
             live.free(name)
             brush.forget(name)
     for name in changed:
-        live.mark_dirty(name)
+        if not live.take_own_geometry_write(name):  # (not the vertex colours we wrote)
+            live.mark_dirty(name)
 
 
 @persistent

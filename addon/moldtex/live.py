@@ -15,12 +15,12 @@ import math
 import time
 import zlib
 
-from . import engine, image_io
+from . import engine, image_io, vertex_colours
 from .maps import mesh_values
 from .maps import sampling as map_sampling
 from .mesh_export import (MeshExportError, export_object, export_scale,
-                          length_in_mesh_units, read_corner_fields, resolve_uv_map_name,
-                          world_to_mesh)
+                          length_in_mesh_units, no_uv_map_message, read_corner_fields,
+                          resolve_uv_map_name, world_to_mesh)
 
 # name -> LiveSim
 _registry = {}
@@ -57,6 +57,9 @@ class LiveSim:
         self.signature = None     # MeshArrays.signature of the mesh it was built on
         self.surface_info = {}
         self.pixels = None        # persistent array('f') for read_rgba + foreach_set
+        self.vertex_colours = False  # a mesh without UVs: shown as vertex colours
+        self.vertex_pixels = None    # persistent array('f') for read_vertex_rgba
+        self.vertex_problem = ""     # why the vertex colours cannot follow (modifiers)
         self.stats = {}
         self.dirty = False        # mesh may have changed (depsgraph / undo)
         self.running = False      # a moldtex.start modal drives it
@@ -788,6 +791,8 @@ def _build(entry, obj, mesh, depsgraph=None):
     if len(settings.species) < settings.species_count:
         from .properties import ensure_species  # (properties imports this module)
         ensure_species(settings)
+    if mesh.uvs is None and config.get("domain") != engine.DOMAIN_INTRINSIC:
+        raise MeshExportError(no_uv_map_message(obj.name))
     create_config = dict(config)
     create_config["seed_radius"] = length_in_mesh_units(obj, config["seed_radius"])
     create_config["intrinsic_bound"] = length_in_mesh_units(obj, config["intrinsic_bound"])
@@ -865,13 +870,18 @@ def _build(entry, obj, mesh, depsgraph=None):
     entry.signature = mesh.signature
     entry.surface_info = surface_info
     entry.pixels = sim.new_rgba_buffer()
+    # A mesh without UVs shows its pattern per vertex (vertex_colours.py).
+    entry.vertex_colours = mesh.uvs is None
+    entry.vertex_pixels = None
+    entry.vertex_problem = (vertex_colours.correspondence_problem(obj, mesh.positions)
+                            if entry.vertex_colours else "")
     entry.step_seconds = 0.0  # a new simulation: its steps cost what they cost
     entry.dirty = False
     entry.stats = sim.get_stats()
     entry.backend_name = sim.backend_name()
     entry.domain_info = sim.domain_info()
     entry.backend_note = device_note
-    entry.warning = note
+    entry.warning = " ".join(filter(None, (note, entry.vertex_problem)))
     entry.food_key, entry.food_names = holder.food_key, holder.food_names
     entry.food_dropped = holder.food_dropped
 
@@ -1342,6 +1352,33 @@ def read_pixels(entry):
     if entry.pixels is None:
         entry.pixels = entry.sim.new_rgba_buffer()
     return entry.sim.read_rgba(entry.pixels)
+
+
+def read_vertex_pixels(entry):
+    """Fills the entry's persistent buffer with the pheromone per mesh vertex (a mesh
+    without UVs, on the Intrinsic domain)."""
+    needed = 4 * entry.sim.vertex_count
+    if entry.vertex_pixels is None or len(entry.vertex_pixels) != needed:
+        entry.vertex_pixels = array.array("f", bytes(4 * needed))
+    return entry.sim.read_vertex_rgba(entry.vertex_pixels)
+
+
+# Objects whose mesh Moldtex itself just changed (the vertex colours): the depsgraph
+# update that follows is not an edit, and must not make the next step export the mesh
+# again to compare it.
+_own_geometry_writes = set()
+
+
+def note_own_geometry_write(name):
+    _own_geometry_writes.add(name)
+
+
+def take_own_geometry_write(name):
+    """True (once) when the last geometry change of `name` was Moldtex's own write."""
+    if name in _own_geometry_writes:
+        _own_geometry_writes.discard(name)
+        return True
+    return False
 
 
 def uv_map_in_use(obj):

@@ -1,7 +1,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Set Up Material: wires the pheromone image into the object's material.
 
-UV Map ▸ Image Texture ▸ Map Range ▸ Color Ramp ▸ Principled BSDF Base Color. The Map
+UV Map ▸ Image Texture ▸ Map Range ▸ Color Ramp ▸ Principled BSDF Base Color; for a mesh
+without UVs (the Intrinsic domain runs on it), Color Attribute "Moldtex" (one colour per
+vertex, vertex_colours.py) in place of the UV Map and Image Texture. The Map
 Range node spans what the image holds: MoMaS pheromone 0..1, the continuous model's
 u / U 0..Display Range (1 = the uniform steady state), Gray-Scott's V (the image's R
 alone, through a Separate Color node) 0..its Display Range, so one ramp fits all and the
@@ -17,6 +19,7 @@ import bpy
 
 UV_NODE = "Moldtex UV"
 TEXTURE_NODE = "Moldtex Texture"
+VERTEX_NODE = "Moldtex Vertex Colours"  # a mesh without UVs: the colour attribute
 RAMP_NODE = "Moldtex Ramp"
 RANGE_NODE = "Moldtex Range"  # image value 0..display_maximum -> ramp 0..1
 SPECIES_NODE_PREFIX = "Moldtex Species "  # colour by species (2 or more)
@@ -84,21 +87,31 @@ def setup_material(obj, image, uv_map_name):
     nodes = tree.nodes
     principled = _principled(tree)
 
-    uv, _ = _node(nodes, UV_NODE, "ShaderNodeUVMap", "Moldtex UV Map")
-    texture, _ = _node(nodes, TEXTURE_NODE, "ShaderNodeTexImage", "Moldtex Pheromone")
+    vertex_colours = not uv_map_name  # no UV map: the pheromone per mesh vertex
+    if vertex_colours:
+        from .vertex_colours import ATTRIBUTE  # (imports nothing of ours but bpy)
+        for name in (UV_NODE, TEXTURE_NODE, FIELDS_NODE):
+            if nodes.get(name) is not None:
+                nodes.remove(nodes[name])
+        texture, _ = _node(nodes, VERTEX_NODE, "ShaderNodeVertexColor", "Moldtex Vertex Colours")
+        texture.layer_name = ATTRIBUTE
+    else:
+        if nodes.get(VERTEX_NODE) is not None:
+            nodes.remove(nodes[VERTEX_NODE])
+        uv, _ = _node(nodes, UV_NODE, "ShaderNodeUVMap", "Moldtex UV Map")
+        texture, _ = _node(nodes, TEXTURE_NODE, "ShaderNodeTexImage", "Moldtex Pheromone")
+        uv.uv_map = uv_map_name
+        texture.image = image
+        texture.interpolation = 'Linear'
     ramp, ramp_created = _node(nodes, RAMP_NODE, "ShaderNodeValToRGB", "Moldtex Ramp")
-
     span, span_created = _node(nodes, RANGE_NODE, "ShaderNodeMapRange", "Moldtex Range")
-
-    uv.uv_map = uv_map_name
-    texture.image = image
-    texture.interpolation = 'Linear'
+    x, y = principled.location.x, principled.location.y
     if ramp_created:
         stops, interpolation = preset_ramp(obj)
         set_ramp(ramp, stops or DEFAULT_RAMP, interpolation)
-        x, y = principled.location.x, principled.location.y
         ramp.location = (x - 320.0, y)
-        texture.location = (x - 820.0, y)
+    texture.location = (x - 820.0, y)
+    if not vertex_colours:
         uv.location = (x - 1040.0, y - 60.0)
     if span_created:
         span.data_type = 'FLOAT'
@@ -107,7 +120,8 @@ def setup_material(obj, image, uv_map_name):
         span.location = (ramp.location.x - 200.0, ramp.location.y)
 
     links = tree.links
-    links.new(uv.outputs["UV"], texture.inputs["Vector"])
+    if not vertex_colours:
+        links.new(uv.outputs["UV"], texture.inputs["Vector"])
     links.new(texture.outputs["Color"], span.inputs[0])
     links.new(span.outputs[0], ramp.inputs["Fac"])
     for node in [n for n in nodes if n.name.startswith(SPECIES_NODE_PREFIX)]:
@@ -118,16 +132,19 @@ def setup_material(obj, image, uv_map_name):
     else:
         base = ramp.outputs["Color"]
     sync_display_range(obj)
-    fields, fields_created = _node(nodes, FIELDS_NODE, "ShaderNodeTexImage",
-                                   "Moldtex Fields")
-    overlay, _ = _node(nodes, OVERLAY_NODE, "ShaderNodeVectorMath", "Moldtex Fields Overlay")
+    overlay, overlay_created = _node(nodes, OVERLAY_NODE, "ShaderNodeVectorMath",
+                                     "Moldtex Fields Overlay")
     overlay.operation = 'MULTIPLY_ADD'
-    if fields_created:
-        fields.interpolation = 'Closest'
-        fields.location = (texture.location.x, texture.location.y + 300.0)
+    if overlay_created:
         overlay.location = (principled.location.x - 180.0, principled.location.y + 260.0)
-    links.new(uv.outputs["UV"], fields.inputs["Vector"])
-    links.new(fields.outputs["Color"], overlay.inputs[0])
+    if not vertex_colours:  # (the Fields image lies in the UV layout)
+        fields, fields_created = _node(nodes, FIELDS_NODE, "ShaderNodeTexImage",
+                                       "Moldtex Fields")
+        if fields_created:
+            fields.interpolation = 'Closest'
+            fields.location = (texture.location.x, texture.location.y + 300.0)
+        links.new(uv.outputs["UV"], fields.inputs["Vector"])
+        links.new(fields.outputs["Color"], overlay.inputs[0])
     links.new(base, overlay.inputs[2])
     links.new(overlay.outputs["Vector"], principled.inputs["Base Color"])
     show_fields(obj, obj.moldtex.show_fields)
@@ -165,7 +182,7 @@ def _sync_channel(obj, tree):
     (through a Separate Color node); the other models' single-species images are grey,
     read whole. Changes nothing that already matches."""
     nodes, links = tree.nodes, tree.links
-    texture, span = nodes.get(TEXTURE_NODE), nodes.get(RANGE_NODE)
+    texture, span = nodes.get(VERTEX_NODE) or nodes.get(TEXTURE_NODE), nodes.get(RANGE_NODE)
     if texture is None or span is None:
         return
     channel = nodes.get(CHANNEL_NODE)
@@ -219,6 +236,9 @@ def show_fields(obj, show):
     takes it off (strength 0 gives the pheromone colour unchanged). False if the
     material has no Moldtex nodes (Set Up Material makes them)."""
     fields, overlay = moldtex_node(obj, FIELDS_NODE), moldtex_node(obj, OVERLAY_NODE)
+    if overlay is not None and fields is None and moldtex_node(obj, VERTEX_NODE) is not None:
+        overlay.inputs[1].default_value = (0.0, 0.0, 0.0)  # no UVs: no Fields image shown
+        return True
     if fields is None or overlay is None:
         return False
     image = obj.moldtex.fields_image

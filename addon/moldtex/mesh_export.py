@@ -21,20 +21,26 @@ class MeshExportError(Exception):
 
 
 class MeshArrays:
-    __slots__ = ("positions", "triangles", "uvs", "triangle_uvs", "uv_map",
-                 "signature", "vertex_count", "triangle_count")
+    """The evaluated mesh as the core takes it. A mesh without a UV map has uvs and
+    triangle_uvs None and uv_map "" (it runs on the Intrinsic domain only); loops (the
+    loop index of each triangle corner) and loop_count are there either way."""
+    __slots__ = ("positions", "triangles", "uvs", "triangle_uvs", "uv_map", "loops",
+                 "loop_count", "signature", "vertex_count", "triangle_count")
 
-    def __init__(self, positions, triangles, uvs, triangle_uvs, uv_map):
+    def __init__(self, positions, triangles, uvs, triangle_uvs, uv_map, loops=None,
+                 loop_count=None):
         self.positions = positions
         self.triangles = triangles
         self.uvs = uvs
         self.triangle_uvs = triangle_uvs
         self.uv_map = uv_map
+        self.loops = triangle_uvs if loops is None else loops
+        self.loop_count = len(uvs) // 2 if loop_count is None else loop_count
         self.vertex_count = len(positions) // 3
         self.triangle_count = len(triangles) // 3
         digest = hashlib.blake2b(digest_size=16)
         for part in (positions, triangles, uvs, triangle_uvs):
-            digest.update(part.tobytes())
+            digest.update(b"-" if part is None else part.tobytes())
         digest.update(uv_map.encode("utf-8"))
         self.signature = digest.hexdigest()
 
@@ -197,11 +203,10 @@ def _read_mesh(obj, mesh, uv_map_name):
             f"{len(mesh.edges)} edges): the mold grows on faces. Fill it "
             f"(Edit Mode ▸ Face ▸ Fill) or pick another object.")
     layers = mesh.uv_layers
+    layer = None
     if len(layers) == 0:
-        raise MeshExportError(
-            f"Object '{name}' has no UV map: add one (UV ▸ Smart UV Project in Edit Mode) "
-            f"so the mold has a texture to grow in.")
-    if uv_map_name:
+        pass  # the Intrinsic domain runs without (see no_uv_map_message)
+    elif uv_map_name:
         layer = layers.get(uv_map_name)
         if layer is None:
             names = ", ".join(f"'{layer.name}'" for layer in layers)
@@ -225,11 +230,20 @@ def _read_mesh(obj, mesh, uv_map_name):
     check_extent(obj, positions)
     triangles = array.array("I", bytes(4 * 3 * triangle_count))
     mesh.loop_triangles.foreach_get("vertices", triangles)
-    triangle_uvs = array.array("I", bytes(4 * 3 * triangle_count))
-    mesh.loop_triangles.foreach_get("loops", triangle_uvs)
+    loops = array.array("I", bytes(4 * 3 * triangle_count))
+    mesh.loop_triangles.foreach_get("loops", loops)
+    if layer is None:
+        return MeshArrays(positions, triangles, None, None, "", loops, loop_count)
     uvs = array.array("f", bytes(4 * 2 * loop_count))
     layer.data.foreach_get("uv", uvs)
-    return MeshArrays(positions, triangles, uvs, triangle_uvs, layer.name)
+    return MeshArrays(positions, triangles, uvs, loops, layer.name, loops, loop_count)
+
+
+def no_uv_map_message(name):
+    """What to do about an object without a UV map where a texture is needed."""
+    return (f"Object '{name}' has no UV map: add one (UV ▸ Smart UV Project in Edit Mode) "
+            f"so the mold has a texture to grow in, or choose the Continuous model on the "
+            f"Intrinsic domain, which runs on the surface and colours the mesh's vertices.")
 
 
 # ---- static fields from vertex groups and attributes ----------------------------------
@@ -256,7 +270,7 @@ def read_corner_fields(obj, depsgraph, mesh, names, labels=("Spawn", "Obstacle",
     evaluated = obj.evaluated_get(depsgraph)
     data = evaluated.to_mesh()
     try:
-        if len(data.vertices) != mesh.vertex_count or 2 * len(data.loops) != len(mesh.uvs):
+        if len(data.vertices) != mesh.vertex_count or len(data.loops) != mesh.loop_count:
             raise MeshExportError(
                 f"The mesh of '{obj.name}' changed while its fields were read: press Reset.")
         corners = array.array("f", bytes(4 * 12 * mesh.triangle_count))
@@ -265,7 +279,7 @@ def read_corner_fields(obj, depsgraph, mesh, names, labels=("Spawn", "Obstacle",
                 continue
             values, domain = _named_values(obj, data, name, label, where)
             # Corner -> vertex (triangles) or corner -> loop (triangle_uvs: loop indices).
-            index = mesh.triangles if domain == 'POINT' else mesh.triangle_uvs
+            index = mesh.triangles if domain == 'POINT' else mesh.loops
             corners[channel::4] = array.array("f", map(values.__getitem__, index))
         return corners
     finally:

@@ -13,8 +13,8 @@ import time
 import bpy
 from bpy.props import BoolProperty, IntProperty, StringProperty
 
-from . import bake, engine, image_io, live, material
-from .mesh_export import MeshExportError, check_object, resolve_uv_map_name
+from . import bake, engine, image_io, live, material, vertex_colours
+from .mesh_export import MeshExportError, check_object, no_uv_map_message, resolve_uv_map_name
 from .properties import BAKE_FORMAT_ITEMS
 
 USER_ERRORS = (MeshExportError, bake.BakeError, engine.EngineError)
@@ -30,7 +30,13 @@ def _active_object(context):
 
 
 def _show(entry, obj):
-    """Copies the pheromone into the object's image."""
+    """Copies the pheromone into the object's image (a mesh without UVs: into its
+    vertex colours, returning None)."""
+    if entry.vertex_colours:
+        vertex_colours.write(obj, live.read_vertex_pixels(entry))
+        live.note_own_geometry_write(obj.name)
+        material.sync_display_range(obj)
+        return None
     sim = entry.sim
     image = image_io.ensure_image(obj, sim.width, sim.height)
     image_io.upload(image, live.read_pixels(entry))
@@ -52,6 +58,13 @@ def ensure_material(obj, entry):
     """Sets up obj's material (as Set Up Material does) when it has no Moldtex image
     node, so that Start shows the growth even if Set Up Material was not pressed.
     Returns a line for the user, or "" when the material was already set up."""
+    if entry.vertex_colours:
+        if material.moldtex_node(obj, material.VERTEX_NODE) is not None:
+            return ""
+        material.setup_material(obj, None, "")
+        return (f"Set up the material of '{obj.name}' (its vertex colours '"
+                f"{vertex_colours.ATTRIBUTE}' through a colour ramp into Base Color: it has "
+                f"no UV map): switch the viewport to Material Preview to watch.")
     if material.moldtex_node(obj, material.TEXTURE_NODE) is not None:
         return ""
     image = image_io.ensure_image(obj, entry.sim.width, entry.sim.height)
@@ -496,10 +509,15 @@ material's Base Color (keeps your nodes; safe to run again)"""
             return {'CANCELLED'}
         settings = obj.moldtex
         uv_map = live.uv_map_in_use(obj) or resolve_uv_map_name(obj, settings.uv_map)
+        if len(obj.data.uv_layers) == 0 and live.domain_of(settings) == engine.DOMAIN_INTRINSIC:
+            material.setup_material(obj, None, "")  # the vertex colours (no UV map)
+            entry = live.get(obj.name)
+            if entry is not None and entry.has_sim and entry.vertex_colours and not entry.baking:
+                _show(entry, obj)
+            return {'FINISHED'}
         if not uv_map or uv_map not in obj.data.uv_layers:
             if len(obj.data.uv_layers) == 0:
-                self.report({'ERROR'}, f"Object '{obj.name}' has no UV map: add one "
-                                       f"(UV ▸ Smart UV Project in Edit Mode) first.")
+                self.report({'ERROR'}, no_uv_map_message(obj.name))
             else:
                 self.report({'ERROR'}, f"Object '{obj.name}' has no UV map named "
                                        f"'{uv_map}': pick one in the Moldtex panel.")

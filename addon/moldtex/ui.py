@@ -206,8 +206,21 @@ class MOLDTEX_PT_main(bpy.types.Panel):
             _wrapped(layout, note + " Reset fixes it.", icon='ERROR')
         column = _split(layout)
         if len(obj.data.uv_layers) == 0:
-            _wrapped(layout.box(), "No UV map: add one (UV ▸ Smart UV Project in Edit "
-                                   "Mode).", icon='ERROR')
+            if live.domain_of(settings) == engine.DOMAIN_INTRINSIC:
+                # It runs: only the texture needs UVs (the pattern goes to the vertices).
+                box = layout.box()
+                _wrapped(box, "No UV map: the Intrinsic domain still runs, and shows the "
+                              "pattern as the vertex colours 'Moldtex' (one colour per "
+                              "vertex: subdivide for detail). Bakes and the Fields image "
+                              "need a UV map (UV ▸ Smart UV Project).", icon='INFO')
+                problem = entry.vertex_problem if entry is not None and entry.has_sim else ""
+                if problem:
+                    _wrapped(box, problem, icon='ERROR')
+            else:
+                _wrapped(layout.box(), "No UV map: add one (UV ▸ Smart UV Project in Edit "
+                                       "Mode), or choose the Continuous model on the "
+                                       "Intrinsic domain (it colours the vertices).",
+                         icon='ERROR')
         else:
             column.prop_search(settings, "uv_map", obj.data, "uv_layers", text="UV Map",
                                icon='GROUP_UVS')

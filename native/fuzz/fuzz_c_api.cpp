@@ -125,9 +125,11 @@ void fuzz_mesh(Bytes& in) {
   d.vertex_count = nv;
   d.triangles = triangles.data();
   d.triangle_count = nt;
-  d.uvs = uvs.data();
-  d.uv_count = uv_count;
-  d.triangle_uvs = indexed ? triangles.data() : nullptr;
+  // flags & 8: a mesh without UVs (placeholder layout; the intrinsic domain runs on it).
+  const bool no_uvs = flags & 8;
+  d.uvs = no_uvs ? nullptr : uvs.data();
+  d.uv_count = no_uvs ? 0 : uv_count;
+  d.triangle_uvs = indexed && !no_uvs ? triangles.data() : nullptr;
   moldtex_surface surface = nullptr;
   if (check(moldtex_surface_create(&d, &surface)) != MOLDTEX_OK) {
     if (surface) bug("a failed create handed out a surface");
@@ -251,7 +253,14 @@ void fuzz_mesh(Bytes& in) {
           std::fprintf(stderr, "step %u: speed %g, vision %g, substeps %u\n", steps, p.movement_speed,
                        p.vision_distance, p.substeps);
         }
-        if (sim && check(moldtex_sim_step(sim, steps)) == MOLDTEX_OK) check_pheromone(sim, width, height);
+        if (sim && check(moldtex_sim_step(sim, steps)) == MOLDTEX_OK) {
+          check_pheromone(sim, width, height);
+          // The result per mesh vertex (intrinsic domain; the texture domain refuses).
+          std::vector<float> per_vertex(4ull * info.vertex_count + 1);
+          if (check(moldtex_sim_read_vertex_rgba(sim, per_vertex.data(), per_vertex.size())) == MOLDTEX_OK)
+            for (float v : per_vertex)
+              if (!(v >= 0.f && std::isfinite(v))) bug("a vertex colour that is negative or not finite");
+        }
         break;
       }
       case kAddAgents: {

@@ -40,9 +40,11 @@ def brush(radius=0.3, strength=1.0, falloff=0.5, mode=0, channel=0, value=1.0, t
     return point(tri) + f32(radius, strength, falloff) + u8(mode) + u8(channel) + f32(value)
 
 
-def quad_mesh(indexed=True, float_positions=True, float_uvs=True, uv_shift=0.0):
-    """Unit quad, two triangles, UV = xy (+ shift)."""
-    flags = (1 if indexed else 0) | (2 if float_positions else 0) | (4 if float_uvs else 0)
+def quad_mesh(indexed=True, float_positions=True, float_uvs=True, uv_shift=0.0, no_uvs=False):
+    """Unit quad, two triangles, UV = xy (+ shift); no_uvs: given without UVs (the UV
+    bytes are still read, then dropped)."""
+    flags = ((1 if indexed else 0) | (2 if float_positions else 0) | (4 if float_uvs else 0)
+             | (8 if no_uvs else 0))
     data = u8(0) + u8(4) + u8(2) + u8(flags)
     data += f32(0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0)
     data += bytes([0, 1, 2, 0, 2, 3])
@@ -50,8 +52,9 @@ def quad_mesh(indexed=True, float_positions=True, float_uvs=True, uv_shift=0.0):
     return data
 
 
-def create(width=16, height=16, agents=60, species=1, shape=0, radius=0.3, model=0):
-    return (u8(CREATE) + u8(width - 8) + u8(height - 8) + u16(agents - 1) + u8(3) + u8(species - 1) +
+def create(width=16, height=16, agents=60, species=1, shape=0, radius=0.3, model=0, seed=3):
+    """seed & 0x80: the intrinsic domain."""
+    return (u8(CREATE) + u8(width - 8) + u8(height - 8) + u16(agents - 1) + u8(seed) + u8(species - 1) +
             u8(shape) + point() + f32(radius) + u16(8) + u8(model))
 
 
@@ -81,6 +84,10 @@ seeds = {
                  surface_map(3) + surface_map(4),
     "quad_intrinsic": quad_mesh() + intrinsic() + intrinsic(how=2) + intrinsic(how=1 | 16, raw=0.05, target=1000) +
                       intrinsic(how=0, target=1500),
+    # A mesh without UVs: the texture domain refuses it, the intrinsic domain runs and
+    # reads its result per vertex.
+    "quad_no_uvs": quad_mesh(no_uvs=True) + create(agents=100, model=1) +
+                   create(agents=100, model=1, seed=0x83) + u8(STEP) + u8(3),
     "checkpoint_intact": u8(1) + u8(0) + u8(0),
     "checkpoint_patched": u8(1) + u8(2) + u16(300) + u8(2) + bytes([0xff, 0xff, 0x7f]) +
                           u16(900) + u8(1) + bytes([0x80]) + u8(0),

@@ -73,7 +73,11 @@ typedef struct moldtex_mesh_desc {
   uint32_t vertex_count;
   const uint32_t* triangles;    /* triangle_count * 3 vertex indices */
   uint32_t triangle_count;
-  const float* uvs;             /* uv_count * 2 floats (u, v); v = 0 is the image bottom */
+  const float* uvs;             /* uv_count * 2 floats (u, v); v = 0 is the image bottom.
+                                   NULL with uv_count 0: the mesh has no UV map. It can
+                                   still run on the intrinsic domain (read its result with
+                                   moldtex_sim_read_vertex_rgba); the texture domain
+                                   refuses it (MOLDTEX_ERROR_MISSING_UVS). */
   uint32_t uv_count;
   /* triangle_count * 3 indices into uvs (e.g. Blender loop indices of each loop
    * triangle). NULL means uvs are given per corner: uv_count == 3 * triangle_count. */
@@ -100,6 +104,9 @@ typedef struct moldtex_surface_info {
   uint32_t degenerate_triangle_count;
   double area;                      /* total 3D area */
   double uv_area;                   /* total UV area (unit square = 1) */
+  /* Appended (older callers pass the smaller struct_size and get the fields above). */
+  uint32_t generated_uvs;           /* 1: the mesh came without UVs; the surface holds a
+                                       placeholder layout, one island per triangle */
 } moldtex_surface_info;
 
 MOLDTEX_API void moldtex_surface_info_init(moldtex_surface_info* info);
@@ -193,7 +200,8 @@ typedef struct moldtex_sim_config {
   float intrinsic_bound;     /* MOLDTEX_DOMAIN_INTRINSIC: the largest circumradius of an
                                 intrinsic triangle, in mesh units; 0 (default) = the mean
                                 3D spacing of the island texels, so both domains resolve
-                                the same detail */
+                                the same detail (a mesh without UVs: the spacing of
+                                width * height texels spread over its area) */
 } moldtex_sim_config;
 
 /* Where concentrations live (a config field: changing it needs a new simulation). Both
@@ -573,6 +581,15 @@ MOLDTEX_API moldtex_status moldtex_sim_run_stop(moldtex_sim sim, moldtex_run_pro
  * `float_count` is the capacity of `rgba` in floats and must be >= width*height*4. */
 MOLDTEX_API moldtex_status moldtex_sim_read_rgba(moldtex_sim sim, float* rgba,
                                                  size_t float_count);
+
+/* The pheromone at each vertex of the input mesh (moldtex_mesh_desc's vertices),
+ * encoded as moldtex_sim_read_rgba encodes a texel: 4 floats per vertex, A = 1 for a
+ * vertex of the surface and 0 (all channels) for a vertex no triangle uses. Intrinsic
+ * domain only (the input vertices are vertices of its triangulation; the texture domain
+ * answers MOLDTEX_ERROR_INVALID_ARGUMENT): this is how a mesh without UVs shows its
+ * pattern, as a colour per vertex. `float_count` must be >= vertex_count * 4. */
+MOLDTEX_API moldtex_status moldtex_sim_read_vertex_rgba(moldtex_sim sim, float* rgba,
+                                                        size_t float_count);
 
 /* Texel classes of the layout (same order as the pheromone): 0 outside, 1 inside a UV
  * island, 2 gutter. `count` must be >= width * height. */

@@ -79,6 +79,14 @@ void validate_config(const moldtex_sim_config& c, const Surface& surface) {
          "Unknown model: use 0 (MoMaS), 1 (continuous) or 2 (Gray-Scott reaction-diffusion)");
   if (c.domain > MOLDTEX_DOMAIN_INTRINSIC)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Unknown domain: use 0 (texture) or 1 (intrinsic triangulation)");
+  if (c.domain == MOLDTEX_DOMAIN_TEXTURE && surface.generated_uvs)
+    fail(MOLDTEX_ERROR_MISSING_UVS,
+         c.model == MOLDTEX_MODEL_MOMAS
+             ? "The mesh has no UV map, and MoMaS keeps its pheromone in the UV texture: add a UV map (UV > Smart "
+               "UV Project)"
+             : "The mesh has no UV map, and the Texture domain keeps the pheromone in the UV texture: add a UV map "
+               "(UV > Smart UV Project), or choose the Intrinsic domain, which runs on the surface itself and "
+               "gives a colour per mesh vertex");
   if (c.domain == MOLDTEX_DOMAIN_INTRINSIC && c.model == MOLDTEX_MODEL_MOMAS)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
          "The Intrinsic domain runs the continuous model and Gray-Scott; MoMaS works in texels: choose the "
@@ -260,7 +268,13 @@ std::unique_ptr<Backend> make_auto_opencl(std::shared_ptr<const Surface> surface
 std::shared_ptr<const IntrinsicDomain> prepare_intrinsic_domain(const Surface& surface, const TextureDomain& d,
                                                                 const moldtex_sim_config& config, unsigned thread_count,
                                                                 bool* from_cache, WorkProgress* progress) {
-  const double bound = config.intrinsic_bound > 0.f ? config.intrinsic_bound : default_intrinsic_bound(d);
+  // A mesh without UVs has only a placeholder atlas (a quarter of the texture in islands):
+  // its default is the spacing of width * height texels spread over the surface, the
+  // detail a UV layout filling the texture would give.
+  const double bound = config.intrinsic_bound > 0.f ? config.intrinsic_bound
+                       : surface.generated_uvs
+                           ? std::sqrt(surface.area / (static_cast<double>(d.width) * d.height))
+                           : default_intrinsic_bound(d);
   if (!(bound > 0))
     fail(MOLDTEX_ERROR_INVALID_MESH,
          "The texture has no island texels to derive the intrinsic triangulation's resolution from: set the "
@@ -1012,6 +1026,39 @@ void Simulation::read_intrinsic_vertices(float* xyz_area, float* values, uint32_
     if (cells.size() != size_t(count) * settings_.species_count)
       fail(MOLDTEX_ERROR_INTERNAL, "The backend holds no vertex values");
     std::copy(cells.begin(), cells.end(), values);
+  }
+}
+
+void Simulation::read_vertex_rgba(float* rgba) const {
+  const IntrinsicDomain& d = require_intrinsic(intrinsic_.get());
+  const uint32_t planes = settings_.species_count, cells = d.vertex_count();
+  const uint32_t inputs = surface_->vertex_count();
+  if (d.tri.input_vertex_count != inputs || cells < inputs)
+    fail(MOLDTEX_ERROR_INTERNAL, "The intrinsic triangulation does not start with the mesh's vertices");
+  const std::vector<float> values = backend_->read_cells();
+  if (values.size() != size_t(cells) * planes) fail(MOLDTEX_ERROR_INTERNAL, "The backend holds no vertex values");
+  // The image's scale (display_field): the continuous model shows u / U.
+  double scale[MTX_MAX_SPECIES];
+  for (uint32_t k = 0; k < planes; ++k) {
+    const double u = continuous() && k < settings_.u_metric.size() ? settings_.u_metric[k] : 0.0;
+    scale[k] = std::isfinite(u) && u > 0 ? 1.0 / u : 1.0;
+  }
+  for (uint32_t i = 0; i < inputs; ++i) {
+    // Input vertex i is intrinsic vertex i of the triangulation's own numbering.
+    const uint32_t v = d.vertex_rank[i];
+    const bool used = d.vertex_location(v).face != intrinsic::kInvalid;
+    float c[4] = {0.f, 0.f, 0.f, 0.f};
+    for (uint32_t k = 0; k < planes && used; ++k)
+      c[k] = static_cast<float>(std::min(double(values[size_t(k) * cells + v]) * scale[k],
+                                         double(std::numeric_limits<float>::max())));
+    float* out = rgba + 4ull * i;
+    if (planes == 1) {
+      out[0] = out[1] = out[2] = c[0];
+      out[3] = used ? 1.f : 0.f;
+    } else {
+      for (int k = 0; k < 4; ++k) out[k] = c[k];
+      if (planes < 4) out[3] = used ? 1.f : 0.f;
+    }
   }
 }
 

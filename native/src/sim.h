@@ -76,6 +76,8 @@ class Simulation {
   void reset();
   void step(uint32_t steps);
   void read_rgba(float* rgba) const;
+  // See moldtex_sim_read_vertex_rgba (intrinsic domain; the buffer size checked there).
+  void read_vertex_rgba(float* rgba) const;
   // The pheromone planes, one per species, as the backend holds them.
   std::vector<float> read_field() const;
   // What images show: read_field, divided by U per species for the continuous model.

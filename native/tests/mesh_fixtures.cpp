@@ -21,7 +21,7 @@ moldtex_mesh_desc Mesh::desc() const {
   d.vertex_count = vertex_count();
   d.triangles = triangles.data();
   d.triangle_count = triangle_count();
-  d.uvs = uvs.data();
+  d.uvs = uvs.empty() ? nullptr : uvs.data();
   d.uv_count = uint32_t(uvs.size() / 2);
   d.triangle_uvs = triangle_uvs.empty() ? nullptr : triangle_uvs.data();
   return d;

@@ -126,13 +126,56 @@ TEST(ValidateSurface, ZeroArea) {
   EXPECT_FAILS(Create(m.desc()), MESH);
 }
 
+// A mesh without UVs makes a surface (the intrinsic domain runs on it) with a placeholder
+// layout it reports; the texture domain refuses it, saying what to do. UVs and their
+// count must agree.
 TEST(ValidateSurface, NoUvs) {
   const Mesh m = make_quad();
   moldtex_mesh_desc d = m.desc();
   d.uvs = nullptr;
   d.uv_count = 0;
   d.triangle_uvs = nullptr;
-  EXPECT_FAILS(Create(d), UVS);
+  moldtex_surface s = nullptr;
+  ASSERT_EQ(moldtex_surface_create(&d, &s), MOLDTEX_OK) << moldtex_last_error();
+  moldtex_surface_info info;
+  moldtex_surface_info_init(&info);
+  ASSERT_EQ(moldtex_surface_get_info(s, &info), MOLDTEX_OK);
+  EXPECT_EQ(info.generated_uvs, 1u);
+  EXPECT_GT(info.uv_area, 0.0);
+  moldtex_sim_config c;
+  moldtex_sim_config_init(&c);
+  c.width = c.height = 64;
+  c.agent_count = 10;
+  const moldtex_sim_params params = default_params();
+  for (uint32_t model : {MOLDTEX_MODEL_MOMAS, MOLDTEX_MODEL_CONTINUOUS}) {
+    c.model = model;
+    moldtex_sim sim = nullptr;
+    EXPECT_EQ(moldtex_sim_create(s, &c, &params, &sim), UVS);
+    EXPECT_EQ(sim, nullptr);
+    EXPECT_NE(std::string(moldtex_last_error()).find("Smart UV Project"), std::string::npos) << moldtex_last_error();
+  }
+  EXPECT_NE(std::string(moldtex_last_error()).find("Intrinsic domain"), std::string::npos) << moldtex_last_error();
+  moldtex_surface_release(s);
+  // A caller from before generated_uvs existed gets the older fields and nothing past them.
+  const Mesh with_uvs = make_quad();
+  auto s2 = create_surface(with_uvs);
+  ASSERT_TRUE(s2);
+  struct {
+    moldtex_surface_info info;
+    uint32_t guard;
+  } old{};
+  old.info.struct_size = offsetof(moldtex_surface_info, generated_uvs);
+  old.info.generated_uvs = 77;
+  ASSERT_EQ(moldtex_surface_get_info(s2.get(), &old.info), MOLDTEX_OK) << moldtex_last_error();
+  EXPECT_EQ(old.info.generated_uvs, 77u);
+  EXPECT_EQ(old.info.triangle_count, with_uvs.triangle_count());
+  EXPECT_EQ(old.info.struct_size, offsetof(moldtex_surface_info, generated_uvs));
+
+  d.triangle_uvs = with_uvs.triangles.data();  // indices into UVs that are not there
+  EXPECT_FAILS(Create(d), ARG);
+  d.triangle_uvs = nullptr;
+  d.uvs = m.uvs.data();  // UVs with a zero count
+  EXPECT_FAILS(Create(d), ARG);
 }
 
 TEST(ValidateSurface, ZeroUvArea) {

@@ -199,7 +199,10 @@ void moldtex_surface_info_init(moldtex_surface_info* info) {
 moldtex_status moldtex_surface_get_info(moldtex_surface surface, moldtex_surface_info* info) {
   return guarded([&] {
     require(surface != nullptr, "The surface handle is NULL");
-    moldtex_surface_info out = read_struct(info, "moldtex_surface_info");
+    // The first release ended with uv_area.
+    moldtex_surface_info out = read_struct(info, "moldtex_surface_info", moldtex_surface_info_init,
+                                           offsetof(moldtex_surface_info, generated_uvs));
+    const uint32_t caller_size = info->struct_size;
     const moldtex::Surface& s = *surface->surface;
     out.vertex_count = s.vertex_count();
     out.triangle_count = s.triangle_count();
@@ -208,7 +211,9 @@ moldtex_status moldtex_surface_get_info(moldtex_surface surface, moldtex_surface
     out.degenerate_triangle_count = s.degenerate_count;
     out.area = s.area;
     out.uv_area = s.uv_area;
-    *info = out;
+    out.generated_uvs = s.generated_uvs ? 1u : 0u;
+    out.struct_size = std::min<uint32_t>(caller_size, sizeof(out));
+    std::memcpy(info, &out, out.struct_size);
   });
 }
 
@@ -600,6 +605,17 @@ moldtex_status moldtex_sim_read_rgba(moldtex_sim sim, float* rgba, size_t float_
                     "The RGBA buffer is too small: it needs width * height * 4 floats (" +
                         std::to_string(need) + ")");
     sim->sim->read_rgba(rgba);
+  });
+}
+
+moldtex_status moldtex_sim_read_vertex_rgba(moldtex_sim sim, float* rgba, size_t float_count) {
+  return guarded([&] {
+    require(rgba != nullptr, "NULL argument");
+    const size_t need = size_t(use(sim).surface().vertex_count()) * 4;
+    if (float_count < need)
+      moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+                    "The RGBA buffer is too small: it needs vertex_count * 4 floats (" + std::to_string(need) + ")");
+    sim->sim->read_vertex_rgba(rgba);
   });
 }
 

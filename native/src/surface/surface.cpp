@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "common/error.h"
+#include "surface/triangle_atlas.h"
 
 namespace moldtex {
 
@@ -66,11 +67,11 @@ void validate(const moldtex_mesh_desc& d) {
     fail(MOLDTEX_ERROR_INVALID_MESH, "The mesh has fewer than three vertices");
   if (d.triangle_count > kMaxTriangles)
     fail(MOLDTEX_ERROR_TOO_LARGE, "The mesh has more than 268 million triangles");
-  if (d.uvs == nullptr || d.uv_count == 0)
-    fail(MOLDTEX_ERROR_MISSING_UVS,
-         "The mesh has no UV map: add one (for example UV > Smart UV Project) so the "
-         "pheromone has a texture to live in");
-  if (d.triangle_uvs == nullptr && d.uv_count != 3ull * d.triangle_count)
+  if ((d.uvs == nullptr) != (d.uv_count == 0))
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "uvs and uv_count disagree: give both, or NULL and 0 for a mesh without UVs");
+  if (d.uvs == nullptr && d.triangle_uvs != nullptr)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "triangle_uvs is given but there are no UVs");
+  if (d.uvs && d.triangle_uvs == nullptr && d.uv_count != 3ull * d.triangle_count)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
          "Per-corner UVs need exactly 3 UVs per triangle (uv_count == 3 * triangle_count)");
   for (uint64_t i = 0; i < 3ull * d.vertex_count; ++i) {
@@ -186,8 +187,10 @@ Surface build_surface(const moldtex_mesh_desc& d) {
   const uint32_t nt = d.triangle_count;
   s.positions.assign(d.positions, d.positions + 3ull * d.vertex_count);
   s.triangles.assign(d.triangles, d.triangles + 3ull * nt);
-  s.corner_uvs.resize(6ull * nt);
-  for (uint64_t i = 0; i < 3ull * nt; ++i) {
+  s.generated_uvs = d.uvs == nullptr;
+  if (s.generated_uvs) s.corner_uvs = triangle_atlas_uvs(nt);
+  else s.corner_uvs.resize(6ull * nt);
+  for (uint64_t i = 0; !s.generated_uvs && i < 3ull * nt; ++i) {
     uint64_t src = d.triangle_uvs ? d.triangle_uvs[i] : i;
     s.corner_uvs[2 * i] = d.uvs[2 * src];
     s.corner_uvs[2 * i + 1] = d.uvs[2 * src + 1];

@@ -37,6 +37,7 @@ struct Surface {
   std::vector<float> positions;            // 3 per vertex
   std::vector<uint32_t> triangles;         // 3 per triangle
   std::vector<float> corner_uvs;           // 6 per triangle
+  bool generated_uvs = false;              // no UVs given: corner_uvs is triangle_atlas_uvs
   // Derived.
   std::vector<TriangleFrame> frames;
   // 9 per triangle: 3D position of corner 0 and the unit 3D x and y axes of its frame
