@@ -304,3 +304,19 @@ def comparable_bytes(folder):
         elif name.endswith(".exr"):
             files[name] = without_capdate(files[name])
     return files
+
+
+def near_island_border(classes, width, radius):
+    """Per island texel (class 1 in read_texel_classes' order): True when a texel outside
+    the islands (or beyond the image) lies within `radius` texels (Chebyshev)."""
+    height = len(classes) // width
+    span = range(-radius, radius + 1)
+    near = {}
+    for i, c in enumerate(classes):
+        if c != 1:
+            continue
+        x, y = i % width, i // width
+        near[i] = any(not (0 <= x + dx < width and 0 <= y + dy < height)
+                      or classes[(y + dy) * width + x + dx] != 1
+                      for dy in span for dx in span)
+    return near

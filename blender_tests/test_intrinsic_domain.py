@@ -34,21 +34,6 @@ def intrinsic_suzanne(resolution="256", agents=60000, seed=h.SEED):
     return obj
 
 
-def near_border_masks(classes, width):
-    """Per island texel: True within 2 texels (Chebyshev) of a texel outside the islands."""
-    height = len(classes) // width
-    inside = [c == 1 for c in classes]
-    near = {}
-    for i, c in enumerate(inside):
-        if not c:
-            continue
-        x, y = i % width, i // width
-        near[i] = any(not (0 <= x + dx < width and 0 <= y + dy < height)
-                      or not inside[(y + dy) * width + x + dx]
-                      for dy in range(-2, 3) for dx in range(-2, 3))
-    return near
-
-
 class IntrinsicDomainTests(unittest.TestCase):
     def setUp(self):
         h.clear_scene()
@@ -99,7 +84,7 @@ class IntrinsicDomainTests(unittest.TestCase):
         entry = h.live().get(obj.name)
         classes = entry.sim.read_texel_classes()
         width = int(obj.moldtex.resolution)
-        near = near_border_masks(classes, width)
+        near = h.near_island_border(classes, width, 2)
         border = inner = 0.0
         for _ in range(6):
             self.assertEqual(bpy.ops.moldtex.step(steps=30), {'FINISHED'})

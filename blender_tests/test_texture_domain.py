@@ -35,21 +35,6 @@ def split_vertex_texels(obj, width, height):
     return texels
 
 
-def border_texels(classes, width):
-    """Island texels with a texel outside every island among their 8 neighbours."""
-    height = len(classes) // width
-    border = set()
-    for i, c in enumerate(classes):
-        if c != 1:
-            continue
-        x, y = i % width, i // width
-        if any(not (0 <= x + dx < width and 0 <= y + dy < height)
-               or classes[(y + dy) * width + x + dx] != 1
-               for dy in (-1, 0, 1) for dx in (-1, 0, 1)):
-            border.add(i)
-    return border
-
-
 class SuzanneTexelClassTests(unittest.TestCase):
     def setUp(self):
         h.clear_scene()
@@ -68,7 +53,7 @@ class SuzanneTexelClassTests(unittest.TestCase):
                 obj.moldtex.pattern_units = units
                 entry = h.run(obj, 200)
                 classes = entry.sim.read_texel_classes()
-                border = border_texels(classes, width)
+                border = {i for i, near in h.near_island_border(classes, width, 1).items() if near}
                 split = {i for i in split_vertex_texels(obj, width, width) if classes[i] == 1}
                 rest = [i for i, c in enumerate(classes) if c == 1 and i not in border]
                 self.assertGreater(len(split), 50, "Suzanne's seams split many vertices")
