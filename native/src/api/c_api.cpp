@@ -56,26 +56,14 @@ moldtex_status set_error(moldtex_status status, const std::string& message) {
   return status;
 }
 
-// Runs body, mapping exceptions to statuses; clears the message on success.
+// Runs body, mapping exceptions to statuses (common/error.h's run_job); the message of a
+// failure, or none on success, is this thread's last error.
 template <class Body>
 moldtex_status guarded(Body&& body) {
-  try {
-    body();
-    g_last_error.clear();
-    return MOLDTEX_OK;
-  } catch (const moldtex::Error& e) {
-    return set_error(e.status(), e.what());
-  } catch (const std::bad_alloc&) {
-    return set_error(MOLDTEX_ERROR_OUT_OF_MEMORY,
-                     "Out of memory: lower the texture resolution or the number of agents");
-  } catch (const std::length_error&) {
-    return set_error(MOLDTEX_ERROR_OUT_OF_MEMORY,
-                     "Out of memory: lower the texture resolution or the number of agents");
-  } catch (const std::exception& e) {
-    return set_error(MOLDTEX_ERROR_INTERNAL, std::string("Internal error: ") + e.what());
-  } catch (...) {
-    return set_error(MOLDTEX_ERROR_INTERNAL, "Internal error of unknown kind");
-  }
+  moldtex::JobOutcome outcome = moldtex::run_job(
+      body, "Out of memory: lower the texture resolution or the number of agents", "Internal error: ");
+  g_last_error = std::move(outcome.message);
+  return outcome.status;
 }
 
 void require(bool ok, const char* message) {

@@ -37,8 +37,10 @@ struct JobOutcome {
 };
 
 // Runs `job`, turning whatever it throws into a JobOutcome, so no exception leaves a
-// worker thread: an Error keeps its status and message; running out of memory reports
-// `out_of_memory`; anything else is an internal error, its message after `internal`.
+// worker thread (and none out of a C API call): an Error keeps its status and message;
+// running out of memory (bad_alloc, or a container asked for more than it can hold)
+// reports `out_of_memory`; anything else is an internal error, its message after
+// `internal`.
 template <class Job>
 JobOutcome run_job(Job&& job, const char* out_of_memory, const char* internal) {
   try {
@@ -48,8 +50,12 @@ JobOutcome run_job(Job&& job, const char* out_of_memory, const char* internal) {
     return {e.status(), e.what()};
   } catch (const std::bad_alloc&) {
     return {MOLDTEX_ERROR_OUT_OF_MEMORY, out_of_memory};
+  } catch (const std::length_error&) {
+    return {MOLDTEX_ERROR_OUT_OF_MEMORY, out_of_memory};
   } catch (const std::exception& e) {
     return {MOLDTEX_ERROR_INTERNAL, std::string(internal) + e.what()};
+  } catch (...) {
+    return {MOLDTEX_ERROR_INTERNAL, std::string(internal) + "an exception of unknown kind"};
   }
 }
 
