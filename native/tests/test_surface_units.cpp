@@ -437,8 +437,10 @@ double AxisGradientLength(const TexelGeometry& g, const std::vector<double>& f, 
 // 25% of that floor. Known defect, hence disabled: measured 1.88 / 1.44 / 2.01 over 3
 // seeds (1.52 / 1.16 / 1.62 of the floor; texel units 3.78 / 1.62 / 1.76). A deposit
 // marks at least the one texel under the agent, so a trail across wide texels is as wide
-// as they are while trails along them stay sharp. The intrinsic domain (#11) has no
-// texel grid to do this.
+// as they are while trails along them stay sharp. Making every footprint round in 3D
+// there (as long across the stretch as the texel is along it) was tried and is worse:
+// 3.43 / 4.60 / 3.52 (trails a whole texel wide in both directions, banded). The
+// intrinsic domain (#11) has no texel grid to do this.
 TEST(SurfaceUnits, DISABLED_StretchedTexelsShowNoStreaks) {
   static const Mesh warped = make_plane(64, 64, 0, 0, 4, 4, [](double x, double y) {
     const double u = x / 4;
