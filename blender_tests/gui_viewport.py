@@ -9,7 +9,10 @@ the pheromone image the viewport drew, in Blender's interface under Xvfb:
 2. while Start runs (each redraw must show the pixels of that moment, not samples
    accumulated over older states);
 3. after a cancelled Bake, when Start runs again (the viewport and the panel's step
-   count must follow the live simulation, not the bake's last state).
+   count must follow the live simulation, not the bake's last state);
+4. (after the Intrinsic domain's build-ahead checks) a dense grid without UVs on the
+   Intrinsic domain: the viewport must show its vertex colours (cell means against the
+   mean ramp colour of the vertices in each cell).
 
   blender -b --factory-startup --python-expr \\
       "import bpy; bpy.ops.wm.save_as_mainfile(filepath='/tmp/empty.blend')"
@@ -74,6 +77,11 @@ MIN_CORRELATION = 0.96
 # standard deviation of ~0.2; a blank image drawn gives ~0.0002 (dithering).
 MAX_BLANK_STD = 0.01
 WAIT_LIMIT = 90.0  # seconds for Eevee to compile the material under llvmpipe
+BARE = "Bare"  # the mesh without UVs
+# The vertex colours are interpolated across each triangle before the ramp (the image's
+# texels too, but the cells' expected values are means of ramp(vertex value)): measured
+# below; a viewport without the colours has a uniform screen (no correlation).
+MIN_VERTEX_CORRELATION = 0.9
 
 STATE = {"phase": "setup", "failures": [], "drawn": None, "draws": 0, "since": 0.0,
          "shots": 0, "tmp": tempfile.mkdtemp(prefix="moldtex_gui_viewport_")}
@@ -131,8 +139,9 @@ def on_draw():
     STATE["draws"] += 1
 
 
-def screen_vs_pixels(label):
-    """(correlation, screen std, pixel std) over the GRID × GRID cells."""
+def screen_cells(label):
+    """Mean luminance of the screen pixels of each of the GRID × GRID cells of the 2 × 2
+    square at the origin (inset, see the module doc), row by row from the bottom."""
     from bpy_extras import view3d_utils
     _window, area, region = view3d()
     STATE["shots"] += 1
@@ -146,14 +155,8 @@ def screen_vs_pixels(label):
     channels = shot.channels
     pixels = image_pixels(shot)
     bpy.data.images.remove(shot)
-    (tex_width, tex_height), texels = STATE["drawn"]
-    # The colour each texel is given: the ramp's luminance at its pheromone (a table).
-    ramp = bpy.data.objects[NAME].active_material.node_tree.nodes["Moldtex Ramp"]
-    table = [luminance(ramp.color_ramp.evaluate(k / LEVELS)) for k in range(LEVELS + 1)]
-    shown = array.array("f", [table[min(LEVELS, max(0, int(v * LEVELS + 0.5)))]
-                              for v in texels[0::4]])
     rv3d = area.spaces.active.region_3d
-    screen, expected = [], []
+    screen = []
     inset = 0.15
     for j in range(GRID):
         for i in range(GRID):
@@ -175,12 +178,17 @@ def screen_vs_pixels(label):
                              for r, g, b in zip(row_r, row_g, row_b))
                 count += len(row_r)
             screen.append(total / max(1, count))
-            tx0, tx1 = i * tex_width // GRID, (i + 1) * tex_width // GRID
-            ty0, ty1 = j * tex_height // GRID, (j + 1) * tex_height // GRID
-            total = 0.0
-            for y in range(ty0, ty1):
-                total += sum(shown[y * tex_width + tx0:y * tex_width + tx1])
-            expected.append(total / ((tx1 - tx0) * (ty1 - ty0)))
+    return screen
+
+
+def ramp_table(obj):
+    """The luminance of obj's Moldtex ramp at LEVELS + 1 evenly spaced positions."""
+    ramp = obj.active_material.node_tree.nodes["Moldtex Ramp"]
+    return [luminance(ramp.color_ramp.evaluate(k / LEVELS)) for k in range(LEVELS + 1)]
+
+
+def correlate(label, screen, expected):
+    """(correlation, screen std, expected std) of two lists over the cells."""
     n = len(screen)
     mean_s, mean_e = sum(screen) / n, sum(expected) / n
     sxx = sum((s - mean_s) ** 2 for s in screen)
@@ -191,6 +199,55 @@ def screen_vs_pixels(label):
     print(f"     {label}: correlation {correlation:.3f}, screen std {result[1]:.4f}, "
           f"pixel std {result[2]:.4f}, {STATE['draws']} draws")
     return result
+
+
+def screen_vs_pixels(label):
+    """(correlation, screen std, pixel std) over the GRID × GRID cells."""
+    screen = screen_cells(label)
+    (tex_width, tex_height), texels = STATE["drawn"]
+    # The colour each texel is given: the ramp's luminance at its pheromone (a table).
+    table = ramp_table(bpy.data.objects[NAME])
+    shown = array.array("f", [table[min(LEVELS, max(0, int(v * LEVELS + 0.5)))]
+                              for v in texels[0::4]])
+    expected = []
+    for j in range(GRID):
+        for i in range(GRID):
+            tx0, tx1 = i * tex_width // GRID, (i + 1) * tex_width // GRID
+            ty0, ty1 = j * tex_height // GRID, (j + 1) * tex_height // GRID
+            total = 0.0
+            for y in range(ty0, ty1):
+                total += sum(shown[y * tex_width + tx0:y * tex_width + tx1])
+            expected.append(total / ((tx1 - tx0) * (ty1 - ty0)))
+    return correlate(label, screen, expected)
+
+
+def screen_vs_vertices(obj, label):
+    """(correlation, screen std, vertex std) over the GRID × GRID cells, for a mesh
+    without UVs: each cell's expected luminance is the mean, over the mesh vertices in
+    it, of the ramp's luminance at the vertex colour the add-on wrote (through the
+    material's Map Range: 0 .. the display maximum)."""
+    from moldtex import material
+    screen = screen_cells(label)
+    table = ramp_table(obj)
+    top = material.display_maximum(obj)
+    attribute = obj.data.color_attributes["Moldtex"]
+    values = array.array("f", bytes(16 * len(attribute.data)))
+    attribute.data.foreach_get("color", values)
+    positions = array.array("f", bytes(12 * len(obj.data.vertices)))
+    obj.data.vertices.foreach_get("co", positions)
+    sums, counts = [0.0] * (GRID * GRID), [0] * (GRID * GRID)
+    for k, value in enumerate(values[0::4]):
+        u, v = (positions[3 * k] + 1.0) / 2.0 * GRID, (positions[3 * k + 1] + 1.0) / 2.0 * GRID
+        i, j = int(u), int(v)
+        if not (0 <= i < GRID and 0 <= j < GRID):
+            continue
+        if min(u - i, v - j) < 0.15 or max(u - i, v - j) > 0.85:  # (the cells' inset)
+            continue
+        level = min(LEVELS, max(0, int(value / top * LEVELS + 0.5)))
+        sums[j * GRID + i] += table[level]
+        counts[j * GRID + i] += 1
+    expected = [a / max(1, c) for a, c in zip(sums, counts)]
+    return correlate(label, screen, expected)
 
 
 LEVELS = 1024
@@ -475,8 +532,49 @@ def _tick():
               and 0 < info.get("cell_count", 0) < 100000,
               f"then the bake runs on the 256² triangulation it built ({frames} frames; {info})")
         call(bpy.ops.moldtex.bake, 'INVOKE_DEFAULT')  # cancel
-        goto("end")
+        goto("bare_setup")
         return 1.0
+    # A mesh without UVs (issue 11): the Intrinsic domain runs on it and the viewport
+    # shows its vertex colours through the material's Color Attribute node.
+    if phase == "bare_setup":
+        check(not live.get(NAME).baking, "the Intrinsic bake was cancelled")
+        for other in list(bpy.data.objects):
+            bpy.data.objects.remove(other, do_unlink=True)
+        call(bpy.ops.mesh.primitive_grid_add, x_subdivisions=128, y_subdivisions=128, size=2.0)
+        bare = bpy.context.view_layer.objects.active
+        bare.name = BARE
+        while len(bare.data.uv_layers):
+            bare.data.uv_layers.remove(bare.data.uv_layers[0])
+        settings = bare.moldtex
+        settings.model = 'CONTINUOUS'
+        settings.domain = 'INTRINSIC'
+        settings.resolution = "256"
+        settings.pattern_scale = live.REFERENCE_RESOLUTION / 256
+        settings.agent_count = 16000
+        check(call(bpy.ops.moldtex.start, 'INVOKE_DEFAULT') == {'RUNNING_MODAL'},
+              "Start on a mesh without UVs (Intrinsic domain)")
+        goto("bare_running")
+        return 1.0
+    if phase == "bare_running":
+        entry = live.get(BARE)
+        steps = entry.stats.get("step_count", 0) if entry is not None and entry.has_sim else 0
+        if steps < 150 and waited() < 90.0:
+            return 0.5
+        check(steps >= 150 and entry.vertex_colours, f"it runs and colours the vertices "
+                                                     f"({steps} steps)")
+        call(bpy.ops.moldtex.start, 'INVOKE_DEFAULT')  # pause
+        goto("bare_shown")
+        return 2.0
+    if phase == "bare_shown":
+        bare = bpy.data.objects[BARE]
+        correlation, screen_std, vertex_std = screen_vs_vertices(bare, "no_uvs")
+        if not correlation > MIN_VERTEX_CORRELATION and waited() < WAIT_LIMIT:
+            return 1.0  # (Eevee compiles the new material)
+        check(correlation > MIN_VERTEX_CORRELATION,
+              f"the viewport shows the vertex colours ({correlation:.3f}; cell std "
+              f"{screen_std:.3f} on screen, {vertex_std:.3f} from the vertices)")
+        goto("end")
+        return 0.5
     if phase == "end":
         finish()
     return None
