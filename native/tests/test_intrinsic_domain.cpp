@@ -595,8 +595,8 @@ TEST(IntrinsicSimulation, StretchedUvsDoNotChangeTheLengthIn3D) {
 // without UVs shows the pattern measures of the torus with them within 5% (seed-to-seed
 // spread of these measures: 0.7%, HalvingTheBoundKeepsThePattern). Its result per mesh
 // vertex (moldtex_sim_read_vertex_rgba) is u / U at the intrinsic vertex that is that
-// mesh vertex (the same 3D point), R = G = B, A = 1; a texture-domain sim answers that
-// call with an error.
+// mesh vertex (the same 3D point), R = G = B, A = 1, on the CPU and on OpenCL; a
+// texture-domain sim answers that call with an error.
 TEST(IntrinsicSimulation, RunsOnAMeshWithoutUvs) {
   const Mesh& with = Torus();
   Mesh without = with;
@@ -621,48 +621,58 @@ TEST(IntrinsicSimulation, RunsOnAMeshWithoutUvs) {
   moldtex_sim_config c = make_config(64, 64, 5000, 3);
   c.model = MOLDTEX_MODEL_CONTINUOUS;
   c.domain = MOLDTEX_DOMAIN_INTRINSIC;
-  c.backend = MOLDTEX_BACKEND_CPU;
-  auto sim = create_sim(surface.get(), c, default_params());
-  ASSERT_TRUE(sim) << LastError();
-  const moldtex_continuous_params p = turnover_look();
-  ASSERT_EQ(moldtex_sim_set_continuous_params(sim.get(), &p), MOLDTEX_OK) << LastError();
-  ASSERT_EQ(moldtex_sim_step(sim.get(), uint32_t(std::lround(0.5 / p.time_step))), MOLDTEX_OK) << LastError();
-  moldtex_domain_info info;
-  moldtex_domain_info_init(&info);
-  ASSERT_EQ(moldtex_sim_get_domain_info(sim.get(), &info), MOLDTEX_OK);
-  std::vector<float> xyz(4ull * info.cell_count), u(info.cell_count);
-  ASSERT_EQ(moldtex_sim_read_intrinsic_vertices(sim.get(), xyz.data(), u.data(), info.cell_count), MOLDTEX_OK)
-      << LastError();
   std::vector<float> rgba(4ull * without.vertex_count());
-  ASSERT_EQ(moldtex_sim_read_vertex_rgba(sim.get(), rgba.data(), rgba.size()), MOLDTEX_OK) << LastError();
-  EXPECT_EQ(moldtex_sim_read_vertex_rgba(sim.get(), rgba.data(), rgba.size() - 1), MOLDTEX_ERROR_INVALID_ARGUMENT);
-  const double U = get_stats(sim.get()).u_metric;
-  double worst_value = 0, worst_position = 0, mean = 0;
-  for (uint32_t i = 0; i < without.vertex_count(); ++i) {
-    const Vec3 x = without.vertex(i);
-    uint32_t best = 0;
-    double bd = 1e300;
-    for (uint32_t v = 0; v < info.cell_count; ++v) {
-      const double dist = norm(sub(Vec3{xyz[4 * v], xyz[4 * v + 1], xyz[4 * v + 2]}, x));
-      if (dist < bd) bd = dist, best = v;
+  for (Backend backend : {Backend::Cpu, Backend::OpenCl}) {
+    std::string why;
+    if (!PinBackend(backend, c, &why)) {
+      std::printf("no UVs on OpenCL: skipped (%s)\n", why.c_str());
+      continue;
     }
-    worst_position = std::max(worst_position, bd);
-    worst_value = std::max(worst_value, std::fabs(rgba[4 * i] - u[best] / U) / std::max(1.0, u[best] / U));
-    EXPECT_EQ(rgba[4 * i], rgba[4 * i + 1]);
-    EXPECT_EQ(rgba[4 * i], rgba[4 * i + 2]);
-    EXPECT_EQ(rgba[4 * i + 3], 1.f);
-    mean += rgba[4 * i];
+    SCOPED_TRACE(backend == Backend::Cpu ? "CPU" : "OpenCL");
+    auto sim = create_sim(surface.get(), c, default_params());
+    ASSERT_TRUE(sim) << LastError();
+    const moldtex_continuous_params p = turnover_look();
+    ASSERT_EQ(moldtex_sim_set_continuous_params(sim.get(), &p), MOLDTEX_OK) << LastError();
+    ASSERT_EQ(moldtex_sim_step(sim.get(), uint32_t(std::lround(0.5 / p.time_step))), MOLDTEX_OK) << LastError();
+    moldtex_domain_info info;
+    moldtex_domain_info_init(&info);
+    ASSERT_EQ(moldtex_sim_get_domain_info(sim.get(), &info), MOLDTEX_OK);
+    std::vector<float> xyz(4ull * info.cell_count), u(info.cell_count);
+    ASSERT_EQ(moldtex_sim_read_intrinsic_vertices(sim.get(), xyz.data(), u.data(), info.cell_count), MOLDTEX_OK)
+        << LastError();
+    ASSERT_EQ(moldtex_sim_read_vertex_rgba(sim.get(), rgba.data(), rgba.size()), MOLDTEX_OK) << LastError();
+    EXPECT_EQ(moldtex_sim_read_vertex_rgba(sim.get(), rgba.data(), rgba.size() - 1),
+              MOLDTEX_ERROR_INVALID_ARGUMENT);
+    const double U = get_stats(sim.get()).u_metric;
+    double worst_value = 0, worst_position = 0, mean = 0;
+    for (uint32_t i = 0; i < without.vertex_count(); ++i) {
+      const Vec3 x = without.vertex(i);
+      uint32_t best = 0;
+      double bd = 1e300;
+      for (uint32_t v = 0; v < info.cell_count; ++v) {
+        const double dist = norm(sub(Vec3{xyz[4 * v], xyz[4 * v + 1], xyz[4 * v + 2]}, x));
+        if (dist < bd) bd = dist, best = v;
+      }
+      worst_position = std::max(worst_position, bd);
+      worst_value = std::max(worst_value, std::fabs(rgba[4 * i] - u[best] / U) / std::max(1.0, u[best] / U));
+      EXPECT_EQ(rgba[4 * i], rgba[4 * i + 1]);
+      EXPECT_EQ(rgba[4 * i], rgba[4 * i + 2]);
+      EXPECT_EQ(rgba[4 * i + 3], 1.f);
+      mean += rgba[4 * i];
+    }
+    mean /= without.vertex_count();
+    std::printf("no UVs (%s): %u intrinsic vertices; per mesh vertex: worst position %.2g, worst value %.2g, "
+                "mean %.3f U\n",
+                backend == Backend::Cpu ? "CPU" : "OpenCL", info.cell_count, worst_position, worst_value, mean);
+    EXPECT_LT(worst_position, 1e-5);  // the torus is 2.8 units across: float rounding
+    EXPECT_LT(worst_value, 1e-5);     // the same float, divided by U in double
+    EXPECT_GT(mean, 0.2);             // a pattern grew (the mean of u / U nears 1 as the agents settle)
   }
-  mean /= without.vertex_count();
-  std::printf("no UVs: %u intrinsic vertices; per mesh vertex: worst position %.2g, worst value %.2g, mean %.3f U\n",
-              info.cell_count, worst_position, worst_value, mean);
-  EXPECT_LT(worst_position, 1e-5);  // the torus is 2.8 units across: float rounding
-  EXPECT_LT(worst_value, 1e-5);     // the same float, divided by U in double
-  EXPECT_GT(mean, 0.2);             // a pattern grew (the mean of u / U nears 1 as the agents settle)
 
   auto textured = create_surface(with);
   ASSERT_TRUE(textured);
   c.domain = MOLDTEX_DOMAIN_TEXTURE;
+  c.backend = MOLDTEX_BACKEND_CPU;
   auto texture_sim = create_sim(textured.get(), c, default_params());
   ASSERT_TRUE(texture_sim) << LastError();
   EXPECT_EQ(moldtex_sim_read_vertex_rgba(texture_sim.get(), rgba.data(), rgba.size()),
