@@ -133,6 +133,42 @@ class NoUvMapTests(unittest.TestCase):
         self.assertIn("renumber", entry.vertex_problem)
         self.assertIn("renumber", labels(draw_all(self, obj)))
 
+    def test_brushes(self):
+        """Slime and food brushes work on the surface; the Fields brushes paint an image
+        laid out by the UV map, so they refuse, saying why."""
+        bpy.ops.mesh.primitive_grid_add(x_subdivisions=40, y_subdivisions=40, size=2.0)
+        obj = intrinsic(without_uvs(h.activate(bpy.context.active_object)), agents=2000)
+        self.assertEqual(bpy.ops.moldtex.step(steps=1), {'FINISHED'})
+        before = len(h.agent_positions(obj))
+        settings = bpy.context.scene.moldtex_brush
+        settings.target, settings.erase, settings.radius = 'SLIME', False, 0.2
+        settings.agents_per_dab = 300
+        stroke = [{"name": "", "location": (0.3, 0.2, 1.0), "direction": (0.0, 0.0, -1.0)}]
+        self.assertEqual(bpy.ops.moldtex.brush_stroke(stroke=stroke), {'FINISHED'})
+        self.assertEqual(len(h.agent_positions(obj)), before + 300)
+        settings.target = 'OBSTACLE'
+        with self.assertRaises(RuntimeError) as caught:
+            bpy.ops.moldtex.brush_stroke(stroke=stroke)
+        self.assertIn("UV map", str(caught.exception))
+        self.assertIsNone(obj.moldtex.fields_image)
+
+    def test_vertex_group_obstacle(self):
+        """Fields from a vertex group (what the brush's refusal suggests) work: agents
+        stay out of an obstacle group covering x > 0.2 of a 2 x 2 grid."""
+        bpy.ops.mesh.primitive_grid_add(x_subdivisions=40, y_subdivisions=40, size=2.0)
+        obj = intrinsic(without_uvs(h.activate(bpy.context.active_object)), agents=4000)
+        group = obj.vertex_groups.new(name="Wall")
+        group.add([v.index for v in obj.data.vertices if v.co.x > 0.2], 1.0, 'REPLACE')
+        obj.moldtex.fields_source = 'ATTRIBUTES'
+        obj.moldtex.obstacle_attribute = "Wall"
+        self.assertEqual(bpy.ops.moldtex.reset(), {'FINISHED'})
+        self.assertEqual(bpy.ops.moldtex.step(steps=40), {'FINISHED'})
+        xs = [p[0] for p in h.agent_positions(obj)]
+        inside = sum(1 for x in xs if x > 0.3)  # (a vertex's cell reaches half an edge on)
+        print(f"    vertex-group obstacle: {inside} of {len(xs)} agents beyond x = 0.3")
+        # Free ground is 60% of the grid: without the wall about 35% would be beyond 0.3.
+        self.assertLess(inside, 0.01 * len(xs))
+
     def test_texture_domain_and_momas_refuse(self):
         bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=2)
         obj = without_uvs(h.activate(bpy.context.active_object))

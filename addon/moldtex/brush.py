@@ -511,6 +511,11 @@ class Stroke:
                 raise BrushError("Fields come from vertex groups or attributes for this "
                                  "object: paint those (Weight Paint mode), or set the "
                                  "Fields source to Image to use the Moldtex brush.")
+            if obj.type == 'MESH' and len(obj.data.uv_layers) == 0:
+                raise BrushError(f"The Fields image is laid out by the UV map, and "
+                                 f"'{obj.name}' has none: add one (UV ▸ Smart UV Project), "
+                                 f"or paint the fields as vertex groups (Weight Paint "
+                                 f"mode) and pick them as the Fields source.")
             live.check_not_baking(obj, "Cannot paint fields")
             self.edit = _FieldsEdit(obj, ensure_fields_image(obj),
                                     FIELD_CHANNELS[self.target])

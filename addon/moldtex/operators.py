@@ -33,8 +33,9 @@ def _show(entry, obj):
     """Copies the pheromone into the object's image (a mesh without UVs: into its
     vertex colours, returning None)."""
     if entry.vertex_colours:
-        vertex_colours.write(obj, live.read_vertex_pixels(entry))
-        live.note_own_geometry_write(obj.name)
+        if not entry.vertex_problem:  # (else they would not follow: the panel says so)
+            vertex_colours.write(obj, live.read_vertex_pixels(entry))
+            live.note_own_geometry_write(obj.name)
         material.sync_display_range(obj)
         return None
     sim = entry.sim
