@@ -264,6 +264,15 @@ def linear(value):
     return value / 12.92 if value <= 0.04045 else ((value + 0.055) / 1.055) ** 2.4
 
 
+def comparable_pattern(settings):
+    """256², 16,000 agents, one pattern unit per texel, as the 512² default has: at 256²
+    the default unit would be half a texel, a pattern finer than the 16 x 16 cells can
+    compare."""
+    settings.resolution = "256"
+    settings.pattern_scale = live.REFERENCE_RESOLUTION / 256
+    settings.agent_count = 16000
+
+
 def tick():
     try:
         return _tick()
@@ -291,12 +300,7 @@ def _tick():
         call(bpy.ops.mesh.primitive_plane_add, size=2.0)
         obj = bpy.context.view_layer.objects.active
         obj.name = NAME
-        settings = obj.moldtex
-        settings.resolution = "256"
-        # One pattern unit per texel, as the 512² default has: at 256² the default unit
-        # would be half a texel, a pattern finer than the 16 x 16 cells can compare.
-        settings.pattern_scale = live.REFERENCE_RESOLUTION / 256
-        settings.agent_count = 16000
+        comparable_pattern(obj.moldtex)
         bpy.context.scene.view_settings.view_transform = 'Standard'
         _window, area, _region = view3d()
         space = area.spaces.active
@@ -548,9 +552,7 @@ def _tick():
         settings = bare.moldtex
         settings.model = 'CONTINUOUS'
         settings.domain = 'INTRINSIC'
-        settings.resolution = "256"
-        settings.pattern_scale = live.REFERENCE_RESOLUTION / 256
-        settings.agent_count = 16000
+        comparable_pattern(settings)
         check(call(bpy.ops.moldtex.start, 'INVOKE_DEFAULT') == {'RUNNING_MODAL'},
               "Start on a mesh without UVs (Intrinsic domain)")
         goto("bare_running")

@@ -783,11 +783,11 @@ std::vector<float> Simulation::read_field() const {
 
 std::vector<float> Simulation::read_display_field() const { return display_field(read_field()); }
 
-std::vector<float> Simulation::display_field(std::vector<float> field) const {
+std::vector<float> Simulation::display_field(std::vector<float> field, size_t cells) const {
   if (!continuous()) return field;
   // The continuous model shows u / U: 1 is the uniform steady state, at any deposit
   // rate, agent count or surface area.
-  const size_t texels = domain_->texel_count();
+  const size_t texels = cells ? cells : domain_->texel_count();
   for (uint32_t k = 0; k < settings_.species_count; ++k) {
     const double u = k < settings_.u_metric.size() ? settings_.u_metric[k] : 0.0;
     if (!(std::isfinite(u) && u > 0)) continue;
@@ -801,24 +801,32 @@ std::vector<float> Simulation::display_field(std::vector<float> field) const {
   return field;
 }
 
-void Simulation::read_rgba(float* rgba) const {
-  const size_t texels = domain_->texel_count();
-  const uint32_t planes = settings_.species_count;
-  const std::vector<float> field = read_display_field();
-  const auto& classes = domain_->classes;
-  for (size_t i = 0; i < texels; ++i) {
-    const float mask = classes[i] == MOLDTEX_TEXEL_OUTSIDE ? 0.f : 1.f;  // alpha = island mask
+namespace {
+
+// RGBA of `cells` cells from `planes` species planes of a displayed field (the encoding
+// moldtex_sim_read_rgba documents): one species grey with alpha = mask(i); 2 to 4 species
+// one channel each, alpha = mask(i) while fewer than 4.
+template <class Mask>
+void encode_rgba(const std::vector<float>& field, size_t cells, uint32_t planes, Mask mask, float* rgba) {
+  for (size_t i = 0; i < cells; ++i) {
+    float* out = rgba + 4 * i;
     if (planes == 1) {
-      const float v = field[i];
-      rgba[4 * i] = v;
-      rgba[4 * i + 1] = v;
-      rgba[4 * i + 2] = v;
-      rgba[4 * i + 3] = mask;
+      out[0] = out[1] = out[2] = field[i];
+      out[3] = mask(i);
     } else {
-      for (uint32_t k = 0; k < 4; ++k) rgba[4 * i + k] = k < planes ? field[k * texels + i] : 0.f;
-      if (planes < 4) rgba[4 * i + 3] = mask;
+      for (uint32_t k = 0; k < 4; ++k) out[k] = k < planes ? field[k * cells + i] : 0.f;
+      if (planes < 4) out[3] = mask(i);
     }
   }
+}
+
+}  // namespace
+
+void Simulation::read_rgba(float* rgba) const {
+  const auto& classes = domain_->classes;
+  encode_rgba(read_display_field(), domain_->texel_count(), settings_.species_count,
+              [&](size_t i) { return classes[i] == MOLDTEX_TEXEL_OUTSIDE ? 0.f : 1.f; },  // the island mask
+              rgba);
 }
 
 void Simulation::write_image(const std::string& path, moldtex_image_format format) const {
@@ -1037,29 +1045,17 @@ void Simulation::read_vertex_rgba(float* rgba) const {
     fail(MOLDTEX_ERROR_INTERNAL, "The intrinsic triangulation does not start with the mesh's vertices");
   const std::vector<float> values = backend_->read_cells();
   if (values.size() != size_t(cells) * planes) fail(MOLDTEX_ERROR_INTERNAL, "The backend holds no vertex values");
-  // The image's scale (display_field): the continuous model shows u / U.
-  double scale[MTX_MAX_SPECIES];
-  for (uint32_t k = 0; k < planes; ++k) {
-    const double u = continuous() && k < settings_.u_metric.size() ? settings_.u_metric[k] : 0.0;
-    scale[k] = std::isfinite(u) && u > 0 ? 1.0 / u : 1.0;
-  }
+  // Input vertex i is intrinsic vertex i of the triangulation's own numbering; a vertex no
+  // triangle uses shows 0 with alpha 0.
+  std::vector<uint8_t> used(inputs);
+  std::vector<float> field(size_t(inputs) * planes, 0.f);
   for (uint32_t i = 0; i < inputs; ++i) {
-    // Input vertex i is intrinsic vertex i of the triangulation's own numbering.
     const uint32_t v = d.vertex_rank[i];
-    const bool used = d.vertex_location(v).face != intrinsic::kInvalid;
-    float c[4] = {0.f, 0.f, 0.f, 0.f};
-    for (uint32_t k = 0; k < planes && used; ++k)
-      c[k] = static_cast<float>(std::min(double(values[size_t(k) * cells + v]) * scale[k],
-                                         double(std::numeric_limits<float>::max())));
-    float* out = rgba + 4ull * i;
-    if (planes == 1) {
-      out[0] = out[1] = out[2] = c[0];
-      out[3] = used ? 1.f : 0.f;
-    } else {
-      for (int k = 0; k < 4; ++k) out[k] = c[k];
-      if (planes < 4) out[3] = used ? 1.f : 0.f;
-    }
+    used[i] = d.vertex_location(v).face != intrinsic::kInvalid;
+    for (uint32_t k = 0; k < planes && used[i]; ++k) field[size_t(k) * inputs + i] = values[size_t(k) * cells + v];
   }
+  encode_rgba(display_field(std::move(field), inputs), inputs, planes,
+              [&](size_t i) { return used[i] ? 1.f : 0.f; }, rgba);
 }
 
 void Simulation::read_intrinsic_faces(uint32_t* corners, uint32_t count) const {

@@ -81,8 +81,9 @@ class Simulation {
   // The pheromone planes, one per species, as the backend holds them.
   std::vector<float> read_field() const;
   // What images show: read_field, divided by U per species for the continuous model.
+  // display_field takes species planes of `cells` values (0: the texture's texels).
   std::vector<float> read_display_field() const;
-  std::vector<float> display_field(std::vector<float> field) const;
+  std::vector<float> display_field(std::vector<float> field, size_t cells = 0) const;
   void read_agents(moldtex_surface_point* out, size_t count) const { backend_->read_agents(out, count); }
   moldtex_sim_stats stats() const;
   std::string backend_name() const {

@@ -188,12 +188,15 @@ Surface build_surface(const moldtex_mesh_desc& d) {
   s.positions.assign(d.positions, d.positions + 3ull * d.vertex_count);
   s.triangles.assign(d.triangles, d.triangles + 3ull * nt);
   s.generated_uvs = d.uvs == nullptr;
-  if (s.generated_uvs) s.corner_uvs = triangle_atlas_uvs(nt);
-  else s.corner_uvs.resize(6ull * nt);
-  for (uint64_t i = 0; !s.generated_uvs && i < 3ull * nt; ++i) {
-    uint64_t src = d.triangle_uvs ? d.triangle_uvs[i] : i;
-    s.corner_uvs[2 * i] = d.uvs[2 * src];
-    s.corner_uvs[2 * i + 1] = d.uvs[2 * src + 1];
+  if (s.generated_uvs) {
+    s.corner_uvs = triangle_atlas_uvs(nt);
+  } else {
+    s.corner_uvs.resize(6ull * nt);
+    for (uint64_t i = 0; i < 3ull * nt; ++i) {
+      uint64_t src = d.triangle_uvs ? d.triangle_uvs[i] : i;
+      s.corner_uvs[2 * i] = d.uvs[2 * src];
+      s.corner_uvs[2 * i + 1] = d.uvs[2 * src + 1];
+    }
   }
 
   // Frames, areas, degeneracy. Sizes are relative to the mesh so that tiny and huge
