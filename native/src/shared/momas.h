@@ -245,6 +245,45 @@ MTX_FN float mtx_footprint_cover(mtx_surface_tables s, const mtx_momas_constants
   return covered;
 }
 
+/* Surface units, a footprint much narrower than a texel along an axis (texels over two
+ * length units long: strongly stretched UVs, a texture much coarser than the pattern
+ * scale). A texel is marked when the footprint covers its sample point: along such an
+ * axis a random point of the texel, fixed by (seed, texel) alone, so the same for every
+ * agent, step, thread and backend; along the other axis its centre, as for small
+ * texels. Texels are then marked in proportion to the share of them the footprints
+ * cover: a trail across a wide texel no longer marks all of it, which painted trails
+ * as wide as the texels (streaks along the stretch). The points are fixed rather than
+ * drawn anew every step, which made the pattern depend on the time step (cells 1.3x
+ * longer at 1/120 s than at 1/240 s on a torus with 2.2-unit texels). jx, jy: the axes
+ * sampled (ex, ey may have grown past their first size where the footprint lay partly
+ * off its island, as in mtx_mark_footprint). Texels of the footprint's island only,
+ * free of obstacles. */
+MTX_FN void mtx_mark_sampled(mtx_surface_tables s, MTX_GLOBAL const float* field,
+                             MTX_GLOBAL mtx_u8* own_marks, float x, float y, float ex, float ey,
+                             int jx, int jy, mtx_u32 island, const mtx_momas_constants* k) {
+  const int w_ = MTX_CAST(int, k->width), h_ = MTX_CAST(int, k->height);
+  /* Texels whose sample point may lie within the footprint: every texel it overlaps along
+   * a sampled axis, those whose centres it holds along the other. */
+  int x0 = MTX_CAST(int, jx ? floor(x - ex) : ceil(x - ex - 0.5f));
+  int x1 = MTX_CAST(int, jx ? floor(x + ex) : floor(x + ex - 0.5f));
+  int y0 = MTX_CAST(int, jy ? floor(y - ey) : ceil(y - ey - 0.5f));
+  int y1 = MTX_CAST(int, jy ? floor(y + ey) : floor(y + ey - 0.5f));
+  x0 = x0 < 0 ? 0 : x0;
+  y0 = y0 < 0 ? 0 : y0;
+  x1 = x1 >= w_ ? w_ - 1 : x1;
+  y1 = y1 >= h_ ? h_ - 1 : y1;
+  const mtx_u64 key = mtx_rng_init(k->seed, MTX_RNG_DEPOSIT, 0, 0);
+  for (int iy = y0; iy <= y1; ++iy)
+    for (int ix = x0; ix <= x1; ++ix) {
+      const mtx_u32 i = MTX_CAST(mtx_u32, iy) * k->width + MTX_CAST(mtx_u32, ix);
+      if (s.texel_island[i] != MTX_CAST(int, island)) continue;
+      const mtx_u64 h = mtx_mix64(key ^ MTX_CAST(mtx_u64, i));
+      const float sx = MTX_CAST(float, ix) + (jx ? MTX_CAST(float, h >> 40) * (1.0f / 16777216.0f) : 0.5f);
+      const float sy = MTX_CAST(float, iy) + (jy ? MTX_CAST(float, (h >> 16) & 0xffffffUL) * (1.0f / 16777216.0f) : 0.5f);
+      if (fabs(x - sx) <= ex && fabs(y - sy) <= ey && !mtx_is_obstacle(field, i, k)) MTX_MARK(own_marks, i);
+    }
+}
+
 /* Surface units: marks the texel under walker w if it is an island texel, and every
  * texel of the walker's UV island, free of obstacles, whose centre lies within half a
  * length unit of the walker along each texel axis (the footprint has the same 3D size
@@ -253,20 +292,29 @@ MTX_FN float mtx_footprint_cover(mtx_surface_tables s, const mtx_momas_constants
  * UV pole's fan, which are narrower than a texel near the pole; across a seam; off an
  * open boundary) the box grows until its area on island texels is one square unit, so a
  * deposit covers the same surface there as anywhere. The texel under the walker need not
- * be an island texel (next to a pole it seldom is). Marks depend only on where the walker
- * is, so a trail is the union of its footprints at any substep density. */
+ * be an island texel (next to a pole it seldom is). Along an axis where texels are over
+ * two units long, marks are sampled instead (mtx_mark_sampled). Marks depend only on
+ * where the walker is, so a trail is the union of its footprints at any
+ * substep density. */
 MTX_FN void mtx_mark_footprint(mtx_surface_tables s, MTX_GLOBAL const float* field,
                                MTX_GLOBAL mtx_u8* own_marks, const mtx_walker* w,
                                mtx_u32 texel, const mtx_momas_constants* k) {
-  if (s.classes[texel] == MTX_TEXEL_INSIDE) MTX_MARK(own_marks, texel);
   MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * w->triangle;
   const float limit = MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS);
   float ex = mtx_min(0.5f * k->length_unit * tpu[0], limit);
   float ey = mtx_min(0.5f * k->length_unit * tpu[1], limit);
-  if (ex < 0.5f && ey < 0.5f) return;
   MTX_GLOBAL const float* uv = s.corner_uvs + 6 * w->triangle;
   const float x = (w->bary[0] * uv[0] + w->bary[1] * uv[2] + w->bary[2] * uv[4]) * MTX_CAST(float, k->width);
   const float y = (w->bary[0] * uv[1] + w->bary[1] * uv[3] + w->bary[2] * uv[5]) * MTX_CAST(float, k->height);
+  /* Where a texel is over twice as long as the footprint along one axis and over twice
+   * as long along it as along the other (strong UV stretch), marks are sampled along it
+   * (mtx_mark_sampled). Other texels keep the rule below, which over-marks a long axis:
+   * a texture coarser than the pattern scale (texels large both ways) blurs trails
+   * evenly, without streaks. Sampling from 1 unit on was tried: an open cylinder's
+   * boundary band (texels 1.4 units around) fell from 0.95 to 0.74 of the mean; and in
+   * texels large both ways: a preset's coverage at 128^2 rose from 0.36-0.43 to 0.58. */
+  const int jx = ex < 0.25f && ex < 0.5f * ey, jy = ey < 0.25f && ey < 0.5f * ex;
+  if (!(jx | jy) && s.classes[texel] == MTX_TEXEL_INSIDE) MTX_MARK(own_marks, texel);
   const float target = 4.0f * ex * ey;
   mtx_footprint box;
   box.island = s.island[w->triangle];
@@ -276,6 +324,10 @@ MTX_FN void mtx_mark_footprint(mtx_surface_tables s, MTX_GLOBAL const float* fie
     ex = mtx_min(ex * f, limit);
     ey = mtx_min(ey * f, limit);
     covered = mtx_footprint_cover(s, k, x, y, ex, ey, &box);
+  }
+  if (jx | jy) {
+    mtx_mark_sampled(s, field, own_marks, x, y, ex, ey, jx, jy, box.island, k);
+    return;
   }
   const int w_ = MTX_CAST(int, k->width), h_ = MTX_CAST(int, k->height);
   int x0 = MTX_CAST(int, ceil(x - ex - 0.5f)), x1 = MTX_CAST(int, floor(x + ex - 0.5f));

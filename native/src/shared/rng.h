@@ -15,6 +15,8 @@ MTX_BEGIN_NAMESPACE
 /* Slime brushes (host only): agents placed by moldtex_sim_add_agents, erase draws. */
 #define MTX_RNG_BRUSH 3
 #define MTX_RNG_ERASE 4
+/* The points that decide which texels larger than a deposit footprint it marks. */
+#define MTX_RNG_DEPOSIT 5
 
 /* SplitMix64 finaliser: a well-tested 64-bit mixing function. */
 MTX_FN mtx_u64 mtx_mix64(mtx_u64 x) {
