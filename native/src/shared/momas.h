@@ -314,7 +314,10 @@ MTX_FN void mtx_mark_footprint(mtx_surface_tables s, MTX_GLOBAL const float* fie
    * boundary band (texels 1.4 units around) fell from 0.95 to 0.74 of the mean; and in
    * texels large both ways: a preset's coverage at 128^2 rose from 0.36-0.43 to 0.58. */
   const int jx = ex < 0.25f && ex < 0.5f * ey, jy = ey < 0.25f && ey < 0.5f * ex;
-  if (!(jx | jy) && s.classes[texel] == MTX_TEXEL_INSIDE) MTX_MARK(own_marks, texel);
+  if (!(jx | jy)) {
+    if (s.classes[texel] == MTX_TEXEL_INSIDE) MTX_MARK(own_marks, texel);
+    if (ex < 0.5f && ey < 0.5f) return; /* the footprint lies within that texel */
+  }
   const float target = 4.0f * ex * ey;
   mtx_footprint box;
   box.island = s.island[w->triangle];
