@@ -444,8 +444,8 @@ double AxisGradientLength(const TexelGeometry& g, const std::vector<double>& f, 
 // texels across its extent. The pattern grown on the warped plane must read within 25%
 // of that reference, as means over 6 seeds (one seed's elongation spreads by ~20%, so a
 // mean's standard error is ~8%). Calibration, a case whose answer is known: the same
-// flat patterns drawn 2x wider along x read 2.19x the reference (1.5x wider: 1.58x). Measured: 1.130
-// against 0.983 (1.15x). Before deposits in wide texels were sampled
+// flat patterns drawn 2x wider along x read 2.19x the reference (1.5x wider: 1.58x).
+// Measured: 1.130 against 0.983 (1.15x). Before deposits in wide texels were sampled
 // (mtx_mark_sampled), a deposit marked the whole texel under the agent, so trails
 // across the stretch were as wide as the texels: 1.88 / 1.44 / 2.01 for seeds 1-3
 // (references 0.80 / 0.77 / 0.95). Also tried: every footprint round in 3D (3.43 /
