@@ -109,6 +109,13 @@ Mesh make_quad() {
   return make_plane(1, 1, 0, 0, 1, 1, [](double x, double y) { return Vec2{x, y}; });
 }
 
+Mesh make_uv_squared_plane(int n) {
+  return make_plane(n, n, 0, 0, 4, 4, [](double x, double y) {
+    const double u = x / 4;
+    return Vec2{u * u, y / 4};
+  });
+}
+
 Mesh make_distorted_plane(int n) {
   return make_plane(8 * n, n, 0, 0, 8, 1, [](double x, double y) {
     const double s = x / 8.0, t = y;

@@ -67,6 +67,10 @@ Mesh make_grid(const std::vector<double>& xs, const std::vector<double>& ys, con
 Mesh make_plane(int nx, int ny, double x0, double y0, double x1, double y1, const UvMap& uv_of);
 // The unit quad [0,1]^2 at z = 0 as two triangles, UV = xy.
 Mesh make_quad();
+// A 4 x 4 plane ([0,4]^2, z = 0) of n x n quads whose UVs are warped u -> u^2, v = y / 4:
+// a texel's 3D width is 2 / x mean texel lengths (over 2 left of x = 1, 6.7 at x = 0.3),
+// its height one.
+Mesh make_uv_squared_plane(int n);
 // An 8 x 1 rectangle ([0,8] x [0,1], z = 0) in n*8 x n cells, squeezed into the unit UV
 // square with a non-linear warp: u = (s + 3 s^3) / 4 with s = x / 8, v = (t + t^2) / 2
 // with t = y. du/dx varies 10x across the plane and the 3D/UV aspect is 8:1.

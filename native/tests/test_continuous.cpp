@@ -368,10 +368,7 @@ TEST(ContinuousModel, TurnoverMakesThePatternMoreUniform) {
 // in 3D than on the right). The characteristic length in 3D must be the same in both
 // halves within 10%.
 TEST(ContinuousModel, StretchedUvsDoNotChangeTheLengthIn3D) {
-  static const Mesh warped = make_plane(64, 64, 0, 0, 4, 4, [](double x, double y) {
-    const double u = x / 4;
-    return Vec2{u * u, y / 4};
-  });
+  static const Mesh warped = make_uv_squared_plane(64);
   RunSpec r;
   r.mesh = &warped;
   r.size = 512;

@@ -558,10 +558,7 @@ TEST(IntrinsicBackends, OpenClAgreesWithTheCpu) {
 // in both halves within 10% (the bound), as the texture domain's own test does
 // (ContinuousModel.StretchedUvsDoNotChangeTheLengthIn3D); 2 seeds.
 TEST(IntrinsicSimulation, StretchedUvsDoNotChangeTheLengthIn3D) {
-  static const Mesh warped = make_plane(64, 64, 0, 0, 4, 4, [](double x, double y) {
-    const double u = x / 4;
-    return Vec2{u * u, y / 4};
-  });
+  static const Mesh warped = make_uv_squared_plane(64);
   RunSpec r;
   r.mesh = &warped;
   r.size = 512;

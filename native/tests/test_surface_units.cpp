@@ -454,10 +454,7 @@ double AxisGradientLength(const TexelGeometry& g, const std::vector<double>& f, 
 // texels over 3 units (2.33x: the over-marked 2-3 unit texels beside them streak); a
 // sample window twice the footprint (1.38x).
 TEST(SurfaceUnits, StretchedTexelsShowNoStreaks) {
-  static const Mesh warped = make_plane(64, 64, 0, 0, 4, 4, [](double x, double y) {
-    const double u = x / 4;
-    return Vec2{u * u, y / 4};
-  });
+  static const Mesh warped = make_uv_squared_plane(64);
   static const Mesh flat = make_plane(64, 64, 0, 0, 4, 4, [](double x, double y) { return Vec2{x / 4, y / 4}; });
   const uint32_t W = 256;
   const TexelGeometry g = Texels(warped, W, W);
@@ -495,7 +492,7 @@ TEST(SurfaceUnits, StretchedTexelsShowNoStreaks) {
     return out;
   };
   const int seeds = 6;
-  double grown = 0, reference = 0, painted = 0;
+  double grown = 0, reference = 0, widened_reference = 0;
   for (uint64_t seed = 1; seed <= uint64_t(seeds); ++seed) {
     const std::vector<double> on_flat = Grow(flat, W, W, W * W / 2, seed, SurfaceParams(unit), 400, 100);
     const double r = elongation(through_wide_texels(on_flat));
@@ -504,11 +501,11 @@ TEST(SurfaceUnits, StretchedTexelsShowNoStreaks) {
     std::printf("  seed %d: elongation %.3f, reference %.3f, widened reference %.3f\n", int(seed), e, r, m);
     grown += e / seeds;
     reference += r / seeds;
-    painted += m / seeds;
+    widened_reference += m / seeds;
   }
   std::printf("  means: grown %.3f, reference %.3f (ratio %.3f), widened %.3f (ratio %.3f)\n", grown, reference,
-              grown / reference, painted, painted / reference);
-  EXPECT_GT(painted / reference, 1.4) << "the measure must see a pattern 2x wider along the stretch";
+              grown / reference, widened_reference, widened_reference / reference);
+  EXPECT_GT(widened_reference / reference, 1.4) << "the measure must see a pattern 2x wider along the stretch";
   EXPECT_NEAR(grown / reference, 1.0, 0.25);
 }
 
@@ -607,10 +604,7 @@ TEST(SurfaceUnits, BitIdenticalForAnyThreadCount) {
 // paths bit for bit, so the count is compared, not the texels; ~1,000 marked, so the
 // count's own noise is ~3%).
 TEST(SurfaceUnits, SampledDepositsAgreeAcrossThreadsAndBackends) {
-  const Mesh warped = make_plane(32, 32, 0, 0, 4, 4, [](double x, double y) {
-    const double u = x / 4;
-    return Vec2{u * u, y / 4};
-  });
+  const Mesh warped = make_uv_squared_plane(32);
   const uint32_t W = 256;
   const double unit = TexelLength(warped, W);
   auto run = [&](uint32_t threads, uint32_t steps, bool still, const moldtex_sim_config* pinned) {

@@ -114,6 +114,26 @@ typedef struct mtx_footprint {
   mtx_u32 island;
 } mtx_footprint;
 
+/* Clips the texel range of box to the texture. */
+MTX_FN void mtx_clip_footprint(mtx_footprint* box, const mtx_momas_constants* k) {
+  const int w_ = MTX_CAST(int, k->width), h_ = MTX_CAST(int, k->height);
+  box->x0 = box->x0 < 0 ? 0 : box->x0;
+  box->y0 = box->y0 < 0 ? 0 : box->y0;
+  box->x1 = box->x1 >= w_ ? w_ - 1 : box->x1;
+  box->y1 = box->y1 >= h_ ? h_ - 1 : box->y1;
+}
+
+/* The texels whose centres ix + 0.5, iy + 0.5 lie in [x - ex, x + ex] x [y - ey, y + ey],
+ * clipped to the texture (the island is left to the caller). */
+MTX_FN void mtx_centres_within(float x, float y, float ex, float ey, const mtx_momas_constants* k,
+                               mtx_footprint* box) {
+  box->x0 = MTX_CAST(int, ceil(x - ex - 0.5f));
+  box->x1 = MTX_CAST(int, floor(x + ex - 0.5f));
+  box->y0 = MTX_CAST(int, ceil(y - ey - 0.5f));
+  box->y1 = MTX_CAST(int, floor(y + ey - 0.5f));
+  mtx_clip_footprint(box, k);
+}
+
 MTX_FN int mtx_footprint_box(mtx_surface_tables s, const mtx_walker* w,
                              const mtx_momas_constants* k, mtx_footprint* box) {
   MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * w->triangle;
@@ -123,15 +143,7 @@ MTX_FN int mtx_footprint_box(mtx_surface_tables s, const mtx_walker* w,
   MTX_GLOBAL const float* uv = s.corner_uvs + 6 * w->triangle;
   const float x = (w->bary[0] * uv[0] + w->bary[1] * uv[2] + w->bary[2] * uv[4]) * MTX_CAST(float, k->width);
   const float y = (w->bary[0] * uv[1] + w->bary[1] * uv[3] + w->bary[2] * uv[5]) * MTX_CAST(float, k->height);
-  const int w_ = MTX_CAST(int, k->width), h_ = MTX_CAST(int, k->height);
-  box->x0 = MTX_CAST(int, ceil(x - ex - 0.5f));
-  box->x1 = MTX_CAST(int, floor(x + ex - 0.5f));
-  box->y0 = MTX_CAST(int, ceil(y - ey - 0.5f));
-  box->y1 = MTX_CAST(int, floor(y + ey - 0.5f));
-  box->x0 = box->x0 < 0 ? 0 : box->x0;
-  box->y0 = box->y0 < 0 ? 0 : box->y0;
-  box->x1 = box->x1 >= w_ ? w_ - 1 : box->x1;
-  box->y1 = box->y1 >= h_ ? h_ - 1 : box->y1;
+  mtx_centres_within(x, y, ex, ey, k, box);
   box->island = s.island[w->triangle];
   return 1;
 }
@@ -223,15 +235,11 @@ MTX_FN float mtx_sense(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
  * clipped to the texture, and its area on island texels of the footprint's island. */
 MTX_FN float mtx_footprint_cover(mtx_surface_tables s, const mtx_momas_constants* k, float x,
                                  float y, float ex, float ey, mtx_footprint* box) {
-  const int w_ = MTX_CAST(int, k->width), h_ = MTX_CAST(int, k->height);
   box->x0 = MTX_CAST(int, floor(x - ex));
   box->x1 = MTX_CAST(int, ceil(x + ex)) - 1;
   box->y0 = MTX_CAST(int, floor(y - ey));
   box->y1 = MTX_CAST(int, ceil(y + ey)) - 1;
-  box->x0 = box->x0 < 0 ? 0 : box->x0;
-  box->y0 = box->y0 < 0 ? 0 : box->y0;
-  box->x1 = box->x1 >= w_ ? w_ - 1 : box->x1;
-  box->y1 = box->y1 >= h_ ? h_ - 1 : box->y1;
+  mtx_clip_footprint(box, k);
   float covered = 0.0f;
   for (int iy = box->y0; iy <= box->y1; ++iy) {
     const float oy = mtx_min(y + ey, MTX_CAST(float, iy + 1)) - mtx_max(y - ey, MTX_CAST(float, iy));
@@ -261,20 +269,22 @@ MTX_FN float mtx_footprint_cover(mtx_surface_tables s, const mtx_momas_constants
 MTX_FN void mtx_mark_sampled(mtx_surface_tables s, MTX_GLOBAL const float* field,
                              MTX_GLOBAL mtx_u8* own_marks, float x, float y, float ex, float ey,
                              int jx, int jy, mtx_u32 island, const mtx_momas_constants* k) {
-  const int w_ = MTX_CAST(int, k->width), h_ = MTX_CAST(int, k->height);
   /* Texels whose sample point may lie within the footprint: every texel it overlaps along
    * a sampled axis, those whose centres it holds along the other. */
-  int x0 = MTX_CAST(int, jx ? floor(x - ex) : ceil(x - ex - 0.5f));
-  int x1 = MTX_CAST(int, jx ? floor(x + ex) : floor(x + ex - 0.5f));
-  int y0 = MTX_CAST(int, jy ? floor(y - ey) : ceil(y - ey - 0.5f));
-  int y1 = MTX_CAST(int, jy ? floor(y + ey) : floor(y + ey - 0.5f));
-  x0 = x0 < 0 ? 0 : x0;
-  y0 = y0 < 0 ? 0 : y0;
-  x1 = x1 >= w_ ? w_ - 1 : x1;
-  y1 = y1 >= h_ ? h_ - 1 : y1;
+  mtx_footprint box;
+  mtx_centres_within(x, y, ex, ey, k, &box);
+  if (jx) {
+    box.x0 = MTX_CAST(int, floor(x - ex));
+    box.x1 = MTX_CAST(int, floor(x + ex));
+  }
+  if (jy) {
+    box.y0 = MTX_CAST(int, floor(y - ey));
+    box.y1 = MTX_CAST(int, floor(y + ey));
+  }
+  mtx_clip_footprint(&box, k);
   const mtx_u64 key = mtx_rng_init(k->seed, MTX_RNG_DEPOSIT, 0, 0);
-  for (int iy = y0; iy <= y1; ++iy)
-    for (int ix = x0; ix <= x1; ++ix) {
+  for (int iy = box.y0; iy <= box.y1; ++iy)
+    for (int ix = box.x0; ix <= box.x1; ++ix) {
       const mtx_u32 i = MTX_CAST(mtx_u32, iy) * k->width + MTX_CAST(mtx_u32, ix);
       if (s.texel_island[i] != MTX_CAST(int, island)) continue;
       const mtx_u64 h = mtx_mix64(key ^ MTX_CAST(mtx_u64, i));
@@ -332,15 +342,10 @@ MTX_FN void mtx_mark_footprint(mtx_surface_tables s, MTX_GLOBAL const float* fie
     mtx_mark_sampled(s, field, own_marks, x, y, ex, ey, jx, jy, box.island, k);
     return;
   }
-  const int w_ = MTX_CAST(int, k->width), h_ = MTX_CAST(int, k->height);
-  int x0 = MTX_CAST(int, ceil(x - ex - 0.5f)), x1 = MTX_CAST(int, floor(x + ex - 0.5f));
-  int y0 = MTX_CAST(int, ceil(y - ey - 0.5f)), y1 = MTX_CAST(int, floor(y + ey - 0.5f));
-  x0 = x0 < 0 ? 0 : x0;
-  y0 = y0 < 0 ? 0 : y0;
-  x1 = x1 >= w_ ? w_ - 1 : x1;
-  y1 = y1 >= h_ ? h_ - 1 : y1;
-  for (int iy = y0; iy <= y1; ++iy)
-    for (int ix = x0; ix <= x1; ++ix) {
+  mtx_footprint centres;
+  mtx_centres_within(x, y, ex, ey, k, &centres);
+  for (int iy = centres.y0; iy <= centres.y1; ++iy)
+    for (int ix = centres.x0; ix <= centres.x1; ++ix) {
       const mtx_u32 i = MTX_CAST(mtx_u32, iy) * k->width + MTX_CAST(mtx_u32, ix);
       if (mtx_in_footprint(s, i, &box) && !mtx_is_obstacle(field, i, k)) MTX_MARK(own_marks, i);
     }
