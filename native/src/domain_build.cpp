@@ -58,7 +58,10 @@ void DomainBuild::run() {
           texture = build_texture_domain(*surface_, config_.width, config_.height, pool);
         }
         work_.check_cancel();
-        built = prepare_intrinsic_domain(*surface_, texture, config_, thread_count_, &from_cache, &work_);
+        // As the simulation will see it (Simulation's constructor): faces whose UVs have
+        // zero area are walked on.
+        const std::shared_ptr<const Surface> walkable = walkable_in_3d(surface_);
+        built = prepare_intrinsic_domain(*walkable, texture, config_, thread_count_, &from_cache, &work_);
         work_.count.store(built->vertex_count(), std::memory_order_relaxed);
         work_.enter(MOLDTEX_BUILD_DONE);
       },

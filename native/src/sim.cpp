@@ -299,6 +299,10 @@ std::shared_ptr<const IntrinsicDomain> prepare_intrinsic_domain(const Surface& s
 Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim_config& config,
                        const moldtex_sim_params& params)
     : surface_(std::move(surface)), config_(reaction_config(config)) {
+  // The texture is laid out on the UV map as given; agents on the intrinsic domain walk
+  // the surface in 3D, across faces whose UVs have zero area.
+  const std::shared_ptr<const Surface> uv_surface = surface_;
+  if (config_.domain == MOLDTEX_DOMAIN_INTRINSIC) surface_ = walkable_in_3d(surface_);
   validate_config(config_, *surface_);
   validate_params(params);
   config_.fields_rgba = nullptr;  // copied below, never kept
@@ -311,7 +315,7 @@ Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim
   {
     ThreadPool pool(params.thread_count);
     domain_ = std::make_shared<const TextureDomain>(
-        build_texture_domain(*surface_, config.width, config.height, pool));
+        build_texture_domain(*uv_surface, config.width, config.height, pool));
   }
   const TextureDomain& d = *domain_;
   for (size_t i = 0; i < d.texel_count(); ++i)

@@ -677,6 +677,66 @@ TEST(IntrinsicSimulation, RunsOnAMeshWithoutUvs) {
   EXPECT_NE(LastError().find("texture domain"), std::string::npos) << LastError();
 }
 
+// A 4 x 1 plane whose UVs collapse over the strip 1.875 <= x <= 2.125 (two columns of
+// faces with zero UV area, as a careless unwrap or a pinned UV edge leaves them). The
+// texture domain cannot measure texels there, so those faces are walls to its agents;
+// the intrinsic domain needs no UVs to walk, so its agents cross them. All agents start
+// at (1, 0.5) with uniform headings and no pheromone to steer by (deposit 0), moving
+// 0.6 units/s for 3 s: about a third head right far enough to pass x = 2.125 (a straight
+// path from x = 1 crosses it within 1.8 units when its heading is within ~51 degrees of
+// +x, and reflections off the long sides keep it going). With walls none can.
+Mesh make_collapsed_strip_plane() {
+  auto u_of = [](double x) { return x <= 1.875 ? x : (x >= 2.125 ? x - 0.25 : 1.875); };
+  return make_plane(32, 8, 0.0, 0.0, 4.0, 1.0, [&](double x, double y) { return Vec2{u_of(x) / 3.75, y}; });
+}
+
+TEST(IntrinsicSimulation, AgentsWalkAcrossFacesWithZeroUvArea) {
+  const Mesh m = make_collapsed_strip_plane();
+  auto surface = create_surface(m);
+  ASSERT_TRUE(surface) << LastError();
+  for (uint32_t domain : {uint32_t(MOLDTEX_DOMAIN_INTRINSIC), uint32_t(MOLDTEX_DOMAIN_TEXTURE)}) {
+    for (Backend backend : {Backend::Cpu, Backend::OpenCl}) {
+      moldtex_sim_config c = make_config(64, 64, 4000, 5);
+      c.model = MOLDTEX_MODEL_CONTINUOUS;
+      c.domain = domain;
+      c.seed_shape = MOLDTEX_SEED_BIG_BANG;
+      c.seed_center = locate(m, {1.0, 0.5, 0.0});
+      std::string why;
+      if (!PinBackend(backend, c, &why)) {
+        std::printf("OpenCL: skipped (%s)\n", why.c_str());
+        continue;
+      }
+      auto sim = create_sim(surface.get(), c, default_params());
+      ASSERT_TRUE(sim) << LastError();
+      moldtex_continuous_params p;
+      moldtex_continuous_params_init(&p);
+      p.deposit_rate = 0.f;
+      ASSERT_EQ(moldtex_sim_set_continuous_params(sim.get(), &p), MOLDTEX_OK) << LastError();
+      ASSERT_EQ(moldtex_sim_step(sim.get(), uint32_t(std::lround(3.0 / p.time_step))), MOLDTEX_OK) << LastError();
+      std::vector<moldtex_surface_point> at(c.agent_count);
+      ASSERT_EQ(moldtex_sim_read_agents(sim.get(), at.data(), at.size()), MOLDTEX_OK) << LastError();
+      size_t right = 0, strip = 0;
+      for (const moldtex_surface_point& a : at) {
+        double x = 0;
+        for (int k = 0; k < 3; ++k) x += a.bary[k] * m.corner(a.triangle, k)[0];
+        right += x > 2.125 + 1e-4;
+        strip += x > 1.875 + 1e-4 && x < 2.125 - 1e-4;
+      }
+      const double share = double(right) / at.size();
+      std::printf("%s domain, %s: %.3f of the agents beyond the strip, %zu on it\n",
+                  domain == MOLDTEX_DOMAIN_INTRINSIC ? "intrinsic" : "texture",
+                  backend == Backend::Cpu ? "CPU" : "OpenCL", share, strip);
+      if (domain == MOLDTEX_DOMAIN_INTRINSIC) {
+        EXPECT_GT(share, 0.15);  // measured about a third; the wall gives 0
+        EXPECT_LT(share, 0.6);   // most start heading elsewhere
+      } else {
+        EXPECT_EQ(right, 0u);  // the texture domain's walls (README: known limit)
+        EXPECT_EQ(strip, 0u);
+      }
+    }
+  }
+}
+
 TEST(IntrinsicSimulation, RefusesWhatItDoesNotRun) {
   auto s = create_surface(Torus());
   ASSERT_TRUE(s);

@@ -196,6 +196,16 @@ TEST(SurfaceUnits, UvSpherePolesAreAlive) {
   // with the backend forced) seeds 1-9 read 0.764, 0.745, 0.824, 0.671, 0.938, 0.760,
   // 0.867, 0.805, 0.856 (mean 0.803; 1.5 standard errors below the CPU's), though from
   // the same state both backends diffuse alike (1.2e-7) and step alike. Open (#9).
+  // Tried 2026-12-03 (CPU, seeds 1-9; reverted): (a) marks sampled along every axis where
+  // texels are over one unit long (deposit per agent then flat across latitudes, 0.98-1.01
+  // from 15 to 90 degrees, against 0.76-1.13): caps 0.835 mean, spread 0.65-1.03;
+  // Stretched fails (1.28) and ResultFollowsSimulatedTime fails (0.795). (b) sensors
+  // reading the footprint's area-weighted mean (texels larger than the footprint weighed
+  // by overlap): caps 0.925 mean (0.82-1.08), but the pole fan itself (within 5.6 degrees)
+  // then holds 2x the pheromone and the ring at 8-15 degrees 0.74-0.76, the torus cells
+  // differ by 19% between 128^2 and 256^2 (SameCellsAtEveryResolution fails) and the
+  // stretched test's calibration weakens (1.42x). (c) sensors that skip the probe's own
+  // texel when it is not an island texel (gutter between the fan's teeth): 0.829 mean.
   const Mesh m = make_uv_sphere(64, 32, 1.0);
   const uint32_t W = 256;
   const TexelGeometry g = Texels(m, W, W);

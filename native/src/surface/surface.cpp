@@ -52,6 +52,106 @@ void label_islands(Surface& s) {
   for (uint32_t t = 0; t < nt; ++t) s.island[t] = find(t);
 }
 
+double longest_edge(const Surface& s) {
+  double max_edge = 0;
+  for (uint32_t t = 0; t < s.triangle_count(); ++t)
+    for (int c = 0; c < 3; ++c)
+      max_edge = std::max(max_edge, norm(sub(vertex(s, s.triangles[3 * t + (c + 1) % 3]),
+                                             vertex(s, s.triangles[3 * t + c]))));
+  return max_edge;
+}
+
+// Sets triangle t's isometric frame, 3D axes and area, and returns its area; 0 (nothing
+// set) where its 3D area is under area_eps.
+double set_triangle_geometry(Surface& s, uint32_t t, double area_eps) {
+  V3 p0 = vertex(s, s.triangles[3 * t]), p1 = vertex(s, s.triangles[3 * t + 1]),
+     p2 = vertex(s, s.triangles[3 * t + 2]);
+  V3 e1 = sub(p1, p0), e2 = sub(p2, p0);
+  double area = 0.5 * norm(cross(e1, e2));
+  double a = norm(e1);
+  if (area <= area_eps || a == 0) return 0.0;
+  double bx = dot(e2, e1) / a;
+  double by = 2.0 * area / a;
+  s.frames[t] = make_frame(a, bx, by);
+  const double k = bx / a;
+  const V3 ey{e2.x - k * e1.x, e2.y - k * e1.y, e2.z - k * e1.z};
+  const double ny = norm(ey);
+  const double iy = ny > 0 ? 1.0 / ny : 0.0;
+  const double v[9] = {p0.x, p0.y, p0.z, e1.x / a, e1.y / a, e1.z / a, ey.x * iy, ey.y * iy, ey.z * iy};
+  float* g = &s.frame3d[9 * static_cast<size_t>(t)];
+  for (int i = 0; i < 9; ++i) g[i] = static_cast<float>(v[i]);
+  s.areas[t] = static_cast<float>(area);
+  return area;
+}
+
+// Neighbours across shared 3D edges (vertex indices, so UV seams are crossed), with
+// walls around degenerate triangles; counts boundary and seam edges; refuses
+// non-manifold edges.
+void link_triangles(Surface& s) {
+  const uint32_t nt = s.triangle_count();
+  s.boundary_edges = s.seam_edges = 0;
+  struct Side {
+    uint32_t t;
+    uint8_t edge;
+  };
+  std::unordered_map<uint64_t, std::vector<Side>> edges;
+  edges.reserve(nt * 2);
+  for (uint32_t t = 0; t < nt; ++t) {
+    const uint32_t* v = &s.triangles[3 * t];
+    // A triangle that repeats a vertex is a collapsed sliver: it borders nothing, and
+    // its neighbours see a wall there.
+    if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0]) continue;
+    for (uint8_t i = 0; i < 3; ++i) {
+      uint32_t a = v[(i + 1) % 3], b = v[(i + 2) % 3];
+      uint64_t key = (static_cast<uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
+      edges[key].push_back({t, i});
+    }
+  }
+  s.adjacency.assign(3ull * nt, kNoNeighbour);
+  uint32_t nonmanifold = 0;
+  uint64_t example = 0;
+  for (auto& [key, sides] : edges) {
+    if (sides.size() > 2) {
+      if (nonmanifold++ == 0) example = key;
+      continue;
+    }
+    if (sides.size() == 1) {
+      ++s.boundary_edges;
+      continue;
+    }
+    Side x = sides[0], y = sides[1];
+    if (x.t == y.t) {
+      ++s.boundary_edges;
+      continue;
+    }
+    uint32_t xa = s.triangles[3 * x.t + (x.edge + 1) % 3];
+    uint32_t ya = s.triangles[3 * y.t + (y.edge + 1) % 3];
+    // Consistently wound neighbours walk the shared edge in opposite directions; a
+    // flipped neighbour walks it in the same direction.
+    uint32_t same_direction = xa == ya ? 1u : 0u;
+    auto uv_of = [&](Side side, int k) {
+      const float* u = &s.corner_uvs[6 * side.t + 2 * ((side.edge + k) % 3)];
+      return std::array<float, 2>{u[0], u[1]};
+    };
+    // A seam: the two sides of the edge sit at different UVs.
+    auto x1 = uv_of(x, 1), x2 = uv_of(x, 2);
+    auto y1 = uv_of(y, same_direction ? 1 : 2), y2 = uv_of(y, same_direction ? 2 : 1);
+    if (x1 != y1 || x2 != y2) ++s.seam_edges;
+    if (s.degenerate[x.t] || s.degenerate[y.t]) continue;  // walls around zero-area triangles
+    s.adjacency[3 * x.t + x.edge] = (y.t << 3) | (static_cast<uint32_t>(y.edge) << 1) | same_direction;
+    s.adjacency[3 * y.t + y.edge] = (x.t << 3) | (static_cast<uint32_t>(x.edge) << 1) | same_direction;
+  }
+  if (nonmanifold) {
+    std::ostringstream m;
+    m << "The mesh has " << nonmanifold << " non-manifold edge" << (nonmanifold > 1 ? "s" : "")
+      << " (shared by more than two faces), e.g. between vertices " << (example >> 32) << " and "
+      << (example & 0xffffffffu)
+      << ": agents cannot tell which face to walk onto. Select them with Select > Select All by "
+         "Trait > Non Manifold and fix them";
+    fail(MOLDTEX_ERROR_INVALID_MESH, m.str());
+  }
+}
+
 constexpr uint32_t kMaxTriangles = 1u << 28;  // leaves room for the adjacency packing
 
 void validate(const moldtex_mesh_desc& d) {
@@ -205,11 +305,7 @@ Surface build_surface(const moldtex_mesh_desc& d) {
   s.frame3d.assign(9 * static_cast<size_t>(nt), 0.f);
   s.areas.resize(nt);
   s.degenerate.assign(nt, 0);
-  double max_edge = 0;
-  for (uint32_t t = 0; t < nt; ++t)
-    for (int c = 0; c < 3; ++c)
-      max_edge = std::max(max_edge, norm(sub(vertex(s, s.triangles[3 * t + (c + 1) % 3]),
-                                             vertex(s, s.triangles[3 * t + c]))));
+  const double max_edge = longest_edge(s);
   // Lengths are walked and areas summed in float: a mesh whose size float cannot carry
   // (areas underflow to 0 or overflow to infinity) is refused with its size.
   if (max_edge > 0 && (max_edge < kMinMeshSize || max_edge > kMaxMeshSize)) {
@@ -223,35 +319,19 @@ Surface build_surface(const moldtex_mesh_desc& d) {
   const double area_eps = 1e-12 * max_edge * max_edge;
   uint32_t flat_3d_count = 0;
   for (uint32_t t = 0; t < nt; ++t) {
-    V3 p0 = vertex(s, s.triangles[3 * t]), p1 = vertex(s, s.triangles[3 * t + 1]),
-       p2 = vertex(s, s.triangles[3 * t + 2]);
-    V3 e1 = sub(p1, p0), e2 = sub(p2, p0);
-    double area = 0.5 * norm(cross(e1, e2));
     const float* uv = &s.corner_uvs[6 * t];
     double uv_area = 0.5 * std::fabs((uv[2] - uv[0]) * (uv[5] - uv[1]) - (uv[4] - uv[0]) * (uv[3] - uv[1]));
-    double a = norm(e1);
-    bool flat_3d = area <= area_eps || a == 0;
+    const double area = set_triangle_geometry(s, t, area_eps);
+    const bool flat_3d = area == 0.0;
     flat_3d_count += flat_3d;
     if (flat_3d || uv_area <= 1e-14) {
       s.degenerate[t] = 1;
       ++s.degenerate_count;
       s.frames[t] = make_frame(1.0, 0.0, 1.0);  // never walked on; keeps arithmetic finite
+      std::fill(s.frame3d.begin() + 9 * static_cast<size_t>(t), s.frame3d.begin() + 9 * static_cast<size_t>(t) + 9, 0.f);
       s.areas[t] = 0;
       continue;
     }
-    double bx = dot(e2, e1) / a;
-    double by = 2.0 * area / a;
-    s.frames[t] = make_frame(a, bx, by);
-    {
-      const double k = bx / a;
-      const V3 ey{e2.x - k * e1.x, e2.y - k * e1.y, e2.z - k * e1.z};
-      const double ny = norm(ey);
-      const double iy = ny > 0 ? 1.0 / ny : 0.0;
-      const double v[9] = {p0.x, p0.y, p0.z, e1.x / a, e1.y / a, e1.z / a, ey.x * iy, ey.y * iy, ey.z * iy};
-      float* g = &s.frame3d[9 * static_cast<size_t>(t)];
-      for (int i = 0; i < 9; ++i) g[i] = static_cast<float>(v[i]);
-    }
-    s.areas[t] = static_cast<float>(area);
     s.area += area;
     s.uv_area += uv_area;
   }
@@ -260,59 +340,7 @@ Surface build_surface(const moldtex_mesh_desc& d) {
   if (s.degenerate_count == nt || s.uv_area <= 1e-12)
     fail(MOLDTEX_ERROR_MISSING_UVS,
          "The UV map has zero area: unwrap the mesh (UV > Unwrap or Smart UV Project)");
-
-  // Adjacency by shared 3D edge (vertex indices), so UV seams are crossed.
-  struct Side {
-    uint32_t t;
-    uint8_t edge;
-  };
-  std::unordered_map<uint64_t, std::vector<Side>> edges;
-  edges.reserve(nt * 2);
-  for (uint32_t t = 0; t < nt; ++t) {
-    const uint32_t* v = &s.triangles[3 * t];
-    // A triangle that repeats a vertex is a collapsed sliver: it borders nothing, and
-    // its neighbours see a wall there.
-    if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0]) continue;
-    for (uint8_t i = 0; i < 3; ++i) {
-      uint32_t a = v[(i + 1) % 3], b = v[(i + 2) % 3];
-      uint64_t key = (static_cast<uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
-      edges[key].push_back({t, i});
-    }
-  }
-  s.adjacency.assign(3ull * nt, kNoNeighbour);
-  uint32_t nonmanifold = 0;
-  uint64_t example = 0;
-  for (auto& [key, sides] : edges) {
-    if (sides.size() > 2) {
-      if (nonmanifold++ == 0) example = key;
-      continue;
-    }
-    if (sides.size() == 1) {
-      ++s.boundary_edges;
-      continue;
-    }
-    Side x = sides[0], y = sides[1];
-    if (x.t == y.t) {
-      ++s.boundary_edges;
-      continue;
-    }
-    uint32_t xa = s.triangles[3 * x.t + (x.edge + 1) % 3];
-    uint32_t ya = s.triangles[3 * y.t + (y.edge + 1) % 3];
-    // Consistently wound neighbours walk the shared edge in opposite directions; a
-    // flipped neighbour walks it in the same direction.
-    uint32_t same_direction = xa == ya ? 1u : 0u;
-    auto uv_of = [&](Side side, int k) {
-      const float* u = &s.corner_uvs[6 * side.t + 2 * ((side.edge + k) % 3)];
-      return std::array<float, 2>{u[0], u[1]};
-    };
-    // A seam: the two sides of the edge sit at different UVs.
-    auto x1 = uv_of(x, 1), x2 = uv_of(x, 2);
-    auto y1 = uv_of(y, same_direction ? 1 : 2), y2 = uv_of(y, same_direction ? 2 : 1);
-    if (x1 != y1 || x2 != y2) ++s.seam_edges;
-    if (s.degenerate[x.t] || s.degenerate[y.t]) continue;  // walls around zero-area triangles
-    s.adjacency[3 * x.t + x.edge] = (y.t << 3) | (static_cast<uint32_t>(y.edge) << 1) | same_direction;
-    s.adjacency[3 * y.t + y.edge] = (x.t << 3) | (static_cast<uint32_t>(x.edge) << 1) | same_direction;
-  }
+  link_triangles(s);
   label_islands(s);
   // FNV-1a over the inputs: checkpoints refuse to load onto a different mesh.
   uint64_t h = 1469598103934665603ull;
@@ -324,16 +352,27 @@ Surface build_surface(const moldtex_mesh_desc& d) {
   hash(s.triangles.data(), s.triangles.size() * sizeof(uint32_t));
   hash(s.corner_uvs.data(), s.corner_uvs.size() * sizeof(float));
   s.fingerprint = h;
-  if (nonmanifold) {
-    std::ostringstream m;
-    m << "The mesh has " << nonmanifold << " non-manifold edge" << (nonmanifold > 1 ? "s" : "")
-      << " (shared by more than two faces), e.g. between vertices " << (example >> 32) << " and "
-      << (example & 0xffffffffu)
-      << ": agents cannot tell which face to walk onto. Select them with Select > Select All by "
-         "Trait > Non Manifold and fix them";
-    fail(MOLDTEX_ERROR_INVALID_MESH, m.str());
-  }
   return s;
+}
+
+std::shared_ptr<const Surface> walkable_in_3d(std::shared_ptr<const Surface> surface) {
+  if (!surface || surface->degenerate_count == 0) return surface;
+  const double max_edge = longest_edge(*surface);
+  const double area_eps = 1e-12 * max_edge * max_edge;
+  auto walkable = std::make_shared<Surface>(*surface);
+  uint32_t opened = 0;
+  for (uint32_t t = 0; t < walkable->triangle_count(); ++t) {
+    if (!walkable->degenerate[t]) continue;
+    const double area = set_triangle_geometry(*walkable, t, area_eps);
+    if (area == 0.0) continue;  // flat in 3D as well: it stays a wall
+    walkable->degenerate[t] = 0;
+    --walkable->degenerate_count;
+    walkable->area += area;
+    ++opened;
+  }
+  if (opened == 0) return surface;
+  link_triangles(*walkable);  // the islands stay those of the UV map
+  return walkable;
 }
 
 }  // namespace moldtex

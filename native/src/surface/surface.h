@@ -8,6 +8,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "moldtex.h"
@@ -45,7 +46,7 @@ struct Surface {
   std::vector<float> frame3d;
   std::vector<AdjacencyCode> adjacency;    // 3 per triangle
   std::vector<float> areas;                // 3D area per triangle
-  std::vector<uint8_t> degenerate;         // 1 where the 3D or UV area is ~zero
+  std::vector<uint8_t> degenerate;         // 1 where the 3D or UV area is ~zero (3D: walkable_in_3d)
   std::vector<uint32_t> island;            // UV island id: joined across non-seam edges
   double area = 0, uv_area = 0;
   uint64_t fingerprint = 0;                // hash of positions, triangles and UVs
@@ -76,5 +77,12 @@ static_assert(kMaxUvCoordinate * 65536.0 < 2147483647.0, "texel indices must fit
 
 // Builds and validates; throws moldtex::Error with a user-facing message.
 Surface build_surface(const moldtex_mesh_desc& desc);
+
+// The surface as a domain that needs no UVs sees it (the intrinsic domain): triangles
+// whose UVs have zero area but whose 3D area is not zero get their frames and areas and
+// join their neighbours, instead of being walls as the texture domain needs them (it
+// cannot measure texels there). Triangles flat in 3D stay walls; the UV islands and the
+// fingerprint are kept. Returns `surface` itself when no triangle changes.
+std::shared_ptr<const Surface> walkable_in_3d(std::shared_ptr<const Surface> surface);
 
 }  // namespace moldtex
