@@ -15,7 +15,10 @@ MTX_BEGIN_NAMESPACE
 /* Slime brushes (host only): agents placed by moldtex_sim_add_agents, erase draws. */
 #define MTX_RNG_BRUSH 3
 #define MTX_RNG_ERASE 4
-/* The points that decide which texels larger than a deposit footprint it marks. */
+/* The points that decide which texels larger than a deposit footprint it marks (MoMaS).
+ * The continuous model's MTX_RNG_TURNOVER (continuous.h) has the same number: the two
+ * never run in one simulation, so they stay as they are (renumbering either would change
+ * every seed's pattern). A new stream takes a number of its own (8 on). */
 #define MTX_RNG_DEPOSIT 5
 
 /* SplitMix64 finaliser: a well-tested 64-bit mixing function. */
