@@ -694,11 +694,26 @@ TEST(IntrinsicSimulation, AgentsWalkAcrossFacesWithZeroUvArea) {
   const Mesh m = make_collapsed_strip_plane();
   auto surface = create_surface(m);
   ASSERT_TRUE(surface) << LastError();
+  // The intrinsic domain built ahead, as Start does in the interface: the simulations
+  // below find it in the cache (DomainBuild walks the same surface as they do). The
+  // bound (0.031) is not the default (0.03125 here), so no earlier test built this one.
+  const float bound = 0.031f;
+  {
+    moldtex_sim_config c = make_config(64, 64, 4000, 5);
+    c.model = MOLDTEX_MODEL_CONTINUOUS;
+    c.domain = MOLDTEX_DOMAIN_INTRINSIC;
+    c.intrinsic_bound = bound;
+    moldtex_domain_build build = nullptr;
+    ASSERT_EQ(moldtex_domain_build_start(surface.get(), &c, 0, &build), MOLDTEX_OK) << LastError();
+    ASSERT_EQ(moldtex_domain_build_wait(build), MOLDTEX_OK) << LastError();
+    moldtex_domain_build_release(build);
+  }
   for (uint32_t domain : {uint32_t(MOLDTEX_DOMAIN_INTRINSIC), uint32_t(MOLDTEX_DOMAIN_TEXTURE)}) {
     for (Backend backend : {Backend::Cpu, Backend::OpenCl}) {
       moldtex_sim_config c = make_config(64, 64, 4000, 5);
       c.model = MOLDTEX_MODEL_CONTINUOUS;
       c.domain = domain;
+      c.intrinsic_bound = domain == MOLDTEX_DOMAIN_INTRINSIC ? bound : 0.f;
       c.seed_shape = MOLDTEX_SEED_BIG_BANG;
       c.seed_center = locate(m, {1.0, 0.5, 0.0});
       std::string why;
@@ -712,6 +727,12 @@ TEST(IntrinsicSimulation, AgentsWalkAcrossFacesWithZeroUvArea) {
       moldtex_continuous_params_init(&p);
       p.deposit_rate = 0.f;
       ASSERT_EQ(moldtex_sim_set_continuous_params(sim.get(), &p), MOLDTEX_OK) << LastError();
+      if (domain == MOLDTEX_DOMAIN_INTRINSIC) {
+        moldtex_domain_info info;
+        moldtex_domain_info_init(&info);
+        ASSERT_EQ(moldtex_sim_get_domain_info(sim.get(), &info), MOLDTEX_OK) << LastError();
+        EXPECT_EQ(info.from_cache, 1u);
+      }
       ASSERT_EQ(moldtex_sim_step(sim.get(), uint32_t(std::lround(3.0 / p.time_step))), MOLDTEX_OK) << LastError();
       std::vector<moldtex_surface_point> at(c.agent_count);
       ASSERT_EQ(moldtex_sim_read_agents(sim.get(), at.data(), at.size()), MOLDTEX_OK) << LastError();
