@@ -183,7 +183,6 @@ class IntrinsicDomainTests(unittest.TestCase):
         self.assertTrue(info["from_cache"], info)
         self.assertEqual(info["cell_count"], progress["vertex_count"])
 
-
     def test_agents_live_on_faces_whose_uvs_have_zero_area(self):
         """A careless unwrap (here: two columns of a 16 × 16 plane pinned to one UV
         line) leaves faces with no UV area. The Intrinsic domain walks the surface in 3D,
@@ -215,6 +214,7 @@ class IntrinsicDomainTests(unittest.TestCase):
         self.assertGreater(shares['INTRINSIC'], 0.07)
         self.assertLess(shares['INTRINSIC'], 0.2)
         self.assertEqual(shares['TEXTURE'], 0.0)
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -328,7 +328,7 @@ Surface build_surface(const moldtex_mesh_desc& d) {
       s.degenerate[t] = 1;
       ++s.degenerate_count;
       s.frames[t] = make_frame(1.0, 0.0, 1.0);  // never walked on; keeps arithmetic finite
-      std::fill(s.frame3d.begin() + 9 * static_cast<size_t>(t), s.frame3d.begin() + 9 * static_cast<size_t>(t) + 9, 0.f);
+      std::fill_n(s.frame3d.begin() + 9 * static_cast<ptrdiff_t>(t), 9, 0.f);  // no 3D axes
       s.areas[t] = 0;
       continue;
     }
