@@ -12,6 +12,7 @@
 namespace moldtex {
 
 constexpr uint64_t kSortInterval = 16;
+constexpr uint32_t kTrianglesPerBucket = 1;
 
 CpuBackend::CpuBackend(std::shared_ptr<const Surface> surface,
                        std::shared_ptr<const TextureDomain> domain, uint32_t /*agent_count: reset brings them*/,
@@ -111,7 +112,12 @@ void CpuBackend::step_continuous(const StepSettings& settings, uint64_t seed, ui
   const TexelLaplacian& base = base_laplacian();
   if (alias_.prob.empty()) alias_ = build_area_alias_table(*surface_);
   if (sums_.size() != pheromone_.size()) sums_.assign(pheromone_.size(), 0);
-  if (step_index % kSortInterval == 0) sort_by_tile(*surface_, d.width, d.height, agents_, sort_scratch_, *pool_);
+  if (step_index % kSortInterval == 0) {
+    if (intrinsic_)
+      sort_by_triangle(surface_->triangle_count(), kTrianglesPerBucket, agents_, sort_scratch_, *pool_);
+    else
+      sort_by_tile(*surface_, d.width, d.height, agents_, sort_scratch_, *pool_);
+  }
   ContinuousStepConstants c =
       continuous_constants(settings, d, settings.u_metric, surface_->triangle_count(), agents_.size(), seed,
                            step_index);
