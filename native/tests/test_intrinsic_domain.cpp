@@ -175,8 +175,13 @@ TEST(IntrinsicDomain, LocatorFindsThePointsFace) {
       const double a = std::sqrt(uniform()), b = uniform();
       const float bary[3] = {float(1 - a), float(a * (1 - b)), float(a * b)};
       float c[3];
+      uint32_t v[3];
       const uint32_t f = moldtex::mtx_locate_intrinsic(t.locator_grid, t.locator_cells, t.locator_face, t.locator_map,
-                                                        t.locator_next, t.locator_across, tri, bary, c);
+                                                        t.locator_next, t.locator_across, t.face_vertices, tri, bary, c,
+                                                        v);
+      // The vertices come with the face (from the candidate's record or, after a walk,
+      // from the face's own list).
+      for (int k = 0; k < 3; ++k) ASSERT_EQ(v[k], dom.d->face_vertices[3 * f + k]);
       moldtex::Walker w{};
       w.triangle = f;
       for (int k = 0; k < 3; ++k) w.bary[k] = c[k];
@@ -199,7 +204,7 @@ TEST(IntrinsicDomain, LocatorFindsThePointsFace) {
       inside += dom.d->to_intrinsic(orig).triangle == f;
     }
     std::printf("%s: %u vertices, %zu candidates in %zu cells; worst %.3g x bound, same face %.4f\n", name,
-                dom.d->vertex_count(), dom.d->locator.face.size(), dom.d->locator.cells.size() - 1,
+                dom.d->vertex_count(), dom.d->locator.face.size() / MTX_LOCATE_FACE_STRIDE, dom.d->locator.cells.size() - 1,
                 worst / dom.d->bound, double(inside) / n);
     EXPECT_LT(worst, 1e-3 * dom.d->bound) << name;
     EXPECT_GT(double(inside) / n, 0.99) << name;

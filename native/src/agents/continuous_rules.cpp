@@ -189,9 +189,9 @@ void continuous_update_agents(const mtx_surface_tables& tables, const Continuous
         for (int k = 0; k < 3; ++k)
           if (cell[j][k] != MTX_NO_CELL) {
             const uint32_t candidate = tables.locator_cells[cell[j][k]];
-            __builtin_prefetch(tables.locator_map + 9 * size_t(candidate));
-            __builtin_prefetch(tables.locator_map + 9 * size_t(candidate) + 8);
-            __builtin_prefetch(tables.locator_face + candidate);
+            __builtin_prefetch(tables.locator_map + MTX_LOCATE_MAP_STRIDE * size_t(candidate));
+            __builtin_prefetch(tables.locator_map + MTX_LOCATE_MAP_STRIDE * size_t(candidate) + 5);
+            __builtin_prefetch(tables.locator_face + MTX_LOCATE_FACE_STRIDE * size_t(candidate));
           }
       },
       [&](size_t i, size_t j) {  // the reading stencils; ask for the cells they read

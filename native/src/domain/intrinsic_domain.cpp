@@ -176,9 +176,10 @@ void build_texel_map(IntrinsicDomain& d, const Surface& s, const TextureDomain& 
       const double u = (i % td.width + 0.5) / td.width, v = (i / td.width + 0.5) / td.height;
       const auto b = uv_bary(s, t, u, v);
       const float bf[3] = {float(b[0]), float(b[1]), float(b[2])};
+      mtx_u32 corners[3];
       d.texel_face[i] = mtx_locate_intrinsic(tables.locator_grid, tables.locator_cells, tables.locator_face,
-                                             tables.locator_map, tables.locator_next, tables.locator_across, t, bf,
-                                             &d.texel_bary[3 * i]);
+                                             tables.locator_map, tables.locator_next, tables.locator_across,
+                                             tables.face_vertices, t, bf, &d.texel_bary[3 * i], corners);
     }
   });
 }
@@ -262,7 +263,8 @@ std::shared_ptr<const IntrinsicDomain> build_intrinsic_domain(const Surface& s, 
   build_laplacian(*d);
   part_done(0.40);
   const double face_area = d->tri.mesh.total_area() / std::max<uint32_t>(d->tri.mesh.face_count(), 1);
-  d->locator = build_intrinsic_locator(s, d->tri, d->input_face, d->face_rank, d->face_order, face_area, pool);
+  d->locator = build_intrinsic_locator(s, d->tri, d->input_face, d->face_rank, d->face_order, d->face_vertices,
+                                       face_area, pool);
   // Deposit pieces of half the bound along the walk (per surface triangle, where the
   // continuous step looks them up): the three hats of each piece overlap the next's.
   part_done(1.0);

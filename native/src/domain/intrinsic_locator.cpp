@@ -61,6 +61,63 @@ std::array<double, 3> inward(const std::array<double, 3>& b) {
   return {kInset / 3 + (1 - kInset) * b[0], kInset / 3 + (1 - kInset) * b[1], kInset / 3 + (1 - kInset) * b[2]};
 }
 
+// A convex polygon in an input triangle's (b1, b2) plane: a cell (at most 4 corners) cut
+// by at most 4 lines, so at most 8 corners.
+struct Polygon {
+  std::array<std::array<double, 2>, 8> v;
+  size_t n = 0;
+  void push_back(const std::array<double, 2>& p) {
+    if (n < v.size()) v[n++] = p;
+  }
+};
+
+double weight_at(const std::array<double, 9>& M, int r, const std::array<double, 2>& p) {
+  return M[3 * r] * (1 - p[0] - p[1]) + M[3 * r + 1] * p[0] + M[3 * r + 2] * p[1];
+}
+
+// The polygon clipped to where weight row r of the map c = M b (b0 = 1 - b1 - b2) is >= 0.
+Polygon clip(const Polygon& in, const std::array<double, 9>& M, int r) {
+  Polygon out;
+  for (size_t i = 0; i < in.n; ++i) {
+    const auto& a = in.v[i];
+    const auto& b = in.v[(i + 1) % in.n];
+    const double wa = weight_at(M, r, a), wb = weight_at(M, r, b);
+    if (wa >= 0) out.push_back(a);
+    if ((wa >= 0) != (wb >= 0)) {
+      const double t = wa / (wa - wb);
+      out.push_back({a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])});
+    }
+  }
+  return out;
+}
+
+double polygon_area(const Polygon& p) {
+  double a = 0;
+  for (size_t i = 0; i < p.n; ++i) {
+    const auto& u = p.v[i];
+    const auto& w = p.v[(i + 1) % p.n];
+    a += u[0] * w[1] - u[1] * w[0];
+  }
+  return 0.5 * std::fabs(a);
+}
+
+// Whether the polygon (already inside the face) runs along the face's edge k (where its
+// weight k is 0) for a positive length: the neighbour across that edge then overlaps
+// the polygon's cell too.
+bool runs_along_edge(const Polygon& p, const std::array<double, 9>& M, int k) {
+  constexpr double kOnLine = 1e-12;
+  const std::array<double, 2>* first = nullptr;
+  for (size_t i = 0; i < p.n; ++i) {
+    const auto& v = p.v[i];
+    if (std::fabs(weight_at(M, k, v)) > kOnLine) continue;
+    if (first == nullptr)
+      first = &v;
+    else if (std::fabs(v[0] - (*first)[0]) + std::fabs(v[1] - (*first)[1]) > kOnLine)
+      return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 // The trace from the nearest corner of `from_face` (on `from`) to the point q of that
@@ -129,7 +186,8 @@ std::vector<LocatedPoint> locate_chain(const intrinsic::IntrinsicTriangulation& 
 IntrinsicLocator build_intrinsic_locator(const Surface& surface, const intrinsic::IntrinsicTriangulation& T,
                                          const std::vector<uint32_t>& input_face,
                                          const std::vector<uint32_t>& face_rank,
-                                         const std::vector<uint32_t>& face_order, double face_area,
+                                         const std::vector<uint32_t>& face_order,
+                                         const std::vector<uint32_t>& face_vertices, double face_area,
                                          ThreadPool& pool) {
   const uint32_t nt = surface.triangle_count();
   IntrinsicLocator L;
@@ -203,20 +261,35 @@ IntrinsicLocator build_intrinsic_locator(const Surface& surface, const intrinsic
         }
       const std::vector<LocatedPoint> at = locate_chain(T, f, bary);
       // The map of the face that sample k landed in: c = M b.
-      auto map_of = [&](size_t k, float* M) {
+      auto map_of = [&](size_t k) {
+        std::array<double, 9> M{};
         const LocatedPoint& p = at[k];
         const auto F = T.mesh.layout(p.point.face);
         const Vec2d qs = point_in(P, bary[k]), Qs = point_in(F, p.point.bary);
         for (int corner = 0; corner < 3; ++corner) {
           const Vec2d Q = rotate(P[corner] - qs, p.turn) + Qs;
           const auto c = intrinsic::barycentric(F, Q);
-          for (int r = 0; r < 3; ++r) M[3 * r + corner] = static_cast<float>(c[r]);
+          for (int r = 0; r < 3; ++r) M[3 * r + corner] = c[r];
         }
+        return M;
       };
-      // Candidates: the faces the cell's samples landed in (the lookup walks on from the
-      // best of them to a face none of the samples found).
-      std::vector<uint32_t> raw;  // the triangulation's face numbers of this cell
+      // Candidates: every face that overlaps the cell, the largest overlap first (the
+      // lookup's first try then usually holds the point). First the faces the cell's
+      // samples landed in, then, face to face, each neighbour across an edge that runs
+      // through the cell, its map the face's unfolded across that edge (with the walk's
+      // tables: the corner d beyond edge k has weights e in the face, so a point with
+      // weights c there is c[a] - t e[a] of a, c[b] - t e[b] of b and t = c[k] / e[k] of
+      // d in the neighbour). The lookup's walk is then left the points within round-off
+      // of an edge, where it was 40% of all lookups with the samples' faces alone.
+      struct Candidate {
+        uint32_t face;  // the triangulation's number
+        std::array<double, 9> M;
+        double area;
+      };
+      constexpr size_t kMaxCandidates = 32;  // a cell of needles: the walk does the rest
+      std::vector<Candidate> found;
       out.count.reserve(size_t(G) * (G + 1) / 2);
+      const std::array<double, 9> identity{1, 0, 0, 0, 1, 0, 0, 0, 1};
       for (uint32_t i = 0; i < G; ++i)
         for (uint32_t j = 0; i + j < G; ++j) {
           const size_t cell_centre = centres + (size_t(i) * G - size_t(i) * (i - 1) / 2 + j);
@@ -224,28 +297,66 @@ IntrinsicLocator build_intrinsic_locator(const Surface& surface, const intrinsic
                                lattice_index[i * (G + 1) + j + 1], 0};
           int n = 4;
           if (i + j + 2 <= G) samples[n++] = lattice_index[(i + 1) * (G + 1) + j + 1];
-          const size_t first = out.face.size();
-          raw.clear();
+          found.clear();
+          auto listed = [&](uint32_t face) {
+            return std::any_of(found.begin(), found.end(), [&](const Candidate& c) { return c.face == face; });
+          };
           for (int s = 0; s < n; ++s) {
             const uint32_t face = at[samples[s]].point.face;
-            if (std::find(raw.begin(), raw.end(), face) != raw.end()) continue;
-            raw.push_back(face);
-            out.face.push_back(face_rank[face]);
-            out.map.resize(out.map.size() + 9);
-            map_of(samples[s], out.map.data() + out.map.size() - 9);
+            if (!listed(face)) found.push_back({face, map_of(samples[s]), 0.0});
           }
-          out.count.push_back(static_cast<uint32_t>(out.face.size() - first));
+          // The cell: [i, i + 1] x [j, j + 1] / G in (b1, b2), cut by b1 + b2 <= 1.
+          Polygon cell;
+          cell.push_back({double(i) / G, double(j) / G});
+          cell.push_back({double(i + 1) / G, double(j) / G});
+          cell.push_back({double(i + 1) / G, double(j + 1) / G});
+          cell.push_back({double(i) / G, double(j + 1) / G});
+          cell = clip(cell, identity, 0);
+          for (size_t q = 0; q < found.size(); ++q) {
+            Polygon part = cell;
+            for (int r = 0; r < 3 && part.n > 0; ++r) part = clip(part, found[q].M, r);
+            found[q].area = polygon_area(part);
+            const uint32_t rank = face_rank[found[q].face];
+            for (int k = 0; k < 3 && part.n >= 2 && found.size() < kMaxCandidates; ++k) {
+              if (!runs_along_edge(part, found[q].M, k)) continue;
+              const uint32_t code = L.next[3ull * rank + k];
+              const float* e = &L.across[9ull * rank + 3 * k];
+              if (code == MTX_NO_NEIGHBOUR || !(e[k] < 0.f)) continue;
+              const uint32_t g = face_order[code >> 2];
+              if (listed(g)) continue;
+              const int m = static_cast<int>(code & 3u), a = (k + 1) % 3, b = (k + 2) % 3;
+              std::array<double, 9> M{};
+              for (int col = 0; col < 3; ++col) {
+                double c[3];
+                for (int r = 0; r < 3; ++r) c[r] = found[q].M[3 * r + col];
+                const double t = c[k] / e[k];
+                M[3 * m + col] = c[b] - t * e[b];
+                M[3 * ((m + 1) % 3) + col] = c[a] - t * e[a];
+                M[3 * ((m + 2) % 3) + col] = t;
+              }
+              found.push_back({g, M, 0.0});
+            }
+          }
+          std::stable_sort(found.begin(), found.end(),
+                           [](const Candidate& a, const Candidate& b) { return a.area > b.area; });
+          for (const Candidate& c : found) {
+            const uint32_t rank = face_rank[c.face];
+            out.face.push_back(rank);
+            for (int r = 0; r < 3; ++r) out.face.push_back(face_vertices[3ull * rank + r]);
+            for (int r = 0; r < 6; ++r) out.map.push_back(static_cast<float>(c.M[r]));
+          }
+          out.count.push_back(static_cast<uint32_t>(found.size()));
         }
     }
   });
   L.cells.reserve(total + 1);
   size_t candidates = 0;
-  for (const Candidates& c : per) candidates += c.face.size();
-  L.face.reserve(candidates);
-  L.map.reserve(9 * candidates);
+  for (const Candidates& c : per) candidates += c.face.size() / MTX_LOCATE_FACE_STRIDE;
+  L.face.reserve(MTX_LOCATE_FACE_STRIDE * candidates);
+  L.map.reserve(MTX_LOCATE_MAP_STRIDE * candidates);
+  uint32_t k = 0;
   for (uint32_t t = 0; t < nt; ++t) {  // cells in the grid's order: triangle by triangle
     const Candidates& c = per[t];
-    uint32_t k = static_cast<uint32_t>(L.face.size());
     for (uint32_t n : c.count) {
       L.cells.push_back(k);
       k += n;
@@ -253,7 +364,7 @@ IntrinsicLocator build_intrinsic_locator(const Surface& surface, const intrinsic
     L.face.insert(L.face.end(), c.face.begin(), c.face.end());
     L.map.insert(L.map.end(), c.map.begin(), c.map.end());
   }
-  L.cells.push_back(static_cast<uint32_t>(L.face.size()));
+  L.cells.push_back(k);
   return L;
 }
 

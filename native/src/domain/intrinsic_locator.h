@@ -9,9 +9,10 @@
 //
 // Building: each input triangle gets a grid of about one cell per intrinsic face that
 // overlaps it. The cells' corners and centres are located on the intrinsic
-// triangulation by a chain of short traces (locate_chain); each cell lists the faces its
-// samples landed in, each with the affine map from the input triangle's barycentrics to
-// the face's.
+// triangulation by a chain of short traces (locate_chain); each cell lists the faces
+// that overlap it (those its samples landed in and their neighbours across edges
+// through the cell, the largest overlap first), each with the affine map from the input
+// triangle's barycentrics to the face's.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -19,6 +20,7 @@
 
 #include "backends/cpu/thread_pool.h"
 #include "intrinsic/correspondence.h"
+#include "shared/intrinsic_locate.h"
 #include "surface/surface.h"
 
 namespace moldtex {
@@ -49,8 +51,12 @@ LocatedPoint locate_on_input(const intrinsic::IntrinsicTriangulation& T, uint32_
 struct IntrinsicLocator {
   std::vector<uint32_t> grid;   // 2 per surface triangle: first cell, G
   std::vector<uint32_t> cells;  // first candidate per cell, and the end
-  std::vector<uint32_t> face;   // per candidate: intrinsic face (the domain's numbering)
-  std::vector<float> map;       // per candidate: 9 floats, c = M b
+  // Per candidate, MTX_LOCATE_FACE_STRIDE words: its intrinsic face (the domain's
+  // numbering) and the face's three vertices, so a lookup reads one 16-byte record.
+  std::vector<uint32_t> face;
+  // Per candidate, MTX_LOCATE_MAP_STRIDE floats: the first two rows of c = M b (the
+  // third weight is 1 minus them).
+  std::vector<float> map;
   // The walk's steps (shared/intrinsic_locate.h): per face and edge the neighbour (face
   // << 2 | its halfedge on the edge) and the weights here of its corner across (3).
   std::vector<uint32_t> next;
@@ -62,12 +68,13 @@ struct IntrinsicLocator {
 };
 
 // input_face: per surface triangle its input face of T (kInvalid: none); face_rank: T's
-// face numbers -> the domain's, face_order the other way; face_area: the mean intrinsic
-// face area.
+// face numbers -> the domain's, face_order the other way; face_vertices: 3 per face (the
+// domain's numbering); face_area: the mean intrinsic face area.
 IntrinsicLocator build_intrinsic_locator(const Surface& surface, const intrinsic::IntrinsicTriangulation& T,
                                          const std::vector<uint32_t>& input_face,
                                          const std::vector<uint32_t>& face_rank,
-                                         const std::vector<uint32_t>& face_order, double face_area,
+                                         const std::vector<uint32_t>& face_order,
+                                         const std::vector<uint32_t>& face_vertices, double face_area,
                                          ThreadPool& pool);
 
 }  // namespace moldtex

@@ -27,18 +27,26 @@ MTX_BEGIN_NAMESPACE
 /* mtx_locator_cell's answer for an input triangle without cells. */
 #define MTX_NO_CELL 0xffffffffu
 
+/* A candidate's record: its face and the face's three vertices (face), and the first two
+ * rows of its map (map; the third weight is 1 minus those two). */
+#define MTX_LOCATE_FACE_STRIDE 4
+#define MTX_LOCATE_MAP_STRIDE 6
+
 /* At most this many steps of the walk that finishes a lookup. */
 #define MTX_LOCATE_MAX_STEPS 32
 
 /* grid: 2 per input triangle (first cell, G; G = 0: no cells); cells: first candidate of
- * each cell, one more entry at the end; face: intrinsic face of each candidate; map: its
- * M, 9 floats row-major. When no candidate holds the point (a face that overlaps the
- * cell but holds none of the samples the candidates came from), the lookup walks from the
+ * each cell, one more entry at the end; face: per candidate its intrinsic face and that
+ * face's vertices; map: the first two rows of its M (row-major; the third row is 1 minus
+ * them, as the weights sum to 1). When no candidate holds the point (one within
+ * round-off of an edge), the lookup walks from the
  * best one across the edge opposite its most negative weight, face to face: next holds
  * per face and edge k (opposite corner k) the neighbour's face << 2 | m (its halfedge m
  * runs the edge, so its corner m + 2 lies across; MTX_NO_NEIGHBOUR at the boundary), and
- * across the weights (in this face) of that corner, 3 per edge. mtx_locate_intrinsic
- * writes the weights into c and returns the face; it is the two steps below in a row. */
+ * across the weights (in this face) of that corner, 3 per edge; after a walk the face's
+ * vertices come from face_vertices (3 per face). mtx_locate_intrinsic writes the weights
+ * into c and the face's vertices into v and returns the face; it is the two steps below
+ * in a row. */
 
 /* The first step of a lookup (mtx_locate_intrinsic): the locator cell that holds the
  * point with weights b on input triangle `triangle`, or MTX_NO_CELL when that
@@ -56,27 +64,38 @@ MTX_FN mtx_u32 mtx_locator_cell(MTX_GLOBAL const mtx_u32* grid, mtx_u32 triangle
 /* The rest of the lookup, in the point's cell (mtx_locator_cell). */
 MTX_FN mtx_u32 mtx_locate_in_cell(MTX_GLOBAL const mtx_u32* cells, MTX_GLOBAL const mtx_u32* face,
                                   MTX_GLOBAL const float* map, MTX_GLOBAL const mtx_u32* next,
-                                  MTX_GLOBAL const float* across, mtx_u32 cell, const float* b, float* c) {
+                                  MTX_GLOBAL const float* across, MTX_GLOBAL const mtx_u32* face_vertices,
+                                  mtx_u32 cell, const float* b, float* c, mtx_u32* v) {
   if (cell == MTX_NO_CELL) {
     c[0] = c[1] = c[2] = 1.0f / 3.0f;
+    v[0] = face_vertices[0];
+    v[1] = face_vertices[1];
+    v[2] = face_vertices[2];
     return 0;
   }
-  mtx_u32 best = 0;
+  mtx_u32 chosen = cells[cell];
   float best_score = -1e30f, best_c[3] = {1.0f / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f};
   for (mtx_u32 k = cells[cell]; k < cells[cell + 1]; ++k) {
-    MTX_GLOBAL const float* m = map + 9 * k;
+    MTX_GLOBAL const float* m = map + MTX_LOCATE_MAP_STRIDE * k;
     float w[3];
-    for (int r = 0; r < 3; ++r) w[r] = m[3 * r] * b[0] + m[3 * r + 1] * b[1] + m[3 * r + 2] * b[2];
+    w[0] = m[0] * b[0] + m[1] * b[1] + m[2] * b[2];
+    w[1] = m[3] * b[0] + m[4] * b[1] + m[5] * b[2];
+    w[2] = 1.0f - w[0] - w[1];
     const float score = mtx_min(w[0], mtx_min(w[1], w[2]));
     if (score > best_score) {
       best_score = score;
-      best = face[k];
+      chosen = k;
       best_c[0] = w[0];
       best_c[1] = w[1];
       best_c[2] = w[2];
       if (score >= -MTX_LOCATE_SLACK) break;
     }
   }
+  MTX_GLOBAL const mtx_u32* record = face + MTX_LOCATE_FACE_STRIDE * chosen;
+  mtx_u32 best = record[0];
+  v[0] = record[1];
+  v[1] = record[2];
+  v[2] = record[3];
   /* The walk: with weights w in face f and w[k] < 0, the corner d across edge k has
    * weights e in f, so the point is w[a] - w[k] e[a] / e[k] of a, the same for b, and
    * w[k] / e[k] of d (a, b the edge's corners k + 1, k + 2). */
@@ -96,6 +115,9 @@ MTX_FN mtx_u32 mtx_locate_in_cell(MTX_GLOBAL const mtx_u32* cells, MTX_GLOBAL co
     best_c[(m + 1) % 3] = wa;
     best_c[(m + 2) % 3] = t;
     best_score = mtx_min(best_c[0], mtx_min(best_c[1], best_c[2]));
+    v[0] = face_vertices[3 * best];
+    v[1] = face_vertices[3 * best + 1];
+    v[2] = face_vertices[3 * best + 2];
   }
   float sum = 0.0f;
   for (int r = 0; r < 3; ++r) {
@@ -113,8 +135,10 @@ MTX_FN mtx_u32 mtx_locate_in_cell(MTX_GLOBAL const mtx_u32* cells, MTX_GLOBAL co
 MTX_FN mtx_u32 mtx_locate_intrinsic(MTX_GLOBAL const mtx_u32* grid, MTX_GLOBAL const mtx_u32* cells,
                                     MTX_GLOBAL const mtx_u32* face, MTX_GLOBAL const float* map,
                                     MTX_GLOBAL const mtx_u32* next, MTX_GLOBAL const float* across,
-                                    mtx_u32 triangle, const float* b, float* c) {
-  return mtx_locate_in_cell(cells, face, map, next, across, mtx_locator_cell(grid, triangle, b), b, c);
+                                    MTX_GLOBAL const mtx_u32* face_vertices, mtx_u32 triangle, const float* b,
+                                    float* c, mtx_u32* v) {
+  return mtx_locate_in_cell(cells, face, map, next, across, face_vertices, mtx_locator_cell(grid, triangle, b), b,
+                            c, v);
 }
 
 MTX_END_NAMESPACE

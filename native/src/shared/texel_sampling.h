@@ -37,10 +37,11 @@ MTX_FN void mtx_texel_stencil_of(mtx_surface_tables s, const mtx_walker* w, mtx_
                                  mtx_u32 height, int reading, mtx_texel_stencil* st) {
   if (s.vertex_cells) { /* the intrinsic domain: its face's three vertices, linear hats */
     float c[3];
-    const mtx_u32 f = mtx_locate_intrinsic(s.locator_grid, s.locator_cells, s.locator_face, s.locator_map,
-                                           s.locator_next, s.locator_across, w->triangle, w->bary, c);
+    mtx_u32 v[3];
+    mtx_locate_intrinsic(s.locator_grid, s.locator_cells, s.locator_face, s.locator_map, s.locator_next,
+                         s.locator_across, s.face_vertices, w->triangle, w->bary, c, v);
     for (int k = 0; k < 3; ++k) {
-      st->cell[k] = s.face_vertices[3 * f + MTX_CAST(mtx_u32, k)];
+      st->cell[k] = v[k];
       st->weight[k] = c[k];
     }
     st->cell[3] = st->cell[0];
@@ -109,10 +110,11 @@ MTX_FN void mtx_texel_stencil_of(mtx_surface_tables s, const mtx_walker* w, mtx_
 MTX_FN mtx_u32 mtx_point_cell(mtx_surface_tables s, const mtx_walker* w, mtx_u32 width, mtx_u32 height) {
   if (s.vertex_cells) {
     float c[3];
-    const mtx_u32 f = mtx_locate_intrinsic(s.locator_grid, s.locator_cells, s.locator_face, s.locator_map,
-                                           s.locator_next, s.locator_across, w->triangle, w->bary, c);
+    mtx_u32 v[3];
+    mtx_locate_intrinsic(s.locator_grid, s.locator_cells, s.locator_face, s.locator_map, s.locator_next,
+                         s.locator_across, s.face_vertices, w->triangle, w->bary, c, v);
     const int k = c[0] >= c[1] ? (c[0] >= c[2] ? 0 : 2) : (c[1] >= c[2] ? 1 : 2);
-    return s.face_vertices[3 * f + MTX_CAST(mtx_u32, k)];
+    return v[k];
   }
   return mtx_walker_texel(s.corner_uvs, w, width, height);
 }
