@@ -158,14 +158,12 @@ void sort_by_tile(const Surface& s, uint32_t width, uint32_t height, Agents& a,
   sort_by_key(a, scratch, static_cast<size_t>(tiles_x) * tiles_y);
 }
 
-void sort_by_triangle(uint32_t triangle_count, uint32_t per_bucket, Agents& a, TileSortScratch& scratch,
-                      ThreadPool& pool) {
-  per_bucket = std::max(per_bucket, 1u);
-  const size_t buckets = std::max<size_t>((size_t(triangle_count) + per_bucket - 1) / per_bucket, 1);
+void sort_by_triangle(uint32_t triangle_count, Agents& a, TileSortScratch& scratch, ThreadPool& pool) {
+  const size_t buckets = std::max<size_t>(triangle_count, 1);
   std::vector<uint32_t>& key = scratch.key;
   key.resize(a.size());
   pool.parallel_for(a.size(), 4096, [&](size_t begin, size_t end) {
-    for (size_t i = begin; i < end; ++i) key[i] = std::min<uint32_t>(a.triangle[i] / per_bucket, uint32_t(buckets - 1));
+    for (size_t i = begin; i < end; ++i) key[i] = std::min<uint32_t>(a.triangle[i], uint32_t(buckets - 1));
   });
   sort_by_key(a, scratch, buckets);
 }

@@ -92,12 +92,11 @@ struct TileSortScratch {
 void sort_by_tile(const Surface& surface, uint32_t width, uint32_t height, Agents& agents,
                   TileSortScratch& scratch, ThreadPool& pool);
 
-// Reorders agents by the surface triangle they stand on, `per_bucket` consecutive
-// triangles to a group (the same stable counting sort). For domains whose memory follows
-// the mesh, not the texture (the intrinsic triangulation): no UV coordinate enters the
-// order, so neither does it enter the agents' random streams (keyed by their index).
-void sort_by_triangle(uint32_t triangle_count, uint32_t per_bucket, Agents& agents, TileSortScratch& scratch,
-                      ThreadPool& pool);
+// Reorders agents by the surface triangle they stand on (the same stable counting sort).
+// For domains whose memory follows the mesh, not the texture (the intrinsic
+// triangulation): no UV coordinate enters the order, so neither does it enter the
+// agents' random streams (keyed by their index).
+void sort_by_triangle(uint32_t triangle_count, Agents& agents, TileSortScratch& scratch, ThreadPool& pool);
 
 // How to place agents (moldtex_sim_config's seed fields, validated).
 struct SpawnSpec {

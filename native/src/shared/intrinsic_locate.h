@@ -66,7 +66,7 @@ MTX_FN mtx_u32 mtx_locate_in_cell(MTX_GLOBAL const mtx_u32* cells, MTX_GLOBAL co
                                   MTX_GLOBAL const float* map, MTX_GLOBAL const mtx_u32* next,
                                   MTX_GLOBAL const float* across, MTX_GLOBAL const mtx_u32* face_vertices,
                                   mtx_u32 cell, const float* b, float* c, mtx_u32* v) {
-  if (cell == MTX_NO_CELL) {
+  if (cell == MTX_NO_CELL || cells[cell] == cells[cell + 1]) { /* (every built cell has a candidate) */
     c[0] = c[1] = c[2] = 1.0f / 3.0f;
     v[0] = face_vertices[0];
     v[1] = face_vertices[1];

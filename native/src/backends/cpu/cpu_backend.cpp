@@ -12,7 +12,6 @@
 namespace moldtex {
 
 constexpr uint64_t kSortInterval = 16;
-constexpr uint32_t kTrianglesPerBucket = 1;
 
 CpuBackend::CpuBackend(std::shared_ptr<const Surface> surface,
                        std::shared_ptr<const TextureDomain> domain, uint32_t /*agent_count: reset brings them*/,
@@ -114,7 +113,7 @@ void CpuBackend::step_continuous(const StepSettings& settings, uint64_t seed, ui
   if (sums_.size() != pheromone_.size()) sums_.assign(pheromone_.size(), 0);
   if (step_index % kSortInterval == 0) {
     if (intrinsic_)
-      sort_by_triangle(surface_->triangle_count(), kTrianglesPerBucket, agents_, sort_scratch_, *pool_);
+      sort_by_triangle(surface_->triangle_count(), agents_, sort_scratch_, *pool_);
     else
       sort_by_tile(*surface_, d.width, d.height, agents_, sort_scratch_, *pool_);
   }
