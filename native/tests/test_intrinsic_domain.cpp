@@ -841,6 +841,28 @@ TEST(IntrinsicSimulation, AgentsWalkAcrossFacesWithZeroUvArea) {
   }
 }
 
+// A needle found by the fuzzer: one triangle 5.5e11 units long and about 1 wide. The
+// texel-derived bound (3.5e4) allows about 400 vertices by the surface's area, but
+// mollification widened the needle in the triangulation's own lengths, and refinement,
+// capped by that inflated area (1e9 insertions), ran for minutes filling memory. The cap
+// now comes from the mesh's true area: the build stops after a few thousand insertions
+// and says what to do (a larger bound, or the Texture domain).
+TEST(IntrinsicSimulation, ANeedleIsRefusedInBoundedWork) {
+  Mesh needle;
+  needle.positions = {0, 0, 0, 1, 0, -5.49755814e+11f, 0.5f, 1, 0, 0, 1, 0};
+  needle.triangles = {0, 1, 2, 0, 2, 3};
+  auto s = create_surface(needle);  // no UVs: the placeholder layout
+  ASSERT_TRUE(s) << LastError();
+  moldtex_sim_config c = make_config(16, 16, 36, 1);
+  c.model = MOLDTEX_MODEL_CONTINUOUS;
+  c.domain = MOLDTEX_DOMAIN_INTRINSIC;
+  c.backend = MOLDTEX_BACKEND_CPU;
+  moldtex_status status = MOLDTEX_OK;
+  EXPECT_FALSE(create_sim(s.get(), c, default_params(), &status));
+  EXPECT_EQ(status, MOLDTEX_ERROR_TOO_LARGE);
+  EXPECT_NE(LastError().find("Raise the bound"), std::string::npos) << LastError();
+}
+
 TEST(IntrinsicSimulation, RefusesWhatItDoesNotRun) {
   auto s = create_surface(Torus());
   ASSERT_TRUE(s);
