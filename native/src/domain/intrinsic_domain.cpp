@@ -239,13 +239,8 @@ std::shared_ptr<const IntrinsicDomain> build_intrinsic_domain(const Surface& s, 
   d->tri = intrinsic::build_intrinsic_triangulation(s);
   intrinsic::RefineOptions options;
   options.max_circumradius = bound;
-  // refine's own default cap measures the triangulation's area, which mollification
-  // can inflate by orders of magnitude on a needle (a triangle 5e11 long and 1 wide
-  // became 1e5 times wider): count from the mesh's true 3D area instead, so the work
-  // stays bounded by what the memory check in sim.cpp allowed.
-  options.max_insertions =
-      max_insertions > 0 ? max_insertions
-                         : uint64_t(20.0 * std::min(s.area / (bound * bound), 1e12)) + 10ull * s.triangle_count() + 1000;
+  options.max_insertions = max_insertions;
+  options.area = s.area;  // the cap from the mesh's true area, as sim.cpp's memory check
   options.progress = progress;
   options.expected_vertices = kExpectedVerticesPerBound2 * s.area / (bound * bound) + d->tri.mesh.vertex_count();
   d->report = intrinsic::refine(d->tri, options);

@@ -157,7 +157,8 @@ RefineReport refine(IntrinsicTriangulation& T, const RefineOptions& options) {
   FlipReport fr = flip_to_delaunay(m);
   rep.flips += fr.flips;
   uint64_t cap = options.max_insertions;
-  if (cap == 0) cap = uint64_t(20.0 * std::min(m.total_area() / (R * R), 1e12)) + 10ull * m.face_count() + 1000;
+  const double area = options.area > 0 ? options.area : m.total_area();
+  if (cap == 0) cap = uint64_t(20.0 * std::min(area / (R * R), 1e12)) + 10ull * m.face_count() + 1000;
 
   // A face is left alone at a sharp input vertex v once both its edges at v are within
   // 2 R: its circumradius then comes from the small angle, not from its size.

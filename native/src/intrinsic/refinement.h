@@ -54,6 +54,10 @@ struct RefineOptions {
   double max_circumradius = 0;           // the bound, in mesh units (> 0)
   double min_input_angle = kPi / 3;      // skip faces at input vertices with a smaller total angle
   uint64_t max_insertions = 0;           // 0: 20 * area / bound^2 + 10 * faces + 1000
+  // The surface's own 3D area for that default (0: the triangulation's). Mollification
+  // can inflate the triangulation's area by orders of magnitude on a needle (a triangle
+  // 5e11 long and 1 wide became 1e5 times wider), and the cap with it.
+  double area = 0;
   // Optional: reports the vertex count and the fraction of expected_vertices reached
   // (stage_fraction), and stops with MOLDTEX_ERROR_CANCELLED when asked to (checked
   // every kProgressInterval insertions).
