@@ -37,6 +37,8 @@
 //                                 100k-triangle torus at the bound of a size^2 texture
 //   SphereDomain/{texture,intrinsic}/1024x1024/{1M,PDE}   the continuous model on the
 //                                 UV sphere on each domain (CPU); PDE: 1 agent
+//   IntrinsicScaling/<segments>/<side>/<kagents>/<threads>   the continuous model on the
+//                                 intrinsic domain of a UV sphere (128: Suzanne-sized)
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -260,6 +262,21 @@ void BM_SphereDomain(benchmark::State& state, uint32_t domain, uint32_t agents, 
   RunSteps(state, GetCase(key, mtx::make_uv_sphere(64, 32, 1.0), 1024, 1024, agents, MOLDTEX_BACKEND_CPU, 0.0, true,
                           MOLDTEX_INTEGRATOR_AUTO, domain));
   state.counters["steps_per_s"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
+}
+
+// The intrinsic domain where issue 11 sets its target (2 M agent-steps/s per core, PDE
+// included, on Suzanne-sized meshes): the continuous model on a UV sphere of `segments` x
+// segments / 2 (128: 16,128 triangles, as many as Suzanne with Subdivision 2), the bound
+// from a side^2 texture, thousands of agents, threads (1 gives the per-core figure).
+void BM_IntrinsicScaling(benchmark::State& state) {
+  const uint32_t segments = uint32_t(state.range(0)), side = uint32_t(state.range(1));
+  const uint32_t agents = uint32_t(state.range(2)) * 1000u;
+  moldtex_sim_params p = mtx::default_params();
+  p.thread_count = uint32_t(state.range(3));
+  const std::string key = "intrinsic-scaling-" + std::to_string(segments) + "-" + std::to_string(side) + "-" +
+                          std::to_string(agents) + "-" + std::to_string(p.thread_count);
+  RunSteps(state, GetCase(key, mtx::make_uv_sphere(segments, segments / 2, 1.0), side, side, agents,
+                          MOLDTEX_BACKEND_CPU, 0.0, true, MOLDTEX_INTEGRATOR_AUTO, MOLDTEX_DOMAIN_INTRINSIC, &p));
 }
 
 // Building the intrinsic domain of a 100k-triangle torus (256 x 196 segments) at the bound
@@ -496,6 +513,10 @@ BENCHMARK_CAPTURE(BM_SphereDomain, texture_pde, MOLDTEX_DOMAIN_TEXTURE, 1, "sphe
     ->Name("SphereDomain/texture/1024x1024/PDE")->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_SphereDomain, intrinsic_pde, MOLDTEX_DOMAIN_INTRINSIC, 1, "sphere-domain-intrinsic-pde")
     ->Name("SphereDomain/intrinsic/1024x1024/PDE")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_IntrinsicScaling)->Name("IntrinsicScaling")->ArgNames({"segments", "side", "kagents", "threads"})
+    ->Args({128, 512, 300, 1})->Args({128, 512, 300, 2})->Args({128, 1024, 300, 1})->Args({128, 1024, 300, 2})
+    ->Args({64, 1024, 1000, 1})->Args({64, 1024, 1000, 2})
+    ->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_IntrinsicDomainBuild)->Name("IntrinsicDomainBuild/torus100k")->Arg(1024)->Arg(2048)
     ->Iterations(1)->UseRealTime()->Unit(benchmark::kSecond);
 

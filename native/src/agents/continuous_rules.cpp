@@ -179,19 +179,23 @@ void continuous_update_agents(const mtx_surface_tables& tables, const Continuous
         mtx_continuous_agent_begin(tables, alias.prob.data(), alias.alias.data(), bias, maps, spawn_max, &w[j],
                                    &life[j], i, &c, &plan[j]);
         if (!located || !plan[j].decide) return;
-        for (int k = 0; k < 3; ++k) {
-          cell[j][k] = mtx_locator_cell(tables.locator_grid, plan[j].at[k].triangle, plan[j].at[k].bary);
-          if (cell[j][k] != MTX_NO_CELL) __builtin_prefetch(tables.locator_cells + cell[j][k]);
+        for (int k = 0; k < 3; ++k) {  // a cell's first candidate is record `cell`
+          const uint32_t at = mtx_locator_cell(tables.locator_grid, plan[j].at[k].triangle, plan[j].at[k].bary);
+          cell[j][k] = at;
+          if (at == MTX_NO_CELL) continue;
+          __builtin_prefetch(tables.locator_map + MTX_LOCATE_MAP_STRIDE * size_t(at));
+          __builtin_prefetch(tables.locator_map + MTX_LOCATE_MAP_STRIDE * size_t(at) + 5);
+          __builtin_prefetch(tables.locator_face + MTX_LOCATE_FACE_STRIDE * size_t(at));
+          __builtin_prefetch(tables.locator_cells + at);
         }
       },
-      [&](size_t, size_t j) {  // ask for the cells' first candidates
+      [&](size_t, size_t j) {  // ask for the cells' second candidates
         if (!located || !plan[j].decide) return;
         for (int k = 0; k < 3; ++k)
           if (cell[j][k] != MTX_NO_CELL) {
-            const uint32_t candidate = tables.locator_cells[cell[j][k]];
-            __builtin_prefetch(tables.locator_map + MTX_LOCATE_MAP_STRIDE * size_t(candidate));
-            __builtin_prefetch(tables.locator_map + MTX_LOCATE_MAP_STRIDE * size_t(candidate) + 5);
-            __builtin_prefetch(tables.locator_face + MTX_LOCATE_FACE_STRIDE * size_t(candidate));
+            const uint32_t second = tables.locator_cells[cell[j][k]];
+            __builtin_prefetch(tables.locator_map + MTX_LOCATE_MAP_STRIDE * size_t(second));
+            __builtin_prefetch(tables.locator_map + MTX_LOCATE_MAP_STRIDE * size_t(second) + 5);
           }
       },
       [&](size_t i, size_t j) {  // the reading stencils; ask for the cells they read

@@ -349,22 +349,43 @@ IntrinsicLocator build_intrinsic_locator(const Surface& surface, const intrinsic
         }
     }
   });
-  L.cells.reserve(total + 1);
+  // Each cell's first candidate (the largest overlap, which holds most points) is record
+  // `cell` itself, so a lookup reads it straight from the cell's number; the others follow
+  // all the first ones, cells[cell] to cells[cell + 1]. A cell without candidates (none is
+  // built) gets a first record that gives every point weights 1/3 in face 0.
   size_t candidates = 0;
   for (const Candidates& c : per) candidates += c.face.size() / MTX_LOCATE_FACE_STRIDE;
+  const size_t cell_count = total;
+  candidates = std::max(candidates, cell_count);
+  L.face.assign(MTX_LOCATE_FACE_STRIDE * cell_count, 0);
+  L.map.assign(MTX_LOCATE_MAP_STRIDE * cell_count, 0.f);
   L.face.reserve(MTX_LOCATE_FACE_STRIDE * candidates);
   L.map.reserve(MTX_LOCATE_MAP_STRIDE * candidates);
-  uint32_t k = 0;
+  L.cells.reserve(cell_count + 1);
+  size_t cell = 0;
   for (uint32_t t = 0; t < nt; ++t) {  // cells in the grid's order: triangle by triangle
     const Candidates& c = per[t];
+    size_t k = 0;  // c's candidate
     for (uint32_t n : c.count) {
-      L.cells.push_back(k);
-      k += n;
+      uint32_t* first_face = &L.face[MTX_LOCATE_FACE_STRIDE * cell];
+      float* first_map = &L.map[MTX_LOCATE_MAP_STRIDE * cell];
+      if (n == 0) {
+        for (int r = 0; r < 3; ++r) first_face[1 + r] = face_vertices.empty() ? 0u : face_vertices[r];
+        std::fill(first_map, first_map + MTX_LOCATE_MAP_STRIDE, 1.f / 3.f);
+      } else {
+        std::copy_n(&c.face[MTX_LOCATE_FACE_STRIDE * k], MTX_LOCATE_FACE_STRIDE, first_face);
+        std::copy_n(&c.map[MTX_LOCATE_MAP_STRIDE * k], MTX_LOCATE_MAP_STRIDE, first_map);
+        ++k;
+      }
+      L.cells.push_back(static_cast<uint32_t>(L.face.size() / MTX_LOCATE_FACE_STRIDE));
+      for (uint32_t m = 1; m < n; ++m, ++k) {
+        L.face.insert(L.face.end(), &c.face[MTX_LOCATE_FACE_STRIDE * k], &c.face[MTX_LOCATE_FACE_STRIDE * (k + 1)]);
+        L.map.insert(L.map.end(), &c.map[MTX_LOCATE_MAP_STRIDE * k], &c.map[MTX_LOCATE_MAP_STRIDE * (k + 1)]);
+      }
+      ++cell;
     }
-    L.face.insert(L.face.end(), c.face.begin(), c.face.end());
-    L.map.insert(L.map.end(), c.map.begin(), c.map.end());
   }
-  L.cells.push_back(k);
+  L.cells.push_back(static_cast<uint32_t>(L.face.size() / MTX_LOCATE_FACE_STRIDE));
   return L;
 }
 

@@ -35,10 +35,12 @@ MTX_BEGIN_NAMESPACE
 /* At most this many steps of the walk that finishes a lookup. */
 #define MTX_LOCATE_MAX_STEPS 32
 
-/* grid: 2 per input triangle (first cell, G; G = 0: no cells); cells: first candidate of
- * each cell, one more entry at the end; face: per candidate its intrinsic face and that
- * face's vertices; map: the first two rows of its M (row-major; the third row is 1 minus
- * them, as the weights sum to 1). When no candidate holds the point (one within
+/* grid: 2 per input triangle (first cell, G; G = 0: no cells); face: per candidate its
+ * intrinsic face and that face's vertices; map: the first two rows of its M (row-major;
+ * the third row is 1 minus them, as the weights sum to 1). Candidate `cell` is the cell's
+ * first (its largest overlap), read straight from the cell's number; cells: per cell
+ * where its other candidates start (they follow all the first ones), one more entry at
+ * the end. When no candidate holds the point (one within
  * round-off of an edge), the lookup walks from the
  * best one across the edge opposite its most negative weight, face to face: next holds
  * per face and edge k (opposite corner k) the neighbour's face << 2 | m (its halfedge m
@@ -66,16 +68,20 @@ MTX_FN mtx_u32 mtx_locate_in_cell(MTX_GLOBAL const mtx_u32* cells, MTX_GLOBAL co
                                   MTX_GLOBAL const float* map, MTX_GLOBAL const mtx_u32* next,
                                   MTX_GLOBAL const float* across, MTX_GLOBAL const mtx_u32* face_vertices,
                                   mtx_u32 cell, const float* b, float* c, mtx_u32* v) {
-  if (cell == MTX_NO_CELL || cells[cell] == cells[cell + 1]) { /* (every built cell has a candidate) */
+  if (cell == MTX_NO_CELL) {
     c[0] = c[1] = c[2] = 1.0f / 3.0f;
     v[0] = face_vertices[0];
     v[1] = face_vertices[1];
     v[2] = face_vertices[2];
     return 0;
   }
-  mtx_u32 chosen = cells[cell];
+  /* The first candidate is record `cell` (no read of cells[] before it); the others, if
+   * it does not hold the point, cells[cell] to cells[cell + 1]. */
+  mtx_u32 chosen = cell;
   float best_score = -1e30f, best_c[3] = {1.0f / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f};
-  for (mtx_u32 k = cells[cell]; k < cells[cell + 1]; ++k) {
+  const mtx_u32 rest = cells[cell], count = 1u + (cells[cell + 1] - rest);
+  for (mtx_u32 n = 0; n < count; ++n) {
+    const mtx_u32 k = n == 0 ? cell : rest + n - 1u;
     MTX_GLOBAL const float* m = map + MTX_LOCATE_MAP_STRIDE * k;
     float w[3];
     w[0] = m[0] * b[0] + m[1] * b[1] + m[2] * b[2];
