@@ -184,6 +184,55 @@ class NoUvMapTests(unittest.TestCase):
             self.assertIn("Intrinsic", labels(draw_all(self, obj)))
         self.assertEqual(h.live().names(), [])
 
+    def test_a_uv_map_of_zero_area_counts_as_none(self):
+        """A UV map whose UVs have no area (all on one point, or all on one line: a
+        careless unwrap, an importer's placeholder) gives no texture to grow in. The
+        Intrinsic domain runs as without a UV map, and says which map it set aside; the
+        Texture domain and bakes refuse, naming the map."""
+        bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=3)  # 642 vertices, with UVs
+        obj = h.activate(bpy.context.active_object)
+        layer = obj.data.uv_layers[0]
+        for collapse in ("point", "line"):
+            uvs = [0.5] * (2 * len(layer.data))
+            if collapse == "line":  # u spread over [0, 1], v fixed: still no area
+                uvs[0::2] = [(k % 97) / 96.0 for k in range(len(layer.data))]
+            layer.data.foreach_set("uv", uvs)
+            obj.data.update()
+            intrinsic(obj, agents=5000)
+            self.assertEqual(bpy.ops.moldtex.reset(), {'FINISHED'})
+            self.assertEqual(bpy.ops.moldtex.step(steps=20), {'FINISHED'}, collapse)
+            entry = h.live().get(obj.name)
+            self.assertTrue(entry.vertex_colours, collapse)
+            self.assertEqual(entry.flat_uv_map, layer.name)
+            _attribute, values = vertex_colours(obj)
+            core = entry.sim.read_vertex_rgba()
+            self.assertLess(max(abs(a - b) for a, b in zip(values, core)), 1e-6)
+            self.assertGreater(max(values[0::4]), 0.0)  # agents deposited
+            self.assertIn("has no area", labels(draw_all(self, obj)))
+            self.assertEqual(bpy.ops.moldtex.setup_material(), {'FINISHED'})
+            tree = obj.active_material.node_tree
+            self.assertIsNotNone(tree.nodes.get("Moldtex Vertex Colours"))
+            self.assertIsNone(tree.nodes.get("Moldtex Texture"))
+            h.bake_settings(obj, self.folder, 1, 2, 5, "EXR_HALF")
+            with self.assertRaises(RuntimeError) as caught:
+                bpy.ops.moldtex.bake()
+            self.assertIn(f"UV map ('{layer.name}') whose UVs have no area", str(caught.exception))
+            self.assertEqual(os.listdir(self.folder), [])
+            obj.moldtex.domain = 'TEXTURE'  # (a new domain takes a Reset)
+            with self.assertRaises(RuntimeError) as caught:
+                bpy.ops.moldtex.reset()
+            self.assertIn("whose UVs have no area", str(caught.exception))
+            self.assertIn("Intrinsic", str(caught.exception))
+        # The same mesh unwrapped (its UVs spread out again) runs on the texture.
+        bpy.ops.object.mode_set(mode='EDIT')
+        bpy.ops.mesh.select_all(action='SELECT')
+        bpy.ops.uv.smart_project()
+        bpy.ops.object.mode_set(mode='OBJECT')
+        self.assertEqual(bpy.ops.moldtex.step(steps=2), {'FINISHED'})
+        entry = h.live().get(obj.name)
+        self.assertFalse(entry.vertex_colours)
+        self.assertEqual(entry.flat_uv_map, "")
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -218,6 +218,12 @@ class BakeJob:
             raise BakeError(f"The output folder {plan.directory} is not writable: choose "
                             f"another Output Folder.")
         entry = live.ensure(obj, depsgraph, rebuild=True)
+        if entry.vertex_colours:  # its UV map has zero area: it runs, on the vertices
+            raise BakeError(
+                f"Object '{obj.name}' has a UV map ('{entry.flat_uv_map}') whose UVs have "
+                f"no area, and a bake writes texture frames laid out by it: unwrap it (UV ▸ "
+                f"Smart UV Project in Edit Mode). Without one, Start shows the pattern as "
+                f"vertex colours (Intrinsic domain).")
         material.sync_uv_map(obj, entry.uv_map)
         # Frames a resume will keep, as far as the metrics say (for the progress lines).
         self.resumed_frames = 0

@@ -57,7 +57,8 @@ class LiveSim:
         self.signature = None     # MeshArrays.signature of the mesh it was built on
         self.surface_info = {}
         self.pixels = None        # persistent array('f') for read_rgba + foreach_set
-        self.vertex_colours = False  # a mesh without UVs: shown as vertex colours
+        self.vertex_colours = False  # a mesh without (usable) UVs: shown as vertex colours
+        self.flat_uv_map = ""        # its UV map of zero area, if it has one
         self.vertex_pixels = None    # persistent array('f') for read_vertex_rgba
         self.vertex_problem = ""     # why the vertex colours cannot follow (modifiers)
         self.stats = {}
@@ -792,7 +793,7 @@ def _build(entry, obj, mesh, depsgraph=None):
         from .properties import ensure_species  # (properties imports this module)
         ensure_species(settings)
     if mesh.uvs is None and config.get("domain") != engine.DOMAIN_INTRINSIC:
-        raise MeshExportError(no_uv_map_message(obj.name))
+        raise MeshExportError(no_uv_map_message(obj.name, mesh.flat_uv_map))
     create_config = dict(config)
     create_config["seed_radius"] = length_in_mesh_units(obj, config["seed_radius"])
     create_config["intrinsic_bound"] = length_in_mesh_units(obj, config["intrinsic_bound"])
@@ -872,6 +873,7 @@ def _build(entry, obj, mesh, depsgraph=None):
     entry.pixels = sim.new_rgba_buffer()
     # A mesh without UVs shows its pattern per vertex (vertex_colours.py).
     entry.vertex_colours = mesh.uvs is None
+    entry.flat_uv_map = mesh.flat_uv_map  # (a UV map of zero area counts as none)
     entry.vertex_pixels = None
     entry.vertex_problem = (vertex_colours.correspondence_problem(obj, mesh.positions)
                             if entry.vertex_colours else "")

@@ -21,14 +21,17 @@ class MeshExportError(Exception):
 
 
 class MeshArrays:
-    """The evaluated mesh as the core takes it. A mesh without a UV map has uvs and
-    triangle_uvs None and uv_map "" (it runs on the Intrinsic domain only); loops (the
-    loop index of each triangle corner) and loop_count are there either way."""
+    """The evaluated mesh as the core takes it. A mesh without a usable UV map has uvs
+    and triangle_uvs None and uv_map "" (it runs on the Intrinsic domain only);
+    flat_uv_map names its UV map when it has one whose area is zero (every UV on one
+    point or line), which counts as none. loops (the loop index of each triangle
+    corner) and loop_count are there either way."""
     __slots__ = ("positions", "triangles", "uvs", "triangle_uvs", "uv_map", "loops",
-                 "loop_count", "signature", "vertex_count", "triangle_count")
+                 "loop_count", "signature", "vertex_count", "triangle_count", "flat_uv_map")
 
     def __init__(self, positions, triangles, uvs, triangle_uvs, uv_map, loops=None,
-                 loop_count=None):
+                 loop_count=None, flat_uv_map=""):
+        self.flat_uv_map = flat_uv_map
         self.positions = positions
         self.triangles = triangles
         self.uvs = uvs
@@ -236,11 +239,40 @@ def _read_mesh(obj, mesh, uv_map_name):
         return MeshArrays(positions, triangles, None, None, "", loops, loop_count)
     uvs = array.array("f", bytes(4 * 2 * loop_count))
     layer.data.foreach_get("uv", uvs)
+    if uv_area_is_zero(uvs, loops):  # no texture to grow in: as if there were no UV map
+        return MeshArrays(positions, triangles, None, None, "", loops, loop_count,
+                          flat_uv_map=layer.name)
     return MeshArrays(positions, triangles, uvs, loops, layer.name, loops, loop_count)
 
 
-def no_uv_map_message(name):
-    """What to do about an object without a UV map where a texture is needed."""
+# The core refuses a UV map whose triangles' UV areas sum to no more than this
+# (native/src/surface/surface.cpp): the same limit here.
+ZERO_UV_AREA = 1e-12
+
+
+def uv_area_is_zero(uvs, loops):
+    """Whether the UV triangles (corner loops `loops`, 3 per triangle, into `uvs`, 2
+    floats per loop) have a total area of at most ZERO_UV_AREA. Stops at the first
+    triangles that add up to more, so an unwrapped mesh costs a few triangles."""
+    total = 0.0
+    for k in range(0, len(loops) - 2, 3):
+        a, b, c = 2 * loops[k], 2 * loops[k + 1], 2 * loops[k + 2]
+        total += 0.5 * abs((uvs[b] - uvs[a]) * (uvs[c + 1] - uvs[a + 1])
+                           - (uvs[c] - uvs[a]) * (uvs[b + 1] - uvs[a + 1]))
+        if total > ZERO_UV_AREA:
+            return False
+    return True
+
+
+def no_uv_map_message(name, flat_uv_map=""):
+    """What to do about an object without a UV map where a texture is needed (or with
+    one of zero area, flat_uv_map)."""
+    if flat_uv_map:
+        return (f"Object '{name}' has a UV map ('{flat_uv_map}') whose UVs have no area "
+                f"(all on one point or line): unwrap it (UV ▸ Smart UV Project in Edit "
+                f"Mode) so the mold has a texture to grow in, or choose the Continuous "
+                f"model on the Intrinsic domain, which runs on the surface and colours the "
+                f"mesh's vertices.")
     return (f"Object '{name}' has no UV map: add one (UV ▸ Smart UV Project in Edit Mode) "
             f"so the mold has a texture to grow in, or choose the Continuous model on the "
             f"Intrinsic domain, which runs on the surface and colours the mesh's vertices.")

@@ -224,6 +224,12 @@ class MOLDTEX_PT_main(bpy.types.Panel):
         else:
             column.prop_search(settings, "uv_map", obj.data, "uv_layers", text="UV Map",
                                icon='GROUP_UVS')
+            if entry is not None and entry.has_sim and entry.vertex_colours:
+                _wrapped(layout.box(), f"UV map '{entry.flat_uv_map}' has no area (all its "
+                                       f"UVs on one point or line): the Intrinsic domain "
+                                       f"runs without it and shows the pattern as the vertex "
+                                       f"colours 'Moldtex'. Bakes need an unwrapped map (UV "
+                                       f"▸ Smart UV Project).", icon='INFO')
             if not settings.uv_map:
                 _wrapped(layout, f"Empty: the render UV map "
                                  f"('{resolve_uv_map_name(obj, '')}').", icon='BLANK1')
