@@ -219,11 +219,7 @@ class BakeJob:
                             f"another Output Folder.")
         entry = live.ensure(obj, depsgraph, rebuild=True)
         if entry.vertex_colours:  # its UV map has zero area: it runs, on the vertices
-            raise BakeError(
-                f"Object '{obj.name}' has a UV map ('{entry.flat_uv_map}') whose UVs have "
-                f"no area, and a bake writes texture frames laid out by it: unwrap it (UV ▸ "
-                f"Smart UV Project in Edit Mode). Without one, Start shows the pattern as "
-                f"vertex colours (Intrinsic domain).")
+            raise BakeError(needs_uv_map_message(obj.name, entry.flat_uv_map))
         material.sync_uv_map(obj, entry.uv_map)
         # Frames a resume will keep, as far as the metrics say (for the progress lines).
         self.resumed_frames = 0
@@ -434,13 +430,20 @@ def _sequence_image(obj, first_path):
     return image
 
 
+def needs_uv_map_message(name, flat_uv_map=""):
+    """Why a bake cannot run on an object without a UV map (or with one of zero area,
+    flat_uv_map), and what to do."""
+    problem = (f"has a UV map ('{flat_uv_map}') whose UVs have no area, and a bake writes "
+               f"texture frames laid out by it: unwrap it" if flat_uv_map else
+               "has no UV map, and a bake writes texture frames laid out by one: add a UV map")
+    return (f"Object '{name}' {problem} (UV ▸ Smart UV Project in Edit Mode). Without one, "
+            f"Start shows the pattern as vertex colours (Intrinsic domain).")
+
+
 def check_uv_map(obj):
     """Raises BakeError for an object without a UV map: the frames are textures."""
     if obj.type == 'MESH' and len(obj.data.uv_layers) == 0:
-        raise BakeError(
-            f"Object '{obj.name}' has no UV map, and a bake writes texture frames laid out "
-            f"by one: add a UV map (UV ▸ Smart UV Project in Edit Mode). Without one, Start "
-            f"shows the pattern as vertex colours (Intrinsic domain).")
+        raise BakeError(needs_uv_map_message(obj.name))
 
 
 def use_sequence(obj, plan):

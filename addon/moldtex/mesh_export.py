@@ -267,15 +267,11 @@ def uv_area_is_zero(uvs, loops):
 def no_uv_map_message(name, flat_uv_map=""):
     """What to do about an object without a UV map where a texture is needed (or with
     one of zero area, flat_uv_map)."""
-    if flat_uv_map:
-        return (f"Object '{name}' has a UV map ('{flat_uv_map}') whose UVs have no area "
-                f"(all on one point or line): unwrap it (UV ▸ Smart UV Project in Edit "
-                f"Mode) so the mold has a texture to grow in, or choose the Continuous "
-                f"model on the Intrinsic domain, which runs on the surface and colours the "
-                f"mesh's vertices.")
-    return (f"Object '{name}' has no UV map: add one (UV ▸ Smart UV Project in Edit Mode) "
-            f"so the mold has a texture to grow in, or choose the Continuous model on the "
-            f"Intrinsic domain, which runs on the surface and colours the mesh's vertices.")
+    problem = (f"has a UV map ('{flat_uv_map}') whose UVs have no area (all on one point "
+               f"or line): unwrap it" if flat_uv_map else "has no UV map: add one")
+    return (f"Object '{name}' {problem} (UV ▸ Smart UV Project in Edit Mode) so the mold "
+            f"has a texture to grow in, or choose the Continuous model on the Intrinsic "
+            f"domain, which runs on the surface and colours the mesh's vertices.")
 
 
 # ---- static fields from vertex groups and attributes ----------------------------------

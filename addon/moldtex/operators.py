@@ -511,11 +511,11 @@ material's Base Color (keeps your nodes; safe to run again)"""
         settings = obj.moldtex
         uv_map = live.uv_map_in_use(obj) or resolve_uv_map_name(obj, settings.uv_map)
         entry = live.get(obj.name)
-        no_uvs = len(obj.data.uv_layers) == 0 or (entry is not None and entry.has_sim
-                                                  and entry.vertex_colours)
-        if no_uvs and live.domain_of(settings) == engine.DOMAIN_INTRINSIC:
+        on_vertices = entry is not None and entry.has_sim and entry.vertex_colours
+        if ((len(obj.data.uv_layers) == 0 or on_vertices)
+                and live.domain_of(settings) == engine.DOMAIN_INTRINSIC):
             material.setup_material(obj, None, "")  # the vertex colours (no usable UV map)
-            if entry is not None and entry.has_sim and entry.vertex_colours and not entry.baking:
+            if on_vertices and not entry.baking:
                 _show(entry, obj)
             return {'FINISHED'}
         if not uv_map or uv_map not in obj.data.uv_layers:
