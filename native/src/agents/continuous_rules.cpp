@@ -131,6 +131,7 @@ ContinuousStepConstants continuous_constants(const StepSettings& settings, const
   for (int k = 0; k < MTX_AGENT_MAPS; ++k) c.map_plane[k] = maps.plane_of[k];
   c.maps_on = maps.any_agent_map() ? 1u : 0u;
   c.deposit_units = deposit_units(agents, maps.deposit_max);
+  c.plane_cells = d.width * d.height;
   return c;
 }
 
@@ -158,45 +159,24 @@ void continuous_update_agents(const mtx_surface_tables& tables, const Continuous
                               const AliasTable& alias, const float* bias, const float* maps,
                               const float* spawn_max, Agents& agents, size_t begin, size_t end) {
   // In batches, in stages: the first part of every agent's step (turnover, maps, its
-  // sensor traces); then its sensors' reading stencils; then the rest. Each stage asks
-  // memory for what the next one reads (on the intrinsic domain the locator's cell, then
-  // its candidates' maps; then the cells the sensors read), so the reads of a batch
-  // overlap instead of waiting one after another. Agents of one step are independent
-  // (they read the concentration of the step's start and add deposits into exact integer
-  // sums), so the batching changes no result.
+  // sensor traces); then its sensors' reading stencils, asking memory for the cells they
+  // read; then the rest. So the reads of a batch overlap instead of waiting one after
+  // another. Agents of one step are independent (they read the concentration of the
+  // step's start and add deposits into exact integer sums), so the batching changes no
+  // result.
   constexpr size_t kBatch = 16;
   Walker w[kBatch];
   mtx_agent_life life[kBatch];
   mtx_continuous_plan plan[kBatch];
-  uint32_t cell[kBatch][3];
-  const size_t plane = size_t(c.width) * c.height;
-  const bool located = tables.vertex_cells != 0;
+  const size_t plane = c.plane_cells;
+  const bool three = tables.vertex_cells != 0;  // stencils of 3 cells (else 4 texels)
   for_each_in_batches<kBatch>(
       begin, end,
-      [&](size_t i, size_t j) {  // turnover, maps, sensor traces; ask for the locator cells
+      [&](size_t i, size_t j) {  // turnover, maps, sensor traces
         w[j] = agents.load(i);
         life[j] = mtx_agent_life{agents.clock[i], agents.age[i], agents.exposure[i], agents.threshold[i]};
         mtx_continuous_agent_begin(tables, alias.prob.data(), alias.alias.data(), bias, maps, spawn_max, &w[j],
                                    &life[j], i, &c, &plan[j]);
-        if (!located || !plan[j].decide) return;
-        for (int k = 0; k < 3; ++k) {  // a cell's first candidate is record `cell`
-          const uint32_t at = mtx_locator_cell(tables.locator_grid, plan[j].at[k].triangle, plan[j].at[k].bary);
-          cell[j][k] = at;
-          if (at == MTX_NO_CELL) continue;
-          __builtin_prefetch(tables.locator_map + MTX_LOCATE_MAP_STRIDE * size_t(at));
-          __builtin_prefetch(tables.locator_map + MTX_LOCATE_MAP_STRIDE * size_t(at) + 5);
-          __builtin_prefetch(tables.locator_face + MTX_LOCATE_FACE_STRIDE * size_t(at));
-          __builtin_prefetch(tables.locator_cells + at);
-        }
-      },
-      [&](size_t, size_t j) {  // ask for the cells' second candidates
-        if (!located || !plan[j].decide) return;
-        for (int k = 0; k < 3; ++k)
-          if (cell[j][k] != MTX_NO_CELL) {
-            const uint32_t second = tables.locator_cells[cell[j][k]];
-            __builtin_prefetch(tables.locator_map + MTX_LOCATE_MAP_STRIDE * size_t(second));
-            __builtin_prefetch(tables.locator_map + MTX_LOCATE_MAP_STRIDE * size_t(second) + 5);
-          }
       },
       [&](size_t i, size_t j) {  // the reading stencils; ask for the cells they read
         if (!plan[j].decide) return;
@@ -205,7 +185,7 @@ void continuous_update_agents(const mtx_surface_tables& tables, const Continuous
         for (const mtx_texel_stencil& st : plan[j].probe) {
           __builtin_prefetch(own + st.cell[0]);
           __builtin_prefetch(own + st.cell[2]);
-          if (located) __builtin_prefetch(own + st.cell[1]);
+          if (three) __builtin_prefetch(own + st.cell[1]);
         }
       },
       [&](size_t i, size_t j) {  // the rest

@@ -65,6 +65,9 @@ void start_agent_lives(const moldtex_continuous_params& p, uint64_t seed, uint64
 // The same for agent i alone, from a given random state.
 void start_agent_life(const moldtex_continuous_params& p, uint64_t rng, Agents& agents, size_t i);
 
+// One step of agents [begin, end): they read u and add their deposits into sums (planes
+// of c.plane_cells: texels, or the intrinsic lattice's nodes), read a static field per
+// cell (texel or vertex; the lattice's own in tables.lattice_field) and maps per cell.
 void continuous_update_agents(const mtx_surface_tables& tables, const ContinuousStepConstants& c,
                               const float* u, const float* field, int32_t* sums,
                               const AliasTable& alias, const float* bias, const float* maps,

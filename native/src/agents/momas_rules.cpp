@@ -46,7 +46,8 @@ mtx_surface_tables surface_tables(const Surface& s, const TextureDomain& d) {
   return mtx_surface_tables{s.frames.data(), s.adjacency.data(), s.corner_uvs.data(),
                             d.classes.data(), s.frame3d.data(), nullptr, nullptr,
                             d.texels_per_unit.data(), s.island.data(),
-                            d.texel_island.data(), d.interior_bits.data(), nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, 0u};
+                            d.texel_island.data(), d.interior_bits.data(), nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, 0u,
+                            nullptr, nullptr};
 }
 
 void momas_update_agents(const mtx_surface_tables& tables, const MomasStepConstants& c,

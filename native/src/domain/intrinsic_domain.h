@@ -4,9 +4,13 @@
 // no seams, no UV distortion, no dependence on how the artist's mesh is triangulated.
 //
 // What the simulation needs from it, all built once per mesh and bound:
-//  * a locator (domain/intrinsic_locator.h): agents walk the input mesh as on the
-//    texture domain and read and deposit through the three vertex hats of the intrinsic
-//    face under their point (shared/texel_sampling.h, vertex_cells);
+//  * a locator (domain/intrinsic_locator.h): any point of the input mesh found on the
+//    intrinsic faces (shared/texel_sampling.h, vertex_cells: the three vertex hats of the
+//    face under it); parameter maps and the texel map use it;
+//  * a sampling lattice (domain/intrinsic_lattice.h): agents walk the input mesh as on
+//    the texture domain and read and deposit at nodes of their own input triangle, found
+//    by arithmetic; the vertex values go onto the nodes before the agents' step and the
+//    nodes' deposits onto the vertices after it;
 //  * the diffusion operator: the cotangent Laplacian with barycentric lumped mass, as a
 //    cell graph (domain/texel_laplacian.h) whose cells are the vertices, so both
 //    integrators, maps and Gray-Scott run on it unchanged;
@@ -27,6 +31,7 @@
 #include "backends/backend.h"
 #include "backends/cpu/thread_pool.h"
 #include "common/progress.h"
+#include "domain/intrinsic_lattice.h"
 #include "domain/intrinsic_locator.h"
 #include "domain/texel_laplacian.h"
 #include "domain/texture_domain.h"
@@ -56,6 +61,9 @@ struct IntrinsicDomain {
   // the deposit pieces per mesh unit (2 per surface triangle, as texels_per_unit).
   IntrinsicLocator locator;
   std::vector<float> cells_per_unit;
+  // Where agents read and deposit: nodes about one intrinsic edge apart on each input
+  // triangle (domain/intrinsic_lattice.h), located once through the locator.
+  IntrinsicLattice lattice;
 
   TexelLaplacian laplacian;  // cells = vertices, area = lumped mass
 
@@ -74,6 +82,9 @@ struct IntrinsicDomain {
   uint32_t face_count() const { return tri.mesh.face_count(); }
   // The input surface's tables (walk, UVs, bias) with this domain's cells and locator.
   mtx_surface_tables tables(mtx_surface_tables surface) const;
+  // tables() with the lattice, where agents read and deposit (their stencils then hold
+  // nodes); lattice_field: the static field at the nodes (NULL without one).
+  mtx_surface_tables agent_tables(mtx_surface_tables surface, const float* lattice_field) const;
   // Island texels of `texels` (width * height) from the vertex values (vertex_count);
   // other texels are left as they are (the caller fills the gutter).
   void gather(const float* values, float* texels, ThreadPool& pool) const;

@@ -2,7 +2,8 @@
 // domain (the lookup is shared/intrinsic_locate.h, the same code on every backend).
 //
 // Agents walk the input mesh (few, large triangles: few edge crossings per step) and
-// read and deposit at the intrinsic vertices (many, small triangles), the design the
+// read and deposit at the intrinsic vertices (many, small triangles; through the sampling
+// lattice of domain/intrinsic_lattice.h, whose nodes this locator places), the design the
 // paper leaves as future work (layton-intrinsic-slime.md §6): a walk over the fine
 // intrinsic faces crossed ~25 of them per agent step (a sensor probe spans several) and
 // ran 7x slower than the texture domain (docs/PERFORMANCE.md).

@@ -76,6 +76,9 @@ typedef struct mtx_continuous_constants {
   mtx_u32 maps_on;        /* some plane of map_plane is >= 0 */
   mtx_i32 map_plane[MTX_AGENT_MAPS]; /* plane of each agent map in `maps`, -1 = none */
   mtx_u32 absorb;         /* agents that meet an open boundary die there (Fig. 18) */
+  /* Cells per plane of the concentration agents read and of their deposit sums: the
+   * texels (width * height), or on the intrinsic domain its lattice's nodes. */
+  mtx_u32 plane_cells;
 } mtx_continuous_constants;
 
 /* The per-agent clocks of the continuous model. */
@@ -165,7 +168,7 @@ MTX_FN float mtx_continuous_read(MTX_GLOBAL const float* u, MTX_GLOBAL const flo
                                  const mtx_texel_stencil* st, mtx_u32 species,
                                  const mtx_continuous_constants* k) {
   if (st->count == 0) return 0.0f;
-  const mtx_u32 texels = k->width * k->height;
+  const mtx_u32 texels = k->plane_cells;
   float v = 0.0f;
   for (int c = 0; c < 4; ++c) {
     if (!(st->weight[c] > 0.0f)) continue;
@@ -319,6 +322,9 @@ MTX_FN void mtx_continuous_agent_finish(mtx_surface_tables s, MTX_GLOBAL const f
   const float sensor_cos = plan->sensor_cos, sensor_sin = plan->sensor_sin, turn_impulse = plan->turn_impulse;
   const float activation_time = plan->activation_time, born = plan->born;
   const mtx_i32 deposit_units = plan->deposit_units;
+  /* Sensors read the field where they read the concentration (the intrinsic lattice's
+   * nodes); the obstacle test of a move reads it at the point's cell. */
+  MTX_GLOBAL const float* sensed_field = s.lattice ? s.lattice_field : field;
   /* Turn decisions at f_i: each one senses and turns by the impulse omega / f_i (Jones'
    * rule: straight while the front is strongest, a random side when both sides beat
    * the front, else toward the stronger side; all equal: straight). The first one's
@@ -331,9 +337,9 @@ MTX_FN void mtx_continuous_agent_finish(mtx_surface_tables s, MTX_GLOBAL const f
       mtx_texel_stencil fresh[3];
       if (d > 0) mtx_continuous_probes(s, w, sensor_cos, sensor_sin, sensor_length, k, fresh);
       const mtx_texel_stencil* st = d > 0 ? fresh : plan->probe;
-      const float left = mtx_continuous_read(u, field, &st[0], species, k);
-      const float front = mtx_continuous_read(u, field, &st[1], species, k);
-      const float right = mtx_continuous_read(u, field, &st[2], species, k);
+      const float left = mtx_continuous_read(u, sensed_field, &st[0], species, k);
+      const float front = mtx_continuous_read(u, sensed_field, &st[1], species, k);
+      const float right = mtx_continuous_read(u, sensed_field, &st[2], species, k);
       const float coin = mtx_rng_float(&rng);
       float side = 0.0f;
       if (front > left && front > right)
@@ -381,7 +387,7 @@ MTX_FN void mtx_continuous_agent_finish(mtx_surface_tables s, MTX_GLOBAL const f
   /* Piece i covers ages born + [i, i + 1) dt / pieces: it deposits when its middle is
    * past the activation time, so activation starts within the step, not a step late. */
   const int deposits = k->deposit_on && deposit_units > 0 && life->age >= activation_time;
-  MTX_GLOBAL mtx_i32* own = sums + species * (k->width * k->height);
+  MTX_GLOBAL mtx_i32* own = sums + species * k->plane_cells;
   const mtx_i32 share = deposit_units / pieces, extra = deposit_units - share * pieces;
   for (int i = 0; i < pieces; ++i) {
     const mtx_walker before = *w;

@@ -67,6 +67,12 @@ typedef struct mtx_surface_tables {
   MTX_GLOBAL const mtx_u32* locator_next;
   MTX_GLOBAL const float* locator_across;
   mtx_u32 vertex_cells;
+  /* Where agents read and deposit on the intrinsic domain (shared/intrinsic_lattice.h):
+   * the lattice's 2 words per input triangle (first node, G), and the static field at the
+   * nodes (NULL without fields). With `lattice` set, stencils hold nodes, not vertices;
+   * NULL on the texture domain. */
+  MTX_GLOBAL const mtx_u32* lattice;
+  MTX_GLOBAL const float* lattice_field;
 } mtx_surface_tables;
 
 MTX_FN mtx_u32 mtx_texel_of_uv(float u, float v, mtx_u32 width, mtx_u32 height) {

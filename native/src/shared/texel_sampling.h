@@ -2,7 +2,9 @@
  * the concentration at a surface point (bilinear over the texel cells) and a deposit
  * at a surface point (spread over the same cells with the same weights). These are the
  * two calls an agent makes on its domain; another domain (an intrinsic triangulation)
- * provides the same two with its own basis functions.
+ * provides the same two with its own basis functions: the linear hats of its vertices
+ * (vertex_cells), or, where agents read and deposit, of its sampling lattice's nodes
+ * (lattice; shared/intrinsic_lattice.h).
  *
  * The bilinear stencil of a point takes the four texels around it. For a deposit a
  * texel counts only when it is a cell of the point's own UV island (an island texel);
@@ -15,6 +17,7 @@
 
 #ifndef __OPENCL_C_VERSION__
 #include "shared/constants.h"
+#include "shared/intrinsic_lattice.h"
 #include "shared/intrinsic_locate.h"
 #include "shared/momas.h"
 #include "shared/portable.h"
@@ -35,6 +38,13 @@ typedef struct mtx_texel_stencil {
 
 MTX_FN void mtx_texel_stencil_of(mtx_surface_tables s, const mtx_walker* w, mtx_u32 width,
                                  mtx_u32 height, int reading, mtx_texel_stencil* st) {
+  if (s.lattice) { /* the intrinsic domain's lattice: three nodes of the point's triangle */
+    mtx_lattice_corners(s.lattice, w->triangle, w->bary, st->cell, st->weight);
+    st->cell[3] = st->cell[0];
+    st->weight[3] = 0.0f;
+    st->count = 3;
+    return;
+  }
   if (s.vertex_cells) { /* the intrinsic domain: its face's three vertices, linear hats */
     float c[3];
     mtx_u32 v[3];

@@ -29,6 +29,7 @@ CpuBackend::CpuBackend(std::shared_ptr<const Surface> surface,
 
 void CpuBackend::set_field(const std::vector<float>& field) {
   field_ = intrinsic_ && !field.empty() ? intrinsic_->sample_texels(field.data()) : field;
+  node_field_ = intrinsic_ && !field_.empty() ? intrinsic_->lattice.field(field_) : std::vector<float>{};
 }
 
 const TexelLaplacian& CpuBackend::base_laplacian() {
@@ -120,22 +121,33 @@ void CpuBackend::step_continuous(const StepSettings& settings, uint64_t seed, ui
   ContinuousStepConstants c =
       continuous_constants(settings, d, settings.u_metric, surface_->triangle_count(), agents_.size(), seed,
                            step_index);
-  if (intrinsic_) {  // planes of vertex values
+  const float* field = c.has_fields ? field_.data() : nullptr;
+  const float* read = pheromone_.data();
+  int32_t* deposit = sums_.data();
+  if (intrinsic_) {  // planes of vertex values (maps), read and deposited at the lattice's nodes
     c.width = intrinsic_->vertex_count();
     c.height = 1;
+    const IntrinsicLattice& lattice = intrinsic_->lattice;
+    c.plane_cells = lattice.node_count();
+    node_values_.resize(size_t(c.plane_cells) * species_count_);
+    if (node_sums_.size() != node_values_.size()) node_sums_.assign(node_values_.size(), 0);
+    lattice.gather(pheromone_.data(), c.width, node_values_.data(), species_count_, *pool_);
+    read = node_values_.data();
+    deposit = node_sums_.data();
   }
   const ParameterMaps& maps = maps_for(*settings.maps);
   // 1. Agents read the concentration as it was at the start of the step and add their
   //    deposits into integer sums (exact in any order).
   const mtx_surface_tables tables =
-      intrinsic_ ? intrinsic_->tables(surface_tables(*surface_, d)) : surface_tables(*surface_, d);
-  const float* field = c.has_fields ? field_.data() : nullptr;
+      intrinsic_ ? intrinsic_->agent_tables(surface_tables(*surface_, d), c.has_fields ? node_field_.data() : nullptr)
+                 : surface_tables(*surface_, d);
   const AliasTable& alias = maps.spawn_max.empty() ? alias_ : maps.spawn_alias;
   pool_->parallel_for(agents_.size(), 1024, [&](size_t begin, size_t end) {
-    continuous_update_agents(tables, c, pheromone_.data(), field, sums_.data(), alias,
+    continuous_update_agents(tables, c, read, field, deposit, alias,
                              c.bias_on || c.bias_spawn ? settings.bias.data() : nullptr, maps.agent_planes.data(),
                              maps.spawn_max.data(), agents_, begin, end);
   });
+  if (intrinsic_) intrinsic_->lattice.scatter(node_sums_.data(), sums_.data(), c.width, species_count_, *pool_);
   // 2. Per species: the deposits become concentration, then the PDE advances by dt; the
   //    gutter shows what lies across each seam (for Blender only).
   settle_continuous_step(settings, maps, laplacian_for(maps, base, mapped_), mapped_, c.deposit_units,
@@ -234,7 +246,9 @@ size_t CpuBackend::bytes() const {
   size_t continuous = sums_.capacity() * sizeof(int32_t) + pde_scratch_.capacity() * sizeof(float) +
                       alias_.prob.capacity() * 4 + alias_.alias.capacity() * 4;
   if (laplacian_) continuous += laplacian_->bytes();
-  if (intrinsic_) continuous += intrinsic_->bytes() + vertex_maps_.bytes();
+  if (intrinsic_)
+    continuous += intrinsic_->bytes() + vertex_maps_.bytes() +
+                  (node_values_.capacity() + node_field_.capacity() + node_sums_.capacity()) * 4;
   return agents_.bytes() + sort_scratch_.sorted.bytes() +
          (sort_scratch_.key.capacity() + sort_scratch_.start.capacity()) * 4 +
          (pheromone_.capacity() + scratch_.capacity() + field_.capacity()) * sizeof(float) +

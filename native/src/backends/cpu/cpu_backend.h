@@ -76,6 +76,10 @@ class CpuBackend final : public Backend {
   std::unique_ptr<TexelLaplacian> laplacian_;
   MappedLaplacian mapped_;  // with diffusion and decay maps
   std::vector<int32_t> sums_;
+  // The intrinsic domain: the concentration at the lattice's nodes (gathered every step),
+  // the deposits there (passed on to sums_), the static field there.
+  std::vector<float> node_values_, node_field_;
+  std::vector<int32_t> node_sums_;
   AliasTable alias_;
   std::vector<float> pde_scratch_;
 };

@@ -1,6 +1,7 @@
-/* kernels.cl — the OpenCL program. The host prepends shared/portable.h, constants.h,
- * rng.h, walk.h, momas.h, field.h and pde.h (the same sources the CPU backend compiles as
- * C++), so these kernels only unpack buffers and call the shared functions. The host
+/* kernels.cl — the OpenCL program. The host prepends the shared sources (portable.h,
+ * constants.h, rng.h, walk.h, momas.h, field.h, pde.h, reaction.h, intrinsic_locate.h,
+ * intrinsic_lattice.h, texel_sampling.h, continuous.h: the same the CPU backend compiles
+ * as C++), so these kernels only unpack buffers and call the shared functions. The host
  * builds it once per feature combination in use (-DMTX_FOOD, -DMTX_FIELDS, -DMTX_SPECIES;
  * see momas.h), so the agent kernel carries only the code it runs. */
 
@@ -60,6 +61,8 @@ __kernel void momas_agents(__global const mtx_frame* frames, __global const uint
   s.locator_next = 0;
   s.locator_across = 0;
   s.vertex_cells = 0u;
+  s.lattice = 0;
+  s.lattice_field = 0;
   mtx_walker w = load_walker(triangle, b1, b2, hx, hy, i);
   /* Per-agent hunger and species are loaded only by the variants that use them. */
   float h = MTX_FOOD ? hunger[i] : 0.0f;
@@ -262,6 +265,7 @@ __kernel void continuous_agents(__global const mtx_frame* frames, __global const
                                 __global const uint* locator_grid, __global const uint* locator_cells,
                                 __global const uint* locator_face, __global const float* locator_map,
                                 __global const uint* locator_next, __global const float* locator_across,
+                                __global const uint* lattice, __global const float* lattice_field,
                                 const uint vertex_cells, const mtx_continuous_constants k,
                                 const uint count) {
   const uint i = get_global_id(0);
@@ -286,6 +290,10 @@ __kernel void continuous_agents(__global const mtx_frame* frames, __global const
   s.locator_next = locator_next;
   s.locator_across = locator_across;
   s.vertex_cells = vertex_cells;
+  /* The intrinsic domain reads and deposits at its lattice's nodes (u and sums are
+   * planes of nodes then). */
+  s.lattice = vertex_cells ? lattice : 0;
+  s.lattice_field = vertex_cells ? lattice_field : 0;
   mtx_walker w = load_walker(triangle, b1, b2, hx, hy, i);
   const float4 l = lives[i];
   mtx_agent_life life;
@@ -302,6 +310,21 @@ __kernel void continuous_agents(__global const mtx_frame* frames, __global const
                             (ulong)i, &k);
   store_walker(&w, triangle, b1, b2, hx, hy, i);
   lives[i] = (float4)(life.clock, life.age, life.exposure, life.threshold);
+}
+
+/* The intrinsic domain's lattice (shared/intrinsic_lattice.h): the vertex values onto
+ * the nodes before the agents' step, the nodes' deposits on to the vertices after it. */
+__kernel void lattice_gather(__global const float* u, __global const uint* vertex, __global const float* weight,
+                             __global float* nodes, const uint count, const uint vertices, const uint planes) {
+  const uint n = get_global_id(0);
+  if (n < count) mtx_lattice_gather_node(u, vertex, weight, nodes, n, count, vertices, planes);
+}
+
+__kernel void lattice_scatter(__global int* node_sums, __global int* sums, __global const uint* vertex,
+                              __global const float* weight, const uint count, const uint vertices,
+                              const uint planes) {
+  const uint n = get_global_id(0);
+  if (n < count) mtx_lattice_scatter_node(node_sums, sums, vertex, weight, n, count, vertices, planes);
 }
 
 /* Deposit sums of the cells become concentration, every plane: u += sums * amount /

@@ -118,6 +118,11 @@ struct OpenClBackend::State {
   // The intrinsic domain's cells and locator (4-byte placeholders on the texture domain).
   cl_mem face_vertices = nullptr, locator_grid = nullptr, locator_cells = nullptr, locator_face = nullptr,
          locator_map = nullptr, locator_next = nullptr, locator_across = nullptr, cells_per_unit = nullptr;
+  // Its lattice (domain/intrinsic_lattice.h), the node values and deposit sums of every
+  // plane, and the static field at the nodes.
+  cl_mem lattice_grid = nullptr, lattice_vertex = nullptr, lattice_weight = nullptr, node_values = nullptr,
+         node_sums = nullptr, node_field = nullptr;
+  cl_kernel gather_kernel = nullptr, lattice_scatter_kernel = nullptr;
 
   ~State() {
     for (cl_mem m : {frames, adjacency, corner_uvs, classes, gutter_texel, gutter_source, frame3d,
@@ -127,7 +132,8 @@ struct OpenClBackend::State {
                      area, reverse, is_fine, fine_rows, fine_cur, fine_next, fine_flux, map_planes,
                      spawn_max, spawn_prob, spawn_index, write, decay, rate, feed_map, kill_map, face_vertices,
                      locator_grid, locator_cells, locator_face, locator_map, locator_next, locator_across,
-                     cells_per_unit})
+                     cells_per_unit, lattice_grid, lattice_vertex, lattice_weight, node_values, node_sums,
+                     node_field})
       if (m) r.clReleaseMemObject(m);
     release_plan();
     for (cl_kernel k : agent_kernels)
@@ -135,7 +141,7 @@ struct OpenClBackend::State {
     for (cl_kernel k : continuous_kernels)
       if (k) r.clReleaseKernel(k);
     for (cl_kernel k : {convert_kernel, pde_kernel, fine_start_kernel, fine_diffuse_kernel, coarse_diffuse_kernel,
-                        write_kernel, scale_kernel, gray_scott_kernel})
+                        write_kernel, scale_kernel, gray_scott_kernel, gather_kernel, lattice_scatter_kernel})
       if (k) r.clReleaseKernel(k);
     for (cl_kernel k : {deposit_kernel, gutter_kernel, diffuse_kernel, surface_kernel, seam_kernel,
                         fine_kernel, scatter_kernel})
@@ -274,6 +280,10 @@ OpenClBackend::OpenClBackend(std::shared_ptr<const Surface> surface,
   s.locator_next = table(in ? &in->locator.next : nullptr);
   s.locator_across = table(in ? &in->locator.across : nullptr);
   s.cells_per_unit = table(in ? &in->cells_per_unit : nullptr);
+  s.lattice_grid = table(in ? &in->lattice.grid : nullptr);
+  s.lattice_vertex = table(in ? &in->lattice.vertex : nullptr);
+  s.lattice_weight = table(in ? &in->lattice.weight : nullptr);
+  s.node_field = s.buffer(in ? size_t(in->lattice.node_count()) * 4 : 4, nullptr, device_bytes_);
 }
 
 OpenClBackend::~OpenClBackend() = default;
@@ -370,6 +380,12 @@ void OpenClBackend::set_field(const std::vector<float>& field) {
   check(s.r.clEnqueueWriteBuffer(s.queue, s.field, CL_TRUE, 0, cells.size() * 4, cells.data(), 0, nullptr,
                                  nullptr),
         "uploading the fields");
+  if (intrinsic_) {  // and at the lattice's nodes, where sensors read it
+    const std::vector<float> nodes = intrinsic_->lattice.field(cells);
+    check(s.r.clEnqueueWriteBuffer(s.queue, s.node_field, CL_TRUE, 0, nodes.size() * 4, nodes.data(), 0, nullptr,
+                                   nullptr),
+          "uploading the fields");
+  }
 }
 
 void OpenClBackend::reset(const Agents& agents) {
@@ -517,6 +533,11 @@ void OpenClBackend::prepare_continuous() {
   const cl_int zero = 0;
   check(s.r.clEnqueueFillBuffer(s.queue, s.sums, &zero, 4, 0, cells_ * 4 * species_count_, 0, nullptr, nullptr),
         "clearing the deposit sums");
+  const size_t nodes = intrinsic_ ? size_t(intrinsic_->lattice.node_count()) * species_count_ : 1;
+  s.node_values = s.buffer(nodes * 4, nullptr, device_bytes_);
+  s.node_sums = s.buffer(nodes * 4, nullptr, device_bytes_);
+  check(s.r.clEnqueueFillBuffer(s.queue, s.node_sums, &zero, 4, 0, nodes * 4, 0, nullptr, nullptr),
+        "clearing the deposit sums");
   s.alias_prob = s.buffer(alias.prob.size() * 4, data(alias.prob), device_bytes_);
   s.alias_index = s.buffer(alias.alias.size() * 4, data(alias.alias), device_bytes_);
   s.rows = s.buffer(lap->rows.size() * 4, data(lap->rows), device_bytes_);
@@ -528,6 +549,10 @@ void OpenClBackend::prepare_continuous() {
   cl_int err = CL_SUCCESS;
   s.convert_kernel = s.r.clCreateKernel(s.programs[0], "deposits_to_concentration", &err);
   check(err, "creating the deposit kernel");
+  s.gather_kernel = s.r.clCreateKernel(s.programs[0], "lattice_gather", &err);
+  check(err, "creating the lattice kernel");
+  s.lattice_scatter_kernel = s.r.clCreateKernel(s.programs[0], "lattice_scatter", &err);
+  check(err, "creating the lattice kernel");
   s.pde_kernel = s.r.clCreateKernel(s.programs[0], "pde_diffuse", &err);
   check(err, "creating the diffusion kernel");
   s.fine_start_kernel = s.r.clCreateKernel(s.programs[0], "pde_fine_start", &err);
@@ -553,12 +578,16 @@ void OpenClBackend::step_continuous(const StepSettings& settings, uint64_t seed,
   mtx_continuous_constants c =
       continuous_constants(settings, d, settings.u_metric, surface_->triangle_count(), agent_count_, seed,
                            step_index);
-  if (intrinsic_) {  // planes of vertex values
-    c.width = static_cast<mtx_u32>(cells_);
-    c.height = 1;
-  }
   const cl_uint planes = species_count_;
   const cl_uint texels = static_cast<cl_uint>(cells_);  // values per plane
+  const cl_uint nodes = intrinsic_ ? intrinsic_->lattice.node_count() : 0;
+  if (intrinsic_) {  // planes of vertex values (maps), read and deposited at the lattice's nodes
+    c.width = static_cast<mtx_u32>(cells_);
+    c.height = 1;
+    c.plane_cells = nodes;
+    s.args(s.gather_kernel, s.pheromone, s.lattice_vertex, s.lattice_weight, s.node_values, nodes, texels, planes);
+    s.run(s.gather_kernel, nodes);
+  }
   const cl_uint cells = static_cast<cl_uint>(lap.rows.size());
   if ((c.bias_on || c.bias_spawn) && settings.bias != s.bias_uploaded) {  // a new bias field
     if (s.bias && s.bias_uploaded.size() != settings.bias.size()) {
@@ -596,13 +625,19 @@ void OpenClBackend::step_continuous(const StepSettings& settings, uint64_t seed,
   }
   const bool spawn_map = !maps.spawn_max.empty();
   cl_kernel k = continuous_kernel(c.has_fields != 0);
-  s.args(k, s.frames, s.adjacency, s.corner_uvs, s.classes, s.pheromone, s.field, s.sums, s.triangle,
+  s.args(k, s.frames, s.adjacency, s.corner_uvs, s.classes, intrinsic_ ? s.node_values : s.pheromone, s.field,
+         intrinsic_ ? s.node_sums : s.sums, s.triangle,
          s.b1, s.b2, s.hx, s.hy, s.species, s.lives, intrinsic_ ? s.cells_per_unit : s.texels_per_unit,
          s.island, s.texel_island, s.interior_bits, spawn_map ? s.spawn_prob : s.alias_prob,
          spawn_map ? s.spawn_index : s.alias_index, s.bias, s.map_planes, s.spawn_max, s.face_vertices,
          s.locator_grid, s.locator_cells, s.locator_face, s.locator_map, s.locator_next, s.locator_across,
-         static_cast<cl_uint>(intrinsic_ ? 1 : 0), c, static_cast<cl_uint>(agent_count_));
+         s.lattice_grid, s.node_field, static_cast<cl_uint>(intrinsic_ ? 1 : 0), c,
+         static_cast<cl_uint>(agent_count_));
   s.run(k, agent_count_);
+  if (intrinsic_) {
+    s.args(s.lattice_scatter_kernel, s.node_sums, s.sums, s.lattice_vertex, s.lattice_weight, nodes, texels, planes);
+    s.run(s.lattice_scatter_kernel, nodes);
+  }
   const float amount = deposit_unit_amount(p, c.deposit_units);
   s.args(s.convert_kernel, s.pheromone, s.sums, s.rows, s.area, amount, cells, texels, planes);
   s.run(s.convert_kernel, cells);
