@@ -193,8 +193,8 @@ MTX_FN void mtx_continuous_traces(mtx_surface_tables s, const mtx_walker* from, 
     at[i] = *from;
     /* (The front turned by (1, 0) too, as it always was: that keeps the sign of a zero.) */
     at[i].heading = i == 1 ? mtx_rotate(from->heading, 1.0f, 0.0f) : mtx_rotate(from->heading, c, i == 0 ? sn : -sn);
-    mtx_walk(s.frames, s.adjacency, &at[i], length, 0, 0);
   }
+  mtx_walk_three(s.frames, s.adjacency, at, length, MTX_BOUNDARY_BOUNCE);
 }
 
 /* The reading stencils of the three sensors (left, front, right) of walker `from`. */

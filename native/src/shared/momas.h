@@ -197,15 +197,14 @@ MTX_FN void mtx_momas_probe(mtx_surface_tables s, const mtx_walker* w, mtx_u32 s
   const float c = k->sensor_cos[species], sn = k->sensor_sin[species];
   const float length = k->sensor_length[species];
   for (int i = 0; i < 3; ++i) {
-    mtx_walker* probe = &p->at[i];
-    *probe = *w;
-    if (i != 1) probe->heading = mtx_rotate(w->heading, c, i == 0 ? sn : -sn);
-    /* A trace ends where it meets an open boundary, and the sensor reads there (as Layton
-     * et al. do): a bounced trace would read the mirror image of the agent's own
-     * neighbourhood, and trails along the wall would merge with their images. */
-    mtx_walk_until(s.frames, s.adjacency, probe, length, 0, 0, MTX_BOUNDARY_STOP, 0);
-    p->texel[i] = mtx_walker_texel(s.corner_uvs, probe, k->width, k->height);
+    p->at[i] = *w;
+    if (i != 1) p->at[i].heading = mtx_rotate(w->heading, c, i == 0 ? sn : -sn);
   }
+  /* A trace ends where it meets an open boundary, and the sensor reads there (as Layton
+   * et al. do): a bounced trace would read the mirror image of the agent's own
+   * neighbourhood, and trails along the wall would merge with their images. */
+  mtx_walk_three(s.frames, s.adjacency, p->at, length, MTX_BOUNDARY_STOP);
+  for (int i = 0; i < 3; ++i) p->texel[i] = mtx_walker_texel(s.corner_uvs, &p->at[i], k->width, k->height);
   p->here = mtx_walker_texel(s.corner_uvs, w, k->width, k->height);
 }
 

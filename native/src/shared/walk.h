@@ -81,80 +81,93 @@ MTX_FN void mtx_clamp_bary(float* b) {
   }
 }
 
+/* One leg of the general walk (mtx_walk_across): from the walker's point to the first
+ * edge it meets within *remaining (or to the end of the walk), then across it (or a
+ * bounce). `count`: legs done before this one. Returns 1 when the walk goes on, 0 when
+ * it has ended (the weights clamped), -1 when it stopped at an open boundary
+ * (MTX_BOUNDARY_STOP). */
+MTX_FN int mtx_walk_leg(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const mtx_u32* adjacency, mtx_walker* w,
+                        float* remaining, int count, mtx_walker* events, int capacity, int boundary,
+                        mtx_u64* scatter_rng) {
+  const mtx_frame f = frames[w->triangle];
+  /* Heading in barycentric rates: Q (db1, db2) = heading, Q = [[a, bx], [0, by]]. */
+  const float db2 = w->heading.y * f.inv_by;
+  const float db1 = (w->heading.x - f.bx * db2) * f.inv_a;
+  float db[3];
+  db[0] = -(db1 + db2);
+  db[1] = db1;
+  db[2] = db2;
+  float travel = *remaining;
+  int exit = -1;
+  for (int i = 0; i < 3; ++i)
+    if (db[i] < 0.0f) {
+      float tau = w->bary[i] > 0.0f ? -w->bary[i] / db[i] : 0.0f;
+      if (tau < travel) {
+        travel = tau;
+        exit = i;
+      }
+    }
+  for (int i = 0; i < 3; ++i) w->bary[i] += travel * db[i];
+  if (exit < 0 || count >= MTX_MAX_CROSSINGS_PER_WALK) {
+    mtx_clamp_bary(w->bary);
+    return 0;
+  }
+  w->bary[exit] = 0.0f;
+  mtx_clamp_bary(w->bary);
+  *remaining -= travel;
+
+  const int j = (exit + 1) % 3, k = (exit + 2) % 3;
+  const mtx_vec2 e = f.edge[exit];
+  /* Corners are counter-clockwise in every frame, so this normal points inward. */
+  const float along = w->heading.x * e.x + w->heading.y * e.y;
+  const float across = fmax(fabs(w->heading.x * -e.y + w->heading.y * e.x), MTX_MIN_CROSSING_SINE);
+  const mtx_u32 code = adjacency[3 * w->triangle + MTX_CAST(mtx_u32, exit)];
+  if (code == MTX_NO_NEIGHBOUR && boundary == MTX_BOUNDARY_STOP) return -1;
+  if (code == MTX_NO_NEIGHBOUR) {
+    /* Bounce: mirror the heading about the boundary edge (along the edge unchanged,
+     * across it now inward). Scatter: sin of the angle to the inward normal uniform in
+     * [-1, 1), which is the cosine law. */
+    float out_along = along, out_across = across;
+    if (boundary == MTX_BOUNDARY_SCATTER) {
+      out_along = 2.0f * mtx_rng_float(scatter_rng) - 1.0f;
+      out_across = mtx_max(sqrt(1.0f - out_along * out_along), MTX_MIN_CROSSING_SINE);
+    }
+    mtx_vec2 h;
+    h.x = out_along * e.x - out_across * e.y;
+    h.y = out_along * e.y + out_across * e.x;
+    w->heading = mtx_unit(h);
+  } else {
+    const mtx_u32 next = code >> 3;
+    const int edge = MTX_CAST(int, (code >> 1) & 3u);
+    const int same_direction = MTX_CAST(int, code & 1u);
+    const int jn = (edge + (same_direction ? 1 : 2)) % 3; /* corner of `next` equal to j */
+    const int kn = (edge + (same_direction ? 2 : 1)) % 3; /* corner of `next` equal to k */
+    const float bj = w->bary[j], bk = w->bary[k];
+    w->bary[edge] = 0.0f;
+    w->bary[jn] = bj;
+    w->bary[kn] = bk;
+    /* The shared edge runs j -> k: in `next` that is its counter-clockwise tangent, or
+     * the reverse when `next` is wound the other way round. */
+    const mtx_vec2 ccw = frames[next].edge[edge];
+    const float sign = same_direction ? 1.0f : -1.0f;
+    mtx_vec2 h;
+    h.x = along * sign * ccw.x - across * ccw.y;
+    h.y = along * sign * ccw.y + across * ccw.x;
+    w->heading = mtx_unit(h);
+    w->triangle = next;
+  }
+  if (events && count < capacity) events[count] = *w;
+  return 1;
+}
+
 /* The general walk of mtx_walk_until, edge by edge (see there). */
 MTX_FN int mtx_walk_across(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const mtx_u32* adjacency,
                           mtx_walker* w, float length, mtx_walker* events, int capacity,
                           int boundary, mtx_u64* scatter_rng) {
   float remaining = length;
   for (int count = 0;; ++count) {
-    const mtx_frame f = frames[w->triangle];
-    /* Heading in barycentric rates: Q (db1, db2) = heading, Q = [[a, bx], [0, by]]. */
-    const float db2 = w->heading.y * f.inv_by;
-    const float db1 = (w->heading.x - f.bx * db2) * f.inv_a;
-    float db[3];
-    db[0] = -(db1 + db2);
-    db[1] = db1;
-    db[2] = db2;
-    float travel = remaining;
-    int exit = -1;
-    for (int i = 0; i < 3; ++i)
-      if (db[i] < 0.0f) {
-        float tau = w->bary[i] > 0.0f ? -w->bary[i] / db[i] : 0.0f;
-        if (tau < travel) {
-          travel = tau;
-          exit = i;
-        }
-      }
-    for (int i = 0; i < 3; ++i) w->bary[i] += travel * db[i];
-    if (exit < 0 || count >= MTX_MAX_CROSSINGS_PER_WALK) {
-      mtx_clamp_bary(w->bary);
-      return count;
-    }
-    w->bary[exit] = 0.0f;
-    mtx_clamp_bary(w->bary);
-    remaining -= travel;
-
-    const int j = (exit + 1) % 3, k = (exit + 2) % 3;
-    const mtx_vec2 e = f.edge[exit];
-    /* Corners are counter-clockwise in every frame, so this normal points inward. */
-    const float along = w->heading.x * e.x + w->heading.y * e.y;
-    const float across = fmax(fabs(w->heading.x * -e.y + w->heading.y * e.x), MTX_MIN_CROSSING_SINE);
-    const mtx_u32 code = adjacency[3 * w->triangle + MTX_CAST(mtx_u32, exit)];
-    if (code == MTX_NO_NEIGHBOUR && boundary == MTX_BOUNDARY_STOP) return -1;
-    if (code == MTX_NO_NEIGHBOUR) {
-      /* Bounce: mirror the heading about the boundary edge (along the edge unchanged,
-       * across it now inward). Scatter: sin of the angle to the inward normal uniform in
-       * [-1, 1), which is the cosine law. */
-      float out_along = along, out_across = across;
-      if (boundary == MTX_BOUNDARY_SCATTER) {
-        out_along = 2.0f * mtx_rng_float(scatter_rng) - 1.0f;
-        out_across = mtx_max(sqrt(1.0f - out_along * out_along), MTX_MIN_CROSSING_SINE);
-      }
-      mtx_vec2 h;
-      h.x = out_along * e.x - out_across * e.y;
-      h.y = out_along * e.y + out_across * e.x;
-      w->heading = mtx_unit(h);
-    } else {
-      const mtx_u32 next = code >> 3;
-      const int edge = MTX_CAST(int, (code >> 1) & 3u);
-      const int same_direction = MTX_CAST(int, code & 1u);
-      const int jn = (edge + (same_direction ? 1 : 2)) % 3; /* corner of `next` equal to j */
-      const int kn = (edge + (same_direction ? 2 : 1)) % 3; /* corner of `next` equal to k */
-      const float bj = w->bary[j], bk = w->bary[k];
-      w->bary[edge] = 0.0f;
-      w->bary[jn] = bj;
-      w->bary[kn] = bk;
-      /* The shared edge runs j -> k: in `next` that is its counter-clockwise tangent, or
-       * the reverse when `next` is wound the other way round. */
-      const mtx_vec2 ccw = frames[next].edge[edge];
-      const float sign = same_direction ? 1.0f : -1.0f;
-      mtx_vec2 h;
-      h.x = along * sign * ccw.x - across * ccw.y;
-      h.y = along * sign * ccw.y + across * ccw.x;
-      w->heading = mtx_unit(h);
-      w->triangle = next;
-    }
-    if (events && count < capacity) events[count] = *w;
+    const int on = mtx_walk_leg(frames, adjacency, w, &remaining, count, events, capacity, boundary, scatter_rng);
+    if (on <= 0) return on < 0 ? -1 : count;
   }
 }
 
@@ -209,6 +222,25 @@ MTX_FN int mtx_walk_until(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const m
                           int boundary, mtx_u64* scatter_rng) {
   if (mtx_walk_inside(frames, w, length)) return 0;
   return mtx_walk_across(frames, adjacency, w, length, events, capacity, boundary, scatter_rng);
+}
+
+/* Three walks of `length` at once (a fan of sensor traces), doing what `boundary` says
+ * at open boundaries (MTX_BOUNDARY_BOUNCE or _STOP): for each walker the same legs in the
+ * same order as mtx_walk_until, so the same results, but taken in turn, leg by leg, so that the processor overlaps the three
+ * chains of dependent operations (each leg waits on the one before: its exit time, the
+ * unfolding, the next triangle's frame). */
+MTX_FN void mtx_walk_three(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const mtx_u32* adjacency, mtx_walker* w,
+                           float length, int boundary) {
+  float remaining[3];
+  int on[3];
+  for (int i = 0; i < 3; ++i) {
+    remaining[i] = length;
+    on[i] = !mtx_walk_inside(frames, &w[i], length);
+  }
+  for (int count = 0; on[0] | on[1] | on[2]; ++count)
+    for (int i = 0; i < 3; ++i)
+      if (on[i])
+        on[i] = mtx_walk_leg(frames, adjacency, &w[i], &remaining[i], count, 0, 0, boundary, 0) > 0;
 }
 
 /* A walk that bounces at open boundaries. */
