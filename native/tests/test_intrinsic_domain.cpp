@@ -12,6 +12,7 @@
 #include "intrinsic/correspondence.h"
 #include "pattern_measures.h"
 #include "shared/intrinsic_locate.h"
+#include "shared/texel_sampling.h"
 #include "surface/surface.h"
 #include "test_backends.h"
 #include "test_util.h"
@@ -209,6 +210,72 @@ TEST(IntrinsicDomain, LocatorFindsThePointsFace) {
     EXPECT_LT(worst, 1e-3 * dom.d->bound) << name;
     EXPECT_GT(double(inside) / n, 0.99) << name;
   }
+}
+
+// The agents' sampling lattice (domain/intrinsic_lattice.h) on a flat mesh, where the
+// answer is known: the vertex hats and the lattice's hats each reproduce a linear
+// function exactly, so a reading through the lattice of u = x + 2y equals x + 2y at the
+// point (float round-off: values of order 4, so within 1e-5), and a deposit passed on
+// through the lattice lands whole (integer parts) with its centroid at the point (the
+// parts' rounding moves it by at most ~3 units of 2^20 over distances of one lattice
+// triangle: 1e-4 of the bound). A wrong node number or weight would be off by a node
+// spacing (~0.02 here), 100x the tolerances.
+TEST(IntrinsicDomain, LatticeReadsAndDepositsLikeTheHatsOnAPlane) {
+  const Mesh m = make_plane(6, 6, -2, -2, 2, 2, [](double x, double y) { return Vec2{(x + 2) / 4, (y + 2) / 4}; });
+  Domain dom(m, 128, 0.03);
+  const moldtex::IntrinsicLattice& L = dom.d->lattice;
+  moldtex::ThreadPool pool(2);
+  const uint32_t nv = dom.d->vertex_count(), nodes = L.node_count();
+  std::vector<float> u(nv);
+  for (uint32_t v = 0; v < nv; ++v) u[v] = float(dom.position(v)[0] + 2 * dom.position(v)[1]);
+  std::vector<float> at_nodes(nodes);
+  L.gather(u.data(), nv, at_nodes.data(), 1, pool);
+  const moldtex::mtx_surface_tables t = dom.d->agent_tables(moldtex::mtx_surface_tables{}, nullptr);
+  uint64_t rng = 7;
+  auto uniform = [&] {
+    rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+    return double(rng >> 11) * (1.0 / 9007199254740992.0);
+  };
+  const int32_t units = 1 << 20;
+  std::vector<int32_t> node_sums(nodes, 0), sums(nv, 0);
+  double worst_read = 0, worst_centroid = 0;
+  for (int i = 0; i < 5000; ++i) {
+    const uint32_t tri = uint32_t(uniform() * m.triangle_count()) % m.triangle_count();
+    const double a = std::sqrt(uniform()), b = uniform();
+    moldtex::Walker w{};
+    w.triangle = tri;
+    w.bary[0] = float(1 - a), w.bary[1] = float(a * (1 - b)), w.bary[2] = float(a * b);
+    const Vec3 x = add(add(scale(m.corner(tri, 0), w.bary[0]), scale(m.corner(tri, 1), w.bary[1])),
+                       scale(m.corner(tri, 2), w.bary[2]));
+    moldtex::mtx_texel_stencil st;
+    moldtex::mtx_texel_stencil_of(t, &w, 0, 0, 1, &st);
+    double read = 0, weights = 0;
+    for (int k = 0; k < 4; ++k) {
+      ASSERT_LT(st.cell[k], nodes);
+      read += st.weight[k] * at_nodes[st.cell[k]];
+      weights += st.weight[k];
+    }
+    ASSERT_NEAR(weights, 1.0, 1e-6);
+    worst_read = std::max(worst_read, std::fabs(read - (x[0] + 2 * x[1])));
+    // One deposit at a time: through the nodes on to the vertices.
+    moldtex::mtx_texel_deposit(node_sums.data(), &st, units);
+    std::fill(sums.begin(), sums.end(), 0);
+    L.scatter(node_sums.data(), sums.data(), nv, 1, pool);
+    int64_t total = 0;
+    Vec3 centroid{0, 0, 0};
+    for (uint32_t v = 0; v < nv; ++v)
+      if (sums[v] != 0) {
+        total += sums[v];
+        centroid = add(centroid, scale(dom.position(v), double(sums[v]) / units));
+      }
+    ASSERT_EQ(total, units);
+    for (int32_t q : node_sums) ASSERT_EQ(q, 0);
+    worst_centroid = std::max(worst_centroid, norm(sub(centroid, x)));
+  }
+  std::printf("lattice: %u nodes for %u vertices; worst reading error %.2g, worst deposit centroid %.2g x bound\n",
+              nodes, nv, worst_read, worst_centroid / dom.d->bound);
+  EXPECT_LT(worst_read, 1e-5);
+  EXPECT_LT(worst_centroid, 1e-4 * dom.d->bound);
 }
 
 // ---- the simulation on the intrinsic domain, through the C API --------------------
