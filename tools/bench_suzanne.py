@@ -1,10 +1,12 @@
-"""Benchmark (issue 15): MoMaS on Suzanne with Subdivision 2 against a UV sphere, both
-from Blender's own primitives, at 1024^2 with 300 k agents on the CPU backend (all
+"""Benchmark (issues 15 and 11): MoMaS on Suzanne with Subdivision 2 against a UV sphere,
+both from Blender's own primitives, at 1024^2 with 300 k agents on the CPU backend (all
 cores), core defaults otherwise. Prints agent-steps per second for each mesh (median of
-alternated runs) and Suzanne's figure as a share of the sphere's.
+alternated runs) and Suzanne's figure as a share of the sphere's. --intrinsic runs the
+continuous model on the Intrinsic domain instead (issue 11's target case; the
+triangulation's size from the texture, built before the timing starts).
 
   blender -b --factory-startup --python-exit-code 1 -P tools/bench_suzanne.py -- \
-      --addon-dir build/addon [--runs 5] [--steps 20]
+      --addon-dir build/addon [--runs 5] [--steps 20] [--intrinsic] [--threads N]
 
 A benchmark, not a test: it asserts nothing and prints figures for docs/PERFORMANCE.md.
 Suzanne is a real model's mesh: 15.7 k triangles after two subdivisions, many UV islands,
@@ -27,6 +29,9 @@ def parse_args():
     parser.add_argument("--steps", type=int, default=20)
     parser.add_argument("--agents", type=int, default=300000)
     parser.add_argument("--resolution", type=int, default=1024)
+    parser.add_argument("--intrinsic", action="store_true",
+                        help="the continuous model on the Intrinsic domain (default: MoMaS on the texture)")
+    parser.add_argument("--threads", type=int, default=0, help="0: all cores")
     return parser.parse_args(argv)
 
 
@@ -55,9 +60,10 @@ def main():
     for name, obj in make_objects().items():
         arrays = mesh_export.export_object(obj, depsgraph)
         surface = engine.Surface(arrays.positions, arrays.triangles, arrays.uvs, arrays.triangle_uvs)
-        sim = engine.Simulation(surface, config={"width": args.resolution, "height": args.resolution,
-                                                 "agent_count": args.agents, "seed": 1},
-                                params={"thread_count": 0})
+        config = {"width": args.resolution, "height": args.resolution, "agent_count": args.agents, "seed": 1}
+        if args.intrinsic:
+            config.update(model=engine.MODEL_CONTINUOUS, domain=engine.DOMAIN_INTRINSIC)
+        sim = engine.Simulation(surface, config=config, params={"thread_count": args.threads})
         sim.step(args.steps)  # warm up: first touches, a sort, the pattern starting
         sims[name] = (surface, sim, arrays.triangle_count)
     rates = {name: [] for name in sims}
@@ -71,7 +77,9 @@ def main():
         print(f"{name:8s} {triangles:6d} triangles, {args.resolution}^2, {args.agents} agents: "
               f"{median[name] / 1e6:.2f} M agent-steps/s (median of {args.runs} x {args.steps} steps; "
               f"runs {', '.join(f'{v / 1e6:.2f}' for v in rates[name])})")
-    print(f"suzanne / sphere = {median['suzanne'] / median['sphere']:.2f}")
+    what = "continuous model, Intrinsic domain" if args.intrinsic else "MoMaS, texture domain"
+    print(f"suzanne / sphere = {median['suzanne'] / median['sphere']:.2f} ({what}, "
+          f"{args.threads or 'all'} threads)")
 
 
 main()

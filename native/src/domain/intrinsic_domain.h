@@ -62,7 +62,7 @@ struct IntrinsicDomain {
   IntrinsicLocator locator;
   std::vector<float> cells_per_unit;
   // Where agents read and deposit: nodes about one intrinsic edge apart on each input
-  // triangle (domain/intrinsic_lattice.h), located once through the locator.
+  // triangle (domain/intrinsic_lattice.h), each located once by tracing.
   IntrinsicLattice lattice;
 
   TexelLaplacian laplacian;  // cells = vertices, area = lumped mass

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "domain/intrinsic_locator.h"
 #include "shared/intrinsic_lattice.h"
 #include "shared/texel_sampling.h"
 
@@ -12,6 +13,15 @@ namespace moldtex {
 namespace {
 
 constexpr uint32_t kMaxLatticeGrid = 2048;  // nodes per side of one input triangle, at most
+// A sliver's lattice is as thin as the sliver (its triangles are similar to it), so nodes
+// `spacing` apart along its long edges would crowd its short one: a triangle of aspect A
+// would take ~A times the nodes of a well-shaped one of its area (a CAD cylinder of
+// triangles 1000 times longer than wide: gigabytes). G is held to this many times the G
+// of a lattice whose triangles have the area of an equilateral one of side `spacing`, so
+// nodes stay within ~36x that count; beyond, the spacing along a sliver grows instead.
+// 3 would engage on Fig. 4's sphere of slivers (its pattern then 10.1 % from the
+// well-shaped sphere's, 8.8 % uncapped); 6 leaves it as uncapped.
+constexpr double kMaxSliverFactor = 6.0;
 // More nodes than this in all is refused (4 bytes per node and plane, 24 fixed).
 constexpr uint64_t kMaxLatticeNodes = uint64_t(1) << 30;
 
@@ -22,18 +32,24 @@ double longest_edge(const mtx_frame& f) {
 
 }  // namespace
 
-IntrinsicLattice build_intrinsic_lattice(const Surface& s, const mtx_surface_tables& tables, double spacing,
+IntrinsicLattice build_intrinsic_lattice(const Surface& s, const intrinsic::IntrinsicTriangulation& T,
+                                         const std::vector<uint32_t>& input_face,
+                                         const std::vector<uint32_t>& face_rank,
+                                         const std::vector<uint32_t>& face_vertices, double spacing,
                                          ThreadPool& pool) {
   IntrinsicLattice L;
   const uint32_t nt = s.triangle_count();
   L.grid.assign(2ull * nt, 0);
   uint64_t total = 0;
   for (uint32_t t = 0; t < nt; ++t) {
-    // Triangles without locator cells (dropped or of zero area) get one node, which
-    // reads what the locator answers there.
+    // Triangles the locator has no cells for (dropped, or of zero area) get one node,
+    // which reads what the locator answers there (face 0, equal weights).
     uint32_t G = 0;
-    if (tables.locator_grid[2 * t + 1] != 0) {
-      const double g = std::ceil(longest_edge(s.frames[t]) / std::max(spacing, 1e-300));
+    if (input_face[t] != intrinsic::kInvalid && !s.degenerate[t]) {
+      const double step = std::max(spacing, 1e-300);
+      const double by_length = std::ceil(longest_edge(s.frames[t]) / step);
+      const double by_area = std::ceil(std::sqrt(double(s.areas[t]) / (std::sqrt(3.0) / 4 * step * step)));
+      const double g = std::min(by_length, kMaxSliverFactor * by_area);
       G = static_cast<uint32_t>(std::clamp(g, 1.0, double(kMaxLatticeGrid)));
     }
     L.grid[2ull * t] = static_cast<uint32_t>(std::min<uint64_t>(total, 0xffffffffu));
@@ -46,24 +62,40 @@ IntrinsicLattice build_intrinsic_lattice(const Surface& s, const mtx_surface_tab
   }
   L.vertex.resize(3 * total);
   L.weight.resize(3 * total);
-  pool.parallel_for(nt, 256, [&](size_t begin, size_t end) {
+  pool.parallel_for(nt, 16, [&](size_t begin, size_t end) {
+    std::vector<std::array<double, 3>> bary;
+    std::vector<uint32_t> node;
     for (size_t t = begin; t < end; ++t) {
       const uint32_t first = L.grid[2 * t], G = L.grid[2 * t + 1];
-      for (uint32_t i = 0; i <= G; ++i)
-        for (uint32_t j = 0; i + j <= G; ++j) {
-          float b[3];
-          if (G == 0) {
-            b[0] = b[1] = b[2] = 1.f / 3.f;
-          } else {
-            b[1] = float(double(i) / G);
-            b[2] = float(double(j) / G);
-            b[0] = float(double(G - i - j) / G);
-          }
-          const size_t n = mtx_lattice_node(first, int(G), int(i), int(j));
-          mtx_locate_intrinsic(tables.locator_grid, tables.locator_cells, tables.locator_face, tables.locator_map,
-                               tables.locator_next, tables.locator_across, tables.face_vertices,
-                               static_cast<uint32_t>(t), b, &L.weight[3 * n], &L.vertex[3 * n]);
+      if (G == 0) {
+        for (int k = 0; k < 3; ++k) {
+          L.vertex[3ull * first + k] = face_vertices[k];
+          L.weight[3ull * first + k] = 1.f / 3.f;
         }
+        continue;
+      }
+      // Row by row, each row in turn forwards and backwards, so the chain's steps stay
+      // one node long; a hair inside the triangle (1e-6 of it), so no trace runs along
+      // its edges.
+      bary.clear();
+      node.clear();
+      constexpr double kInset = 1e-6;
+      for (uint32_t i = 0; i <= G; ++i)
+        for (uint32_t k = 0; k <= G - i; ++k) {
+          const uint32_t j = i % 2 == 0 ? k : G - i - k;
+          const double b1 = double(i) / G, b2 = double(j) / G, b0 = std::max(0.0, 1 - b1 - b2);
+          bary.push_back({kInset / 3 + (1 - kInset) * b0, kInset / 3 + (1 - kInset) * b1,
+                          kInset / 3 + (1 - kInset) * b2});
+          node.push_back(mtx_lattice_node(first, int(G), int(i), int(j)));
+        }
+      const std::vector<LocatedPoint> at = locate_chain(T, input_face[t], bary);
+      for (size_t q = 0; q < at.size(); ++q) {
+        const uint32_t f = face_rank[at[q].point.face];
+        for (int k = 0; k < 3; ++k) {
+          L.vertex[3ull * node[q] + k] = face_vertices[3ull * f + k];
+          L.weight[3ull * node[q] + k] = static_cast<float>(at[q].point.bary[k]);
+        }
+      }
     }
   });
   return L;

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "backends/cpu/thread_pool.h"
+#include "intrinsic/correspondence.h"
 #include "shared/momas.h"
 #include "surface/surface.h"
 
@@ -47,8 +48,15 @@ struct IntrinsicLattice {
 };
 
 // Nodes about `spacing` apart along each input triangle's longest edge (G per
-// triangle), each located with the locator of `tables` (intrinsic_domain.h's tables()).
-IntrinsicLattice build_intrinsic_lattice(const Surface& surface, const mtx_surface_tables& tables, double spacing,
+// triangle), each located on T by a chain of short traces (intrinsic_locator.h's
+// locate_chain, in double precision: exact where the float locator's cells may clamp,
+// as on slivers). input_face: per surface triangle its input face of T (kInvalid:
+// none); face_rank: T's face numbers -> the domain's; face_vertices: 3 per face (the
+// domain's numbering).
+IntrinsicLattice build_intrinsic_lattice(const Surface& surface, const intrinsic::IntrinsicTriangulation& T,
+                                         const std::vector<uint32_t>& input_face,
+                                         const std::vector<uint32_t>& face_rank,
+                                         const std::vector<uint32_t>& face_vertices, double spacing,
                                          ThreadPool& pool);
 
 }  // namespace moldtex

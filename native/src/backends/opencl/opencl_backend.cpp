@@ -236,7 +236,11 @@ OpenClBackend::OpenClBackend(std::shared_ptr<const Surface> surface,
   const TextureDomain& d = *domain_;
   const size_t texels = d.texel_count();
   cells_ = intrinsic_ ? intrinsic_->vertex_count() : texels;
-  const double need = (intrinsic_ ? static_cast<double>(intrinsic_->bytes()) : 0.0) + agent_count_ * 41.0 + sf.frame3d.size() * 4.0 + texels * (9.0 * species_count_ + 5.0) + sf.frames.size() * sizeof(mtx_frame) +
+  // (The intrinsic domain: its tables, and the lattice's values and sums per plane and field.)
+  const double need = (intrinsic_ ? static_cast<double>(intrinsic_->bytes()) +
+                                        intrinsic_->lattice.node_count() * (8.0 * species_count_ + 4.0)
+                                  : 0.0) +
+                      agent_count_ * 41.0 + sf.frame3d.size() * 4.0 + texels * (9.0 * species_count_ + 5.0) + sf.frames.size() * sizeof(mtx_frame) +
                       sf.adjacency.size() * 4.0 + sf.corner_uvs.size() * 4.0 + d.gutter_texel.size() * 8.0 +
                       texels * 4.0 + d.texels_per_unit.size() * 4.0 + sf.island.size() * 4.0 +
                       d.seam_texel.size() * 20.0;
