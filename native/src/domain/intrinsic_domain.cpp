@@ -277,8 +277,8 @@ std::shared_ptr<const IntrinsicDomain> build_intrinsic_domain(const Surface& s, 
   // Deposit pieces of half the bound along the walk (per surface triangle, where the
   // continuous step looks them up): the three hats of each piece overlap the next's.
   d->cells_per_unit.assign(2ull * s.triangle_count(), static_cast<float>(2.0 / bound));
-  // Lattice nodes one mean intrinsic edge apart (the edge of an equilateral triangle of
-  // the mean face area).
+  // Lattice nodes kLatticeSpacing mean intrinsic edges apart (the mean edge: that of an
+  // equilateral triangle of the mean face area).
   d->lattice = build_intrinsic_lattice(s, d->tri, d->input_face, d->face_rank, d->face_vertices,
                                        kLatticeSpacing * std::sqrt(4.0 * face_area / std::sqrt(3.0)), pool);
   part_done(1.0);

@@ -19,7 +19,6 @@
 
 #include "backends/cpu/thread_pool.h"
 #include "intrinsic/correspondence.h"
-#include "shared/momas.h"
 #include "surface/surface.h"
 
 namespace moldtex {

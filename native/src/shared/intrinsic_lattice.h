@@ -89,34 +89,6 @@ MTX_FN void mtx_lattice_gather_node(MTX_GLOBAL const float* u, MTX_GLOBAL const 
   }
 }
 
-/* Node n's deposit sums (planes of `count`) passed on to its vertices' (planes of
- * `vertices`) and cleared: its units split by its weights, rounded, the last vertex of
- * weight > 0 taking the remainder, so the parts add up exactly. Integer adds, so the
- * sums do not depend on the order the nodes are done in. */
-MTX_FN void mtx_lattice_scatter_node(MTX_GLOBAL mtx_i32* node_sums, MTX_GLOBAL mtx_i32* sums,
-                                     MTX_GLOBAL const mtx_u32* vertex, MTX_GLOBAL const float* weight,
-                                     mtx_u32 n, mtx_u32 count, mtx_u32 vertices, mtx_u32 planes) {
-  for (mtx_u32 p = 0; p < planes; ++p) {
-    MTX_GLOBAL mtx_i32* in = node_sums + MTX_CAST(mtx_u64, p) * count + n;
-    const mtx_i32 q = *in;
-    if (q == 0) continue;
-    *in = 0;
-    MTX_GLOBAL mtx_i32* out = sums + MTX_CAST(mtx_u64, p) * vertices;
-    int last = -1;
-    for (int k = 0; k < 3; ++k)
-      if (weight[3 * MTX_CAST(mtx_u64, n) + k] > 0.0f) last = k;
-    mtx_i32 left = q;
-    for (int k = 0; k < 3; ++k) {
-      const float w = weight[3 * MTX_CAST(mtx_u64, n) + k];
-      if (!(w > 0.0f)) continue;
-      mtx_i32 part = k == last ? left : MTX_CAST(mtx_i32, w * MTX_CAST(float, q) + 0.5f);
-      part = part > left ? left : part;
-      left -= part;
-      if (part != 0) MTX_ADD_I32(out, vertex[3 * MTX_CAST(mtx_u64, n) + k], part);
-    }
-  }
-}
-
 MTX_END_NAMESPACE
 
 #endif

@@ -146,6 +146,30 @@ MTX_FN void mtx_texel_deposit(MTX_GLOBAL mtx_i32* sums, const mtx_texel_stencil*
   }
 }
 
+/* The intrinsic lattice's node n: its deposit sums (planes of `count`) passed on to its
+ * face's vertices (planes of `vertices`) by its weights, as a deposit at the node's point
+ * (mtx_texel_deposit: parts adding up exactly), and cleared. Integer adds, so the sums do
+ * not depend on the order the nodes are done in. */
+MTX_FN void mtx_lattice_scatter_node(MTX_GLOBAL mtx_i32* node_sums, MTX_GLOBAL mtx_i32* sums,
+                                     MTX_GLOBAL const mtx_u32* vertex, MTX_GLOBAL const float* weight,
+                                     mtx_u32 n, mtx_u32 count, mtx_u32 vertices, mtx_u32 planes) {
+  mtx_texel_stencil st;
+  for (int k = 0; k < 3; ++k) {
+    st.cell[k] = vertex[3 * MTX_CAST(mtx_u64, n) + k];
+    st.weight[k] = weight[3 * MTX_CAST(mtx_u64, n) + k];
+  }
+  st.cell[3] = st.cell[0];
+  st.weight[3] = 0.0f;
+  st.count = 3;
+  for (mtx_u32 p = 0; p < planes; ++p) {
+    MTX_GLOBAL mtx_i32* in = node_sums + MTX_CAST(mtx_u64, p) * count + n;
+    const mtx_i32 q = *in;
+    if (q == 0) continue;
+    *in = 0;
+    mtx_texel_deposit(sums + MTX_CAST(mtx_u64, p) * vertices, &st, q);
+  }
+}
+
 /* The concentration that `units` of fixed-point deposit add to a cell of 3D area
  * `area`, `amount` being the amount of one unit. */
 MTX_FN float mtx_deposit_concentration(mtx_i32 units, float amount, float area) {
