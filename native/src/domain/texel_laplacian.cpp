@@ -47,6 +47,7 @@ constexpr double kBackwardTolerance = 1e-6;    // CG: |b - A x| <= tol |b|
 constexpr uint32_t kMaxFineSubsteps = 1024;
 constexpr double kFineCellCost = 1.5;
 constexpr size_t kRowGrain = 4096;             // rows per parallel_for chunk
+constexpr size_t kLinkPrefetch = 24;           // rows ahead (a few hundred ns of work)
 
 using Vec3d = std::array<double, 3>;
 
@@ -283,14 +284,14 @@ void forward_steps(const TexelLaplacian& lap, const LocalSteppingPlan& plan, flo
   float* out = scratch.data();
   const float hf = static_cast<float>(h);
   const bool local = !plan.fine_rows.empty();
-  // Fine cells' current and next values (texel-indexed) and the inflow per CSR entry.
+  // Fine cells' current and next values and their inflows (compact: shared/pde.h).
   std::vector<float>& cur = plan.cur;
   std::vector<float>& next = plan.next;
   std::vector<float>& flux = plan.flux;
   if (local) {
-    cur.resize(lap.area.size());
-    next.resize(lap.area.size());
-    flux.resize(lap.col.size());
+    cur.resize(plan.fine_cell.size());
+    next.resize(plan.fine_cell.size());
+    flux.resize(plan.fine_nbr.size());
   }
   const float hfine = static_cast<float>(h / plan.fine);
   for (uint32_t step = 0; step < n; ++step) {
@@ -305,31 +306,39 @@ void forward_steps(const TexelLaplacian& lap, const LocalSteppingPlan& plan, flo
       std::swap(in, out);
       continue;
     }
-    for (uint32_t r : plan.fine_rows) {
-      cur[lap.rows[r]] = in[lap.rows[r]];
-      std::fill(flux.begin() + lap.start[r], flux.begin() + lap.start[r + 1], 0.f);
-    }
+    const size_t fine_count = plan.fine_cell.size();
+    for (size_t f = 0; f < fine_count; ++f) cur[f] = in[plan.fine_cell[f]];
+    std::fill(flux.begin(), flux.end(), 0.f);
     for (uint32_t q = 0; q < plan.fine; ++q) {
-      pool.parallel_for(plan.fine_rows.size(), 256, [&](size_t begin, size_t end) {
-        for (size_t f = begin; f < end; ++f) {
-          const uint32_t r = plan.fine_rows[f];
-          next[lap.rows[r]] = mtx_fine_cell(lap.rows.data(), lap.start.data(), lap.col.data(),
-                                            lap.weight.data(), lap.area.data(), plan.is_fine.data(), in,
-                                            cur.data(), flux.data(), r, hfine);
-        }
+      pool.parallel_for(fine_count, 256, [&](size_t begin, size_t end) {
+        for (size_t f = begin; f < end; ++f)
+          next[f] = mtx_fine_cell(plan.fine_start.data(), plan.fine_nbr.data(), plan.fine_weight.data(),
+                                  plan.fine_area.data(), in, cur.data(), flux.data(), static_cast<mtx_u32>(f),
+                                  hfine);
       });
-      for (uint32_t r : plan.fine_rows) cur[lap.rows[r]] = next[lap.rows[r]];
+      std::swap(cur, next);
     }
-    pool.parallel_for(lap.rows.size(), kRowGrain, [&](size_t begin, size_t end) {
+    // The tables as plain pointers captured by value: the compiler keeps them in
+    // registers over the loop instead of reloading them through the closure per row.
+    const mtx_u32 *rows = lap.rows.data(), *start = lap.start.data(), *col = lap.col.data(),
+                  *link = plan.link.data();
+    const float *weight = lap.weight.data(), *area = lap.area.data(), *inflow = flux.data(), *from = in;
+    const mtx_u8* step_class = plan.step_class.data();
+    float* to = out;
+    const size_t row_count = lap.rows.size();
+    pool.parallel_for(row_count, kRowGrain, [=](size_t begin, size_t end) {
       for (size_t r = begin; r < end; ++r) {
-        const uint32_t i = lap.rows[r];
-        out[i] = plan.is_fine[i] ? cur[i] * d
-                                 : mtx_coarse_cell(lap.rows.data(), lap.start.data(), lap.col.data(),
-                                                   lap.weight.data(), lap.area.data(), plan.is_fine.data(),
-                                                   lap.reverse.data(), in, flux.data(), static_cast<mtx_u32>(r),
-                                                   hf, d);
+        const uint32_t i = rows[r];
+        // A border row's links sit at scattered places of a table the other rows never
+        // touch: each would be a miss to memory, so fetch them some rows ahead.
+        if (r + kLinkPrefetch < row_count && step_class[rows[r + kLinkPrefetch]] == MTX_STEP_BORDER)
+          __builtin_prefetch(link + start[r + kLinkPrefetch]);
+        if (step_class[i] != MTX_STEP_FINE)
+          to[i] = mtx_coarse_cell(rows, start, col, weight, area, step_class, link, from, inflow,
+                                  static_cast<mtx_u32>(r), hf, d);
       }
     });
+    for (size_t f = 0; f < fine_count; ++f) out[plan.fine_cell[f]] = cur[f] * d;
     std::swap(in, out);
   }
   if (in != u)
@@ -497,12 +506,33 @@ const LocalSteppingPlan& local_stepping_plan(const TexelLaplacian& lap, double r
   const double h = plan->coarse == UINT32_MAX ? 0.0 : rdt / plan->coarse;
   plan->fine = h > 0 ? substeps_for(lap.max_rate, h) : 1;
   if (plan->fine > 1 && plan->coarse != UINT32_MAX) {
-    plan->is_fine.assign(lap.area.size(), 0);
+    plan->step_class.assign(lap.area.size(), MTX_STEP_COARSE);
     for (size_t r = 0; r < lap.rows.size(); ++r)
       if (lap.rate[r] * h > kForwardLimit) {
         plan->fine_rows.push_back(static_cast<uint32_t>(r));
-        plan->is_fine[lap.rows[r]] = 1;
+        plan->step_class[lap.rows[r]] = MTX_STEP_FINE;
       }
+    std::vector<uint32_t> fine_index(lap.area.size(), 0);
+    for (size_t f = 0; f < plan->fine_rows.size(); ++f) fine_index[lap.rows[plan->fine_rows[f]]] = uint32_t(f);
+    plan->fine_start.assign(1, 0);
+    plan->link.assign(lap.col.size(), 0);
+    for (uint32_t r : plan->fine_rows) {
+      plan->fine_cell.push_back(lap.rows[r]);
+      plan->fine_area.push_back(lap.area[lap.rows[r]]);
+      for (uint32_t k = lap.start[r]; k < lap.start[r + 1]; ++k) {
+        const uint32_t j = lap.col[k];
+        const uint32_t e = static_cast<uint32_t>(plan->fine_nbr.size());
+        if (plan->step_class[j] == MTX_STEP_FINE) {
+          plan->fine_nbr.push_back(MTX_FINE_NEIGHBOUR | fine_index[j]);
+        } else {
+          plan->step_class[j] = MTX_STEP_BORDER;
+          plan->fine_nbr.push_back(j);
+          plan->link[lap.reverse[k]] = e;
+        }
+        plan->fine_weight.push_back(lap.weight[k]);
+      }
+      plan->fine_start.push_back(static_cast<uint32_t>(plan->fine_nbr.size()));
+    }
   }
   if (plan->fine_rows.empty()) plan->fine = 1;
   lap.local = plan;
@@ -556,7 +586,10 @@ size_t TexelLaplacian::bytes() const {
   size_t b = (rows.capacity() + start.capacity() + col.capacity() + reverse.capacity()) * 4 +
              (weight.capacity() + area.capacity() + rate.capacity() + sorted_rate.capacity()) * 4;
   if (local)
-    b += local->fine_rows.capacity() * 4 + local->is_fine.capacity() +
+    b += (local->fine_rows.capacity() + local->fine_cell.capacity() + local->fine_start.capacity() +
+          local->fine_nbr.capacity() + local->link.capacity() + local->fine_area.capacity() +
+          local->fine_weight.capacity()) * 4 +
+         local->step_class.capacity() +
          (local->cur.capacity() + local->next.capacity() + local->flux.capacity()) * 4;
   return b;
 }

@@ -31,8 +31,15 @@ struct LocalSteppingPlan {
   double rdt = -1;                 // r_dif dt it was made for
   uint32_t coarse = 1, fine = 1;   // coarse sub-steps per step; fine ones per coarse one
   std::vector<uint32_t> fine_rows; // the fine cells (row indices); empty: global steps
-  std::vector<uint8_t> is_fine;    // per texel: 1 for a fine cell
-  // Scratch of the CPU stepping: fine cells' values (per texel) and inflows (per entry).
+  std::vector<uint8_t> step_class; // per texel: MTX_STEP_COARSE, _FINE or _BORDER (shared/pde.h)
+  // The fine cells' own compact rows (shared/pde.h, mtx_fine_cell): fine cell f (texel
+  // fine_cell[f], area fine_area[f]) has entries fine_start[f] .. fine_start[f + 1], each a
+  // neighbour fine_nbr[e] and its conductance fine_weight[e]. link (per CSR entry): for
+  // an entry (border cell -> fine cell), the compact entry back (0 elsewhere).
+  std::vector<uint32_t> fine_cell, fine_start, fine_nbr, link;
+  std::vector<float> fine_area, fine_weight;
+  // Scratch of the CPU stepping: fine cells' values (per fine cell) and inflows (per
+  // compact entry).
   mutable std::vector<float> cur, next, flux;
 };
 

@@ -29,47 +29,63 @@ MTX_FN float mtx_diffuse_cell(MTX_GLOBAL const mtx_u32* rows, MTX_GLOBAL const m
   return (ui + h / area[i] * flux) * decay;
 }
 
-/* Local time stepping (domain/texel_laplacian.h, LocalSteppingPlan): within one coarse
- * sub-step the few stiff cells ("fine", is_fine[texel] = 1) take several fine sub-steps
+/* Local time stepping (domain/texel_laplacian.h, LocalSteppingPlan) sorts the cells into
+ * three classes (step_class, one byte per texel): */
+#define MTX_STEP_COARSE 0u /* a coarse cell with no fine neighbour (nearly all of them) */
+#define MTX_STEP_FINE 1u   /* a stiff cell, sub-stepped more finely */
+#define MTX_STEP_BORDER 2u /* a coarse cell with a fine neighbour */
+
+/* Within one coarse sub-step the few stiff cells (MTX_STEP_FINE) take several fine sub-steps
  * of length h, reading their fine neighbours' current values (cur) and their coarse
- * neighbours' values frozen at the coarse sub-step's start (frozen). What flows in from
- * each coarse neighbour is summed in flux[k] (the row's CSR entry k), and the coarse
- * neighbour gives up exactly that amount (mtx_coarse_cell), so the total is conserved. */
-MTX_FN float mtx_fine_cell(MTX_GLOBAL const mtx_u32* rows, MTX_GLOBAL const mtx_u32* start,
-                           MTX_GLOBAL const mtx_u32* col, MTX_GLOBAL const float* weight,
-                           MTX_GLOBAL const float* area, MTX_GLOBAL const mtx_u8* is_fine,
+ * neighbours' values frozen at the coarse sub-step's start (frozen, per texel). The fine
+ * cells keep their own compact copy of their rows (LocalSteppingPlan): fine cell f's
+ * entries e = fine_start[f] .. fine_start[f + 1], each a neighbour fine_nbr[e] (a texel,
+ * or MTX_FINE_NEIGHBOUR | the fine index of a fine neighbour) with conductance
+ * fine_weight[e]; its area fine_area[f]; its value cur[f]. What flows in from each coarse
+ * neighbour is summed in flux[e], and the coarse neighbour gives up exactly that amount
+ * (mtx_coarse_cell), so the total is conserved. The fine cells lie scattered over the
+ * matrix: read in place, each row cost several misses to memory per fine sub-step. */
+#define MTX_FINE_NEIGHBOUR 0x80000000u
+MTX_FN float mtx_fine_cell(MTX_GLOBAL const mtx_u32* fine_start, MTX_GLOBAL const mtx_u32* fine_nbr,
+                           MTX_GLOBAL const float* fine_weight, MTX_GLOBAL const float* fine_area,
                            MTX_GLOBAL const float* frozen, MTX_GLOBAL const float* cur,
-                           MTX_GLOBAL float* flux, mtx_u32 r, float h) {
-  const mtx_u32 i = rows[r];
-  const float ui = cur[i];
+                           MTX_GLOBAL float* flux, mtx_u32 f, float h) {
+  const float ui = cur[f];
   float total = 0.0f;
-  for (mtx_u32 k = start[r]; k < start[r + 1]; ++k) {
-    const mtx_u32 j = col[k];
-    const int fine = is_fine[j];
-    const float f = weight[k] * ((fine ? cur[j] : frozen[j]) - ui);
-    total += f;
-    if (!fine) flux[k] += h * f;
+  for (mtx_u32 e = fine_start[f]; e < fine_start[f + 1]; ++e) {
+    const mtx_u32 n = fine_nbr[e];
+    const int fine = (n & MTX_FINE_NEIGHBOUR) != 0u;
+    const float q = fine_weight[e] * ((fine ? cur[n & ~MTX_FINE_NEIGHBOUR] : frozen[n]) - ui);
+    total += q;
+    if (!fine) flux[e] += h * q;
   }
-  return ui + h / area[i] * total;
+  return ui + h / fine_area[f] * total;
 }
 
 /* A coarse cell's sub-step of length h: forward Euler with its coarse neighbours, minus
- * what its fine neighbours drew from it (flux at the reverse entry, reverse[k] being the
- * entry (j -> i) of the entry (i -> j)), times `decay`. */
+ * what its fine neighbours drew from it (flux[link[k]] for its entry k towards a fine
+ * cell: the flux of that cell's compact entry back to this one), times `decay`. Only
+ * MTX_STEP_BORDER cells have fine neighbours: the others skip the per-neighbour test
+ * (half the cost of the row) and compute the same expression with drawn = 0, so the same
+ * bits. */
 MTX_FN float mtx_coarse_cell(MTX_GLOBAL const mtx_u32* rows, MTX_GLOBAL const mtx_u32* start,
                              MTX_GLOBAL const mtx_u32* col, MTX_GLOBAL const float* weight,
-                             MTX_GLOBAL const float* area, MTX_GLOBAL const mtx_u8* is_fine,
-                             MTX_GLOBAL const mtx_u32* reverse, MTX_GLOBAL const float* in,
+                             MTX_GLOBAL const float* area, MTX_GLOBAL const mtx_u8* step_class,
+                             MTX_GLOBAL const mtx_u32* link, MTX_GLOBAL const float* in,
                              MTX_GLOBAL const float* flux, mtx_u32 r, float h, float decay) {
   const mtx_u32 i = rows[r];
   const float ui = in[i];
   float total = 0.0f, drawn = 0.0f;
-  for (mtx_u32 k = start[r]; k < start[r + 1]; ++k) {
-    const mtx_u32 j = col[k];
-    if (is_fine[j])
-      drawn += flux[reverse[k]];
-    else
-      total += weight[k] * (in[j] - ui);
+  if (step_class[i] == MTX_STEP_COARSE) {
+    for (mtx_u32 k = start[r]; k < start[r + 1]; ++k) total += weight[k] * (in[col[k]] - ui);
+  } else {
+    for (mtx_u32 k = start[r]; k < start[r + 1]; ++k) {
+      const mtx_u32 j = col[k];
+      if (step_class[j] == MTX_STEP_FINE)
+        drawn += flux[link[k]];
+      else
+        total += weight[k] * (in[j] - ui);
+    }
   }
   return (ui + (h * total - drawn) / area[i]) * decay;
 }

@@ -200,53 +200,57 @@ __kernel void pde_diffuse(__global const uint* rows, __global const uint* start,
 }
 
 /* Local time stepping (shared/pde.h, domain/texel_laplacian.h LocalSteppingPlan), every
- * species plane: fine cells start from the coarse sub-step's values with no inflow yet; */
-__kernel void pde_fine_start(__global const uint* rows, __global const uint* start,
-                             __global const uint* fine_rows, __global const float* in,
-                             __global float* cur, __global float* flux, const uint count,
-                             const uint texels, const uint entries, const uint planes) {
+ * species plane: fine cells start from the coarse sub-step's values with no inflow yet
+ * (cur: `count` values per plane; flux: `entries` compact entries per plane); */
+__kernel void pde_fine_start(__global const uint* fine_cell, __global const uint* fine_start,
+                             __global const float* in, __global float* cur, __global float* flux,
+                             const uint count, const uint texels, const uint entries, const uint planes) {
   const uint f = get_global_id(0);
   if (f >= count) return;
-  const uint r = fine_rows[f], i = rows[r];
   for (uint p = 0; p < planes; ++p) {
-    cur[p * texels + i] = in[p * texels + i];
-    for (uint k = start[r]; k < start[r + 1]; ++k) flux[p * entries + k] = 0.0f;
+    cur[p * count + f] = in[p * texels + fine_cell[f]];
+    for (uint e = fine_start[f]; e < fine_start[f + 1]; ++e) flux[p * entries + e] = 0.0f;
   }
 }
 
 /* one fine sub-step of the fine cells (cur -> next); */
-__kernel void pde_fine_diffuse(__global const uint* rows, __global const uint* start,
-                               __global const uint* col, __global const float* weight,
-                               __global const float* area, __global const uchar* is_fine,
-                               __global const uint* fine_rows, __global const float* frozen,
-                               __global const float* cur, __global float* next,
-                               __global float* flux, const float h, const uint count,
-                               const uint texels, const uint entries, const uint planes) {
+__kernel void pde_fine_diffuse(__global const uint* fine_start, __global const uint* fine_nbr,
+                               __global const float* fine_weight, __global const float* fine_area,
+                               __global const float* frozen, __global const float* cur,
+                               __global float* next, __global float* flux, const float h,
+                               const uint count, const uint texels, const uint entries,
+                               const uint planes) {
   const uint f = get_global_id(0);
   if (f >= count) return;
-  const uint r = fine_rows[f], i = rows[r];
   for (uint p = 0; p < planes; ++p)
-    next[p * texels + i] = mtx_fine_cell(rows, start, col, weight, area, is_fine, frozen + p * texels,
-                                         cur + p * texels, flux + p * entries, r, h);
+    next[p * count + f] = mtx_fine_cell(fine_start, fine_nbr, fine_weight, fine_area, frozen + p * texels,
+                                        cur + p * count, flux + p * entries, f, h);
 }
 
-/* then every cell: the coarse ones take their sub-step less what the fine ones drew, the
- * fine ones their final value. */
+/* then the coarse cells take their sub-step less what the fine ones drew, */
 __kernel void pde_coarse_diffuse(__global const uint* rows, __global const uint* start,
                                  __global const uint* col, __global const float* weight,
-                                 __global const float* area, __global const uchar* is_fine,
-                                 __global const uint* reverse, __global const float* in,
-                                 __global const float* cur, __global const float* flux,
-                                 __global float* out, const float h, const float decay,
-                                 const uint count, const uint texels, const uint entries,
-                                 const uint planes) {
+                                 __global const float* area, __global const uchar* step_class,
+                                 __global const uint* link, __global const float* in,
+                                 __global const float* flux, __global float* out, const float h,
+                                 const float decay, const uint count, const uint texels,
+                                 const uint entries, const uint planes) {
   const uint r = get_global_id(0);
   if (r >= count) return;
   const uint i = rows[r];
+  if (step_class[i] == MTX_STEP_FINE) return;
   for (uint p = 0; p < planes; ++p)
-    out[p * texels + i] = is_fine[i] ? cur[p * texels + i] * decay
-                                     : mtx_coarse_cell(rows, start, col, weight, area, is_fine, reverse,
-                                                       in + p * texels, flux + p * entries, r, h, decay);
+    out[p * texels + i] = mtx_coarse_cell(rows, start, col, weight, area, step_class, link, in + p * texels,
+                                          flux + p * entries, r, h, decay);
+}
+
+/* and the fine ones their final value. */
+__kernel void pde_fine_finish(__global const uint* fine_cell, __global const float* cur,
+                              __global float* out, const float decay, const uint count,
+                              const uint texels, const uint planes) {
+  const uint f = get_global_id(0);
+  if (f >= count) return;
+  for (uint p = 0; p < planes; ++p) out[p * texels + fine_cell[f]] = cur[p * count + f] * decay;
 }
 
 /* The continuous model's agents (shared/continuous.h); lives holds 4 floats per agent

@@ -71,8 +71,8 @@ struct OpenClBackend::State {
   // conversion and the PDE's forward-Euler sub-step.
   cl_kernel continuous_kernels[2] = {};
   cl_kernel convert_kernel = nullptr, pde_kernel = nullptr, fine_start_kernel = nullptr,
-            fine_diffuse_kernel = nullptr, coarse_diffuse_kernel = nullptr, write_kernel = nullptr,
-            scale_kernel = nullptr;
+            fine_diffuse_kernel = nullptr, coarse_diffuse_kernel = nullptr, fine_finish_kernel = nullptr,
+            write_kernel = nullptr, scale_kernel = nullptr;
   cl_kernel gray_scott_kernel = nullptr;  // Gray-Scott's sub-step (shared/reaction.h)
   cl_mem rate = nullptr;                  // and the Laplacian's rate per row
   // Gray-Scott's feed and kill maps as of reaction_version (4-byte placeholders without).
@@ -108,11 +108,12 @@ struct OpenClBackend::State {
   uint64_t maps_version = 0;
   size_t maps_bytes = 0;
   cl_mem texel_island = nullptr, interior_bits = nullptr, sums = nullptr, alias_prob = nullptr, alias_index = nullptr, rows = nullptr,
-         row_start = nullptr, col = nullptr, weight = nullptr, area = nullptr, reverse = nullptr;
+         row_start = nullptr, col = nullptr, weight = nullptr, area = nullptr;
   // Local time stepping: the plan's lists (remade when r_dif dt changes) and the fine
-  // cells' values and inflows.
-  cl_mem is_fine = nullptr, fine_rows = nullptr, fine_cur = nullptr, fine_next = nullptr,
-         fine_flux = nullptr;
+  // cells' values and compact inflows.
+  cl_mem step_class = nullptr, flux_link = nullptr, fine_cell = nullptr, fine_start = nullptr,
+         fine_nbr = nullptr, fine_area = nullptr, fine_weight = nullptr, fine_cur = nullptr,
+         fine_next = nullptr, fine_flux = nullptr;
   double local_rdt = -1;
   cl_mem pheromone = nullptr, scratch = nullptr, marks = nullptr, field = nullptr;
   // The intrinsic domain's cells and locator (4-byte placeholders on the texture domain).
@@ -129,7 +130,7 @@ struct OpenClBackend::State {
                      food, eaters, triangle, b1, b2, hx, hy, species, hunger, lives, pheromone,
                      scratch, marks, field, texels_per_unit, texel_triangle, island, seam_texel,
                      seam_neighbour, bias, texel_island, interior_bits, sums, alias_prob, alias_index, rows, row_start, col, weight,
-                     area, reverse, is_fine, fine_rows, fine_cur, fine_next, fine_flux, map_planes,
+                     area, step_class, flux_link, fine_cell, fine_start, fine_nbr, fine_area, fine_weight, fine_cur, fine_next, fine_flux, map_planes,
                      spawn_max, spawn_prob, spawn_index, write, decay, rate, feed_map, kill_map, face_vertices,
                      locator_grid, locator_cells, locator_face, locator_map, locator_next, locator_across,
                      cells_per_unit, lattice_grid, lattice_vertex, lattice_weight, node_values, node_sums,
@@ -141,7 +142,7 @@ struct OpenClBackend::State {
     for (cl_kernel k : continuous_kernels)
       if (k) r.clReleaseKernel(k);
     for (cl_kernel k : {convert_kernel, pde_kernel, fine_start_kernel, fine_diffuse_kernel, coarse_diffuse_kernel,
-                        write_kernel, scale_kernel, gray_scott_kernel, gather_kernel, lattice_scatter_kernel})
+                        fine_finish_kernel, write_kernel, scale_kernel, gray_scott_kernel, gather_kernel, lattice_scatter_kernel})
       if (k) r.clReleaseKernel(k);
     for (cl_kernel k : {deposit_kernel, gutter_kernel, diffuse_kernel, surface_kernel, seam_kernel,
                         fine_kernel, scatter_kernel})
@@ -549,7 +550,6 @@ void OpenClBackend::prepare_continuous() {
   s.col = s.buffer(lap->col.size() * 4, data(lap->col), device_bytes_);
   s.weight = s.buffer(lap->weight.size() * 4, data(lap->weight), device_bytes_);
   s.area = s.buffer(lap->area.size() * 4, data(lap->area), device_bytes_);
-  s.reverse = s.buffer(lap->reverse.size() * 4, data(lap->reverse), device_bytes_);
   cl_int err = CL_SUCCESS;
   s.convert_kernel = s.r.clCreateKernel(s.programs[0], "deposits_to_concentration", &err);
   check(err, "creating the deposit kernel");
@@ -564,6 +564,8 @@ void OpenClBackend::prepare_continuous() {
   s.fine_diffuse_kernel = s.r.clCreateKernel(s.programs[0], "pde_fine_diffuse", &err);
   check(err, "creating the diffusion kernel");
   s.coarse_diffuse_kernel = s.r.clCreateKernel(s.programs[0], "pde_coarse_diffuse", &err);
+  check(err, "creating the diffusion kernel");
+  s.fine_finish_kernel = s.r.clCreateKernel(s.programs[0], "pde_fine_finish", &err);
   check(err, "creating the diffusion kernel");
   s.write_kernel = s.r.clCreateKernel(s.programs[0], "write_stimulus", &err);
   check(err, "creating the write stimulus kernel");
@@ -741,36 +743,44 @@ void OpenClBackend::integrate(const moldtex_continuous_params& p, const TexelLap
     return;
   }
   if (s.local_rdt != plan.rdt) {  // the plan's lists on the device
-    for (cl_mem* m : {&s.is_fine, &s.fine_rows, &s.fine_cur, &s.fine_next, &s.fine_flux})
+    for (cl_mem* m : {&s.step_class, &s.flux_link, &s.fine_cell, &s.fine_start, &s.fine_nbr, &s.fine_area,
+                      &s.fine_weight, &s.fine_cur, &s.fine_next, &s.fine_flux})
       if (*m) {
         s.r.clReleaseMemObject(*m);
         *m = nullptr;
       }
     size_t bytes = 0;
-    s.is_fine = s.buffer(plan.is_fine.size(), plan.is_fine.data(), bytes);
-    s.fine_rows = s.buffer(plan.fine_rows.size() * 4, plan.fine_rows.data(), bytes);
-    s.fine_cur = s.buffer(texels * 4 * planes, nullptr, bytes);
-    s.fine_next = s.buffer(texels * 4 * planes, nullptr, bytes);
-    s.fine_flux = s.buffer(lap.col.size() * 4 * planes, nullptr, bytes);
+    s.step_class = s.buffer(plan.step_class.size(), plan.step_class.data(), bytes);
+    s.flux_link = s.buffer(plan.link.size() * 4, plan.link.data(), bytes);
+    s.fine_cell = s.buffer(plan.fine_cell.size() * 4, plan.fine_cell.data(), bytes);
+    s.fine_start = s.buffer(plan.fine_start.size() * 4, plan.fine_start.data(), bytes);
+    s.fine_nbr = s.buffer(plan.fine_nbr.size() * 4, plan.fine_nbr.data(), bytes);
+    s.fine_area = s.buffer(plan.fine_area.size() * 4, plan.fine_area.data(), bytes);
+    s.fine_weight = s.buffer(plan.fine_weight.size() * 4, plan.fine_weight.data(), bytes);
+    s.fine_cur = s.buffer(plan.fine_cell.size() * 4 * planes, nullptr, bytes);
+    s.fine_next = s.buffer(plan.fine_cell.size() * 4 * planes, nullptr, bytes);
+    s.fine_flux = s.buffer(plan.fine_nbr.size() * 4 * planes, nullptr, bytes);
     s.local_rdt = plan.rdt;
   }
-  const cl_uint fine = static_cast<cl_uint>(plan.fine_rows.size());
-  const cl_uint entries = static_cast<cl_uint>(lap.col.size());
+  const cl_uint fine = static_cast<cl_uint>(plan.fine_cell.size());
+  const cl_uint entries = static_cast<cl_uint>(plan.fine_nbr.size());  // compact inflows per plane
   const float hfine = static_cast<float>(double(p.diffusion_rate) * p.time_step / n / plan.fine);
   for (uint32_t j = 0; j < n; ++j) {
-    s.args(s.fine_start_kernel, s.rows, s.row_start, s.fine_rows, s.pheromone, s.fine_cur, s.fine_flux, fine,
-           texels32, entries, planes);
+    s.args(s.fine_start_kernel, s.fine_cell, s.fine_start, s.pheromone, s.fine_cur, s.fine_flux, fine, texels32,
+           entries, planes);
     s.run(s.fine_start_kernel, fine);
     for (uint32_t q = 0; q < plan.fine; ++q) {
-      s.args(s.fine_diffuse_kernel, s.rows, s.row_start, s.col, s.weight, s.area, s.is_fine, s.fine_rows,
-             s.pheromone, s.fine_cur, s.fine_next, s.fine_flux, hfine, fine, texels32, entries, planes);
+      s.args(s.fine_diffuse_kernel, s.fine_start, s.fine_nbr, s.fine_weight, s.fine_area, s.pheromone,
+             s.fine_cur, s.fine_next, s.fine_flux, hfine, fine, texels32, entries, planes);
       s.run(s.fine_diffuse_kernel, fine);
       std::swap(s.fine_cur, s.fine_next);
     }
-    s.args(s.coarse_diffuse_kernel, s.rows, s.row_start, s.col, s.weight, s.area, s.is_fine, s.reverse,
-           s.pheromone, s.fine_cur, s.fine_flux, s.scratch, h, j + 1 == n ? decay : 1.f, cells, texels32,
-           entries, planes);
+    const float d = j + 1 == n ? decay : 1.f;
+    s.args(s.coarse_diffuse_kernel, s.rows, s.row_start, s.col, s.weight, s.area, s.step_class, s.flux_link,
+           s.pheromone, s.fine_flux, s.scratch, h, d, cells, texels32, entries, planes);
     s.run(s.coarse_diffuse_kernel, cells);
+    s.args(s.fine_finish_kernel, s.fine_cell, s.fine_cur, s.scratch, d, fine, texels32, planes);
+    s.run(s.fine_finish_kernel, fine);
     std::swap(s.pheromone, s.scratch);
   }
 }
