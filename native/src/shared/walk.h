@@ -81,6 +81,26 @@ MTX_FN void mtx_clamp_bary(float* b) {
   }
 }
 
+/* mtx_clamp_bary on three weights held in registers (the same operations in the same
+ * order, so the same bits). */
+MTX_FN void mtx_clamp_bary3(float* b0, float* b1, float* b2) {
+  float x = *b0 < 0.0f ? 0.0f : *b0, y = *b1 < 0.0f ? 0.0f : *b1, z = *b2 < 0.0f ? 0.0f : *b2;
+  const float s = x + y + z;
+  if (s != 1.0f) {
+    if (s > 0.0f) {
+      const float inv = 1.0f / s;
+      x *= inv;
+      y *= inv;
+      z *= inv;
+    } else {
+      x = y = z = 1.0f / 3.0f;
+    }
+  }
+  *b0 = x;
+  *b1 = y;
+  *b2 = z;
+}
+
 /* One leg of the general walk (mtx_walk_across): from the walker's point to the first
  * edge it meets within *remaining (or to the end of the walk), then across it (or a
  * bounce). `count`: legs done before this one. Returns 1 when the walk goes on, 0 when
@@ -90,39 +110,66 @@ MTX_FN int mtx_walk_leg(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const mtx
                         float* remaining, int count, mtx_walker* events, int capacity, int boundary,
                         mtx_u64* scatter_rng) {
   const mtx_frame f = frames[w->triangle];
+  /* The weights stay in registers, selected by index with conditionals: writing one
+   * weight by a computed index and reading them back together stalled on the store. */
+  float b0 = w->bary[0], b1 = w->bary[1], b2 = w->bary[2];
   /* Heading in barycentric rates: Q (db1, db2) = heading, Q = [[a, bx], [0, by]]. */
   const float db2 = w->heading.y * f.inv_by;
   const float db1 = (w->heading.x - f.bx * db2) * f.inv_a;
-  float db[3];
-  db[0] = -(db1 + db2);
-  db[1] = db1;
-  db[2] = db2;
+  const float db0 = -(db1 + db2);
   float travel = *remaining;
   int exit = -1;
-  for (int i = 0; i < 3; ++i)
-    if (db[i] < 0.0f) {
-      float tau = w->bary[i] > 0.0f ? -w->bary[i] / db[i] : 0.0f;
-      if (tau < travel) {
-        travel = tau;
-        exit = i;
-      }
+  if (db0 < 0.0f) {
+    const float tau = b0 > 0.0f ? -b0 / db0 : 0.0f;
+    if (tau < travel) {
+      travel = tau;
+      exit = 0;
     }
-  for (int i = 0; i < 3; ++i) w->bary[i] += travel * db[i];
+  }
+  if (db1 < 0.0f) {
+    const float tau = b1 > 0.0f ? -b1 / db1 : 0.0f;
+    if (tau < travel) {
+      travel = tau;
+      exit = 1;
+    }
+  }
+  if (db2 < 0.0f) {
+    const float tau = b2 > 0.0f ? -b2 / db2 : 0.0f;
+    if (tau < travel) {
+      travel = tau;
+      exit = 2;
+    }
+  }
+  b0 += travel * db0;
+  b1 += travel * db1;
+  b2 += travel * db2;
   if (exit < 0 || count >= MTX_MAX_CROSSINGS_PER_WALK) {
-    mtx_clamp_bary(w->bary);
+    mtx_clamp_bary3(&b0, &b1, &b2);
+    w->bary[0] = b0;
+    w->bary[1] = b1;
+    w->bary[2] = b2;
     return 0;
   }
-  w->bary[exit] = 0.0f;
-  mtx_clamp_bary(w->bary);
+  b0 = exit == 0 ? 0.0f : b0;
+  b1 = exit == 1 ? 0.0f : b1;
+  b2 = exit == 2 ? 0.0f : b2;
+  mtx_clamp_bary3(&b0, &b1, &b2);
   *remaining -= travel;
 
-  const int j = (exit + 1) % 3, k = (exit + 2) % 3;
+  /* j, k: the exit edge's corners (exit + 1, exit + 2). */
+  const float bj = exit == 0 ? b1 : (exit == 1 ? b2 : b0);
+  const float bk = exit == 0 ? b2 : (exit == 1 ? b0 : b1);
   const mtx_vec2 e = f.edge[exit];
   /* Corners are counter-clockwise in every frame, so this normal points inward. */
   const float along = w->heading.x * e.x + w->heading.y * e.y;
-  const float across = fmax(fabs(w->heading.x * -e.y + w->heading.y * e.x), MTX_MIN_CROSSING_SINE);
+  const float across = mtx_max(fabs(w->heading.x * -e.y + w->heading.y * e.x), MTX_MIN_CROSSING_SINE);
   const mtx_u32 code = adjacency[3 * w->triangle + MTX_CAST(mtx_u32, exit)];
-  if (code == MTX_NO_NEIGHBOUR && boundary == MTX_BOUNDARY_STOP) return -1;
+  if (code == MTX_NO_NEIGHBOUR && boundary == MTX_BOUNDARY_STOP) {
+    w->bary[0] = b0;
+    w->bary[1] = b1;
+    w->bary[2] = b2;
+    return -1;
+  }
   if (code == MTX_NO_NEIGHBOUR) {
     /* Bounce: mirror the heading about the boundary edge (along the edge unchanged,
      * across it now inward). Scatter: sin of the angle to the inward normal uniform in
@@ -136,16 +183,18 @@ MTX_FN int mtx_walk_leg(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const mtx
     h.x = out_along * e.x - out_across * e.y;
     h.y = out_along * e.y + out_across * e.x;
     w->heading = mtx_unit(h);
+    w->bary[0] = b0;
+    w->bary[1] = b1;
+    w->bary[2] = b2;
   } else {
     const mtx_u32 next = code >> 3;
     const int edge = MTX_CAST(int, (code >> 1) & 3u);
     const int same_direction = MTX_CAST(int, code & 1u);
     const int jn = (edge + (same_direction ? 1 : 2)) % 3; /* corner of `next` equal to j */
-    const int kn = (edge + (same_direction ? 2 : 1)) % 3; /* corner of `next` equal to k */
-    const float bj = w->bary[j], bk = w->bary[k];
-    w->bary[edge] = 0.0f;
-    w->bary[jn] = bj;
-    w->bary[kn] = bk;
+    /* In `next`: weight 0 at corner `edge`, bj at jn, bk at the third corner. */
+    w->bary[0] = edge == 0 ? 0.0f : (jn == 0 ? bj : bk);
+    w->bary[1] = edge == 1 ? 0.0f : (jn == 1 ? bj : bk);
+    w->bary[2] = edge == 2 ? 0.0f : (jn == 2 ? bj : bk);
     /* The shared edge runs j -> k: in `next` that is its counter-clockwise tangent, or
      * the reverse when `next` is wound the other way round. */
     const mtx_vec2 ccw = frames[next].edge[edge];
