@@ -8,12 +8,14 @@
 // recomputed here, not read back from the operator under test), and every tolerance says
 // where it comes from.
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <random>
 
 #include "common/error.h"
 #include "domain/texel_laplacian.h"
 #include "domain/texture_domain.h"
+#include "shared/pde.h"
 #include "surface/surface.h"
 #include "test_util.h"
 
@@ -398,6 +400,110 @@ TEST(TexelLaplacian, LocalTimeSteppingAgreesWithBackwardEuler) {
   EXPECT_LT(plan.coarse * 4, 45u) << "local time stepping must save most of the global sub-steps";
   EXPECT_LT(relative, 3e-3);
   EXPECT_LT(worst, 2e-2);
+}
+
+// 5a'. Local time stepping keeps the fine cells' rows, values and inflows in compact
+// tables (LocalSteppingPlan) for speed. The tables must describe the same operator as the
+// matrix: each fine cell's compact row is its CSR row (same neighbours, same conductances,
+// same order), each border cell's link leads to the compact entry of the same face seen
+// from the fine side, and border cells are exactly the coarse cells with a fine
+// neighbour. And the result must be the one the matrix read in place gives, bit for bit:
+// the reference below is that in-place algorithm (the one before the compact tables), so
+// a wrong link or a reordered sum shows up as differing bits, which no tolerance hides.
+TEST(TexelLaplacian, LocalSteppingTablesAreTheMatrixBitForBit) {
+  const Mesh m = make_uv_sphere(64, 32, 1.0);
+  Pde p(m, 256, 256);
+  const moldtex::TexelLaplacian& lap = p.lap;
+  const double dt = 0.002, r_dif = 40.0 / (lap.max_rate * dt);
+  const moldtex::LocalSteppingPlan& plan = moldtex::local_stepping_plan(lap, r_dif, dt);
+  ASSERT_FALSE(plan.fine_rows.empty());
+  ASSERT_EQ(plan.fine_cell.size(), plan.fine_rows.size());
+  std::vector<uint32_t> row_of(p.texels(), UINT32_MAX);
+  for (size_t r = 0; r < lap.rows.size(); ++r) row_of[lap.rows[r]] = uint32_t(r);
+  const auto is_fine = [&](uint32_t i) { return plan.step_class[i] == MTX_STEP_FINE; };
+  size_t links = 0;
+  for (size_t f = 0; f < plan.fine_rows.size(); ++f) {
+    const uint32_t r = plan.fine_rows[f], i = lap.rows[r];
+    ASSERT_EQ(plan.fine_cell[f], i);
+    ASSERT_EQ(plan.fine_area[f], lap.area[i]);
+    ASSERT_EQ(plan.fine_start[f + 1] - plan.fine_start[f], lap.start[r + 1] - lap.start[r]);
+    for (uint32_t k = lap.start[r], e = plan.fine_start[f]; k < lap.start[r + 1]; ++k, ++e) {
+      const uint32_t j = lap.col[k], n = plan.fine_nbr[e];
+      ASSERT_EQ(plan.fine_weight[e], lap.weight[k]);
+      if (is_fine(j)) {
+        ASSERT_NE(n & MTX_FINE_NEIGHBOUR, 0u);
+        ASSERT_EQ(plan.fine_cell[n & ~MTX_FINE_NEIGHBOUR], j);
+      } else {
+        ASSERT_EQ(n, j);
+        ASSERT_EQ(plan.step_class[j], MTX_STEP_BORDER);
+        ASSERT_EQ(plan.link[lap.reverse[k]], e) << "the border cell's entry back must lead here";
+        ++links;
+      }
+    }
+  }
+  size_t border = 0;
+  for (size_t r = 0; r < lap.rows.size(); ++r) {
+    const uint32_t i = lap.rows[r];
+    bool fine_neighbour = false;
+    for (uint32_t k = lap.start[r]; k < lap.start[r + 1]; ++k) fine_neighbour |= is_fine(lap.col[k]);
+    if (!is_fine(i)) {
+      EXPECT_EQ(plan.step_class[i] == MTX_STEP_BORDER, fine_neighbour) << "cell " << i;
+    }
+    border += plan.step_class[i] == MTX_STEP_BORDER;
+  }
+
+  // Three steps of the in-place algorithm against advance_diffusion_decay.
+  std::vector<float> u = p.random_field(11), ref = u;
+  const uint32_t n = plan.coarse;
+  const double h = r_dif * dt / n;
+  const float hf = float(h), hfine = float(h / plan.fine), decay = float(std::exp(-0.5 * dt));
+  std::vector<float> out(ref.size()), cur(ref.size()), next(ref.size()), flux(lap.col.size());
+  for (int step = 0; step < 3; ++step)
+    for (uint32_t sub = 0; sub < n; ++sub) {
+      const float d = sub + 1 == n ? decay : 1.f;
+      for (uint32_t r : plan.fine_rows) cur[lap.rows[r]] = ref[lap.rows[r]];
+      std::fill(flux.begin(), flux.end(), 0.f);
+      for (uint32_t q = 0; q < plan.fine; ++q) {
+        for (uint32_t r : plan.fine_rows) {
+          const uint32_t i = lap.rows[r];
+          const float ui = cur[i];
+          float total = 0.f;
+          for (uint32_t k = lap.start[r]; k < lap.start[r + 1]; ++k) {
+            const uint32_t j = lap.col[k];
+            const float q_k = lap.weight[k] * ((is_fine(j) ? cur[j] : ref[j]) - ui);
+            total += q_k;
+            if (!is_fine(j)) flux[k] += hfine * q_k;
+          }
+          next[i] = ui + hfine / lap.area[i] * total;
+        }
+        for (uint32_t r : plan.fine_rows) cur[lap.rows[r]] = next[lap.rows[r]];
+      }
+      for (size_t r = 0; r < lap.rows.size(); ++r) {
+        const uint32_t i = lap.rows[r];
+        if (is_fine(i)) {
+          out[i] = cur[i] * d;
+          continue;
+        }
+        const float ui = ref[i];
+        float total = 0.f, drawn = 0.f;
+        for (uint32_t k = lap.start[r]; k < lap.start[r + 1]; ++k) {
+          const uint32_t j = lap.col[k];
+          if (is_fine(j))
+            drawn += flux[lap.reverse[k]];
+          else
+            total += lap.weight[k] * (ref[j] - ui);
+        }
+        out[i] = (ui + (hf * total - drawn) / lap.area[i]) * d;
+      }
+      for (uint32_t i : lap.rows) ref[i] = out[i];
+    }
+  p.advance(u, r_dif, 0.5, dt, 3, kForward);
+  size_t differ = 0;
+  for (uint32_t i : lap.rows) differ += std::memcmp(&u[i], &ref[i], sizeof(float)) != 0;
+  std::printf("[ sphere ] %zu fine cells, %zu border cells, %zu links; %zu of %zu cells differ from the "
+              "in-place reference after 3 steps of %u x %u sub-steps\n",
+              plan.fine_rows.size(), border, links, differ, lap.rows.size(), n, plan.fine);
+  EXPECT_EQ(differ, 0u);
 }
 
 // 5b. A step that forward Euler would need more than 256 sub-steps for: FORWARD refuses
