@@ -66,27 +66,12 @@ MTX_FN mtx_vec2 mtx_rotate(mtx_vec2 v, float c, float s) {
   return r;
 }
 
-/* Keeps barycentrics on the simplex despite rounding. */
-MTX_FN void mtx_clamp_bary(float* b) {
-  for (int i = 0; i < 3; ++i) b[i] = b[i] < 0.0f ? 0.0f : b[i];
-  float s = b[0] + b[1] + b[2];
-  if (s == 1.0f) return; /* (dividing by 1 would change no bit) */
-  if (s > 0.0f) {
-    float inv = 1.0f / s;
-    b[0] *= inv;
-    b[1] *= inv;
-    b[2] *= inv;
-  } else {
-    b[0] = b[1] = b[2] = 1.0f / 3.0f;
-  }
-}
-
-/* mtx_clamp_bary on three weights held in registers (the same operations in the same
- * order, so the same bits). */
+/* Keeps barycentrics on the simplex despite rounding: three weights held apart (in
+ * registers, as mtx_walk_leg keeps them) ... */
 MTX_FN void mtx_clamp_bary3(float* b0, float* b1, float* b2) {
   float x = *b0 < 0.0f ? 0.0f : *b0, y = *b1 < 0.0f ? 0.0f : *b1, z = *b2 < 0.0f ? 0.0f : *b2;
   const float s = x + y + z;
-  if (s != 1.0f) {
+  if (s != 1.0f) { /* (dividing by 1 would change no bit) */
     if (s > 0.0f) {
       const float inv = 1.0f / s;
       x *= inv;
@@ -100,6 +85,9 @@ MTX_FN void mtx_clamp_bary3(float* b0, float* b1, float* b2) {
   *b1 = y;
   *b2 = z;
 }
+
+/* ... or an array of three. */
+MTX_FN void mtx_clamp_bary(float* b) { mtx_clamp_bary3(&b[0], &b[1], &b[2]); }
 
 /* One leg of the general walk (mtx_walk_across): from the walker's point to the first
  * edge it meets within *remaining (or to the end of the walk), then across it (or a
