@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <utility>
 
@@ -47,7 +48,6 @@ constexpr double kBackwardTolerance = 1e-6;    // CG: |b - A x| <= tol |b|
 constexpr uint32_t kMaxFineSubsteps = 1024;
 constexpr double kFineCellCost = 1.5;
 constexpr size_t kRowGrain = 4096;             // rows per parallel_for chunk
-constexpr size_t kLinkPrefetch = 24;           // rows ahead (a few hundred ns of work)
 
 using Vec3d = std::array<double, 3>;
 
@@ -277,6 +277,94 @@ uint32_t backward_step(const TexelLaplacian& lap, float* u, double h, double dec
 
 // Forward Euler (Eq. 2) in n sub-steps between u and scratch; the last one applies decay.
 // With fine cells in `plan`, each sub-step is local time stepping (LocalSteppingPlan).
+// The plan's lanes (CoarseLanes): every cell that is not fine, in chunks of 4 in row
+// order.
+const CoarseLanes& coarse_lanes(const TexelLaplacian& lap, const LocalSteppingPlan& plan) {
+  if (plan.lanes) return *plan.lanes;
+  auto lanes = std::make_shared<CoarseLanes>();
+  const bool local = !plan.fine_rows.empty();
+  auto fine = [&](uint32_t texel) { return local && plan.step_class[texel] == MTX_STEP_FINE; };
+  std::array<uint32_t, 4> pending{};
+  std::array<uint32_t, 4> length{};
+  size_t count = 0;
+  lanes->first.push_back(0);
+  lanes->border_start.push_back(0);
+  for (size_t r = 0; r < lap.rows.size(); ++r) {
+    if (fine(lap.rows[r])) continue;
+    pending[count++] = static_cast<uint32_t>(r);
+    if (count < 4) continue;
+    count = 0;
+    // Each lane's entries without those towards fine cells.
+    std::array<std::vector<uint32_t>, 4> entries;
+    for (size_t l = 0; l < 4; ++l) {
+      const uint32_t q = pending[l];
+      const size_t lane = lanes->cell.size();
+      for (uint32_t k = lap.start[q]; k < lap.start[q + 1]; ++k) {
+        if (!fine(lap.col[k])) {
+          entries[l].push_back(k);
+        } else {
+          lanes->border_link.push_back(plan.link[k]);
+          if (lanes->border_lane.empty() || lanes->border_lane.back() != lane) {
+            lanes->border_lane.push_back(static_cast<uint32_t>(lane));
+            lanes->border_start.push_back(0);
+          }
+          lanes->border_start.back() = static_cast<uint32_t>(lanes->border_link.size());
+        }
+      }
+      length[l] = static_cast<uint32_t>(entries[l].size());
+      lanes->cell.push_back(lap.rows[q]);
+      lanes->area.push_back(lap.area[lap.rows[q]]);
+    }
+    const uint32_t longest = *std::max_element(length.begin(), length.end());
+    for (uint32_t k = 0; k < longest; ++k)
+      for (size_t l = 0; l < 4; ++l) {
+        const bool real = k < length[l];
+        lanes->col.push_back(real ? lap.col[entries[l][k]] : lap.rows[pending[l]]);
+        lanes->weight.push_back(real ? lap.weight[entries[l][k]] : 0.f);
+      }
+    lanes->first.push_back(static_cast<uint32_t>(lanes->col.size() / 4));
+  }
+  for (size_t q = 0; q < count; ++q) lanes->lone.push_back(pending[q]);
+  lanes->drawn.assign(lanes->cell.size(), 0.f);
+  plan.lanes = lanes;
+  return *lanes;
+}
+
+// Chunks begin .. end of the lanes, one sub-step of length h (decay d): each lane computes
+// mtx_diffuse_cell's expression (`global`: no fine cells) or mtx_coarse_cell's, the same
+// operations in the same order, so the same bits (a lane that is not a border cell has
+// drawn 0, and x - 0 is x).
+typedef float Lanes4 __attribute__((vector_size(16)));
+template <bool global>
+void step_lanes(const CoarseLanes& lanes, const float* in, float* out, float h, float d, size_t begin,
+                size_t end) {
+  const uint32_t *cell = lanes.cell.data(), *first = lanes.first.data(), *col = lanes.col.data();
+  const float *weight = lanes.weight.data(), *area = lanes.area.data(), *drawn = lanes.drawn.data();
+  for (size_t c = begin; c < end; ++c) {
+    const uint32_t* x = cell + 4 * c;
+    const Lanes4 ui = {in[x[0]], in[x[1]], in[x[2]], in[x[3]]};
+    Lanes4 total = {0.f, 0.f, 0.f, 0.f};
+    for (uint32_t slot = first[c]; slot < first[c + 1]; ++slot) {
+      const uint32_t* j = col + 4 * slot;
+      const Lanes4 uj = {in[j[0]], in[j[1]], in[j[2]], in[j[3]]};
+      Lanes4 w;
+      std::memcpy(&w, weight + 4 * slot, sizeof w);
+      total = total + w * (uj - ui);
+    }
+    Lanes4 a;
+    std::memcpy(&a, area + 4 * c, sizeof a);
+    Lanes4 next;
+    if (global) {
+      next = (ui + h / a * total) * d;
+    } else {
+      Lanes4 taken;
+      std::memcpy(&taken, drawn + 4 * c, sizeof taken);
+      next = (ui + (h * total - taken) / a) * d;
+    }
+    for (int l = 0; l < 4; ++l) out[x[l]] = next[l];
+  }
+}
+
 void forward_steps(const TexelLaplacian& lap, const LocalSteppingPlan& plan, float* u,
                    std::vector<float>& scratch, double h, uint32_t n, double decay, ThreadPool& pool) {
   if (scratch.size() < lap.area.size()) scratch.resize(lap.area.size());
@@ -294,14 +382,27 @@ void forward_steps(const TexelLaplacian& lap, const LocalSteppingPlan& plan, flo
     flux.resize(plan.fine_nbr.size());
   }
   const float hfine = static_cast<float>(h / plan.fine);
+  const CoarseLanes& lanes = coarse_lanes(lap, plan);
+  const size_t chunks = lanes.chunks(), lone_count = lanes.lone.size();
+  // One pass over the chunks (indices 0 .. chunks) and the lone rows (after them).
+  const size_t grain = kRowGrain / 4;
   for (uint32_t step = 0; step < n; ++step) {
     const float d = step + 1 == n ? static_cast<float>(decay) : 1.f;
+    // The tables as plain pointers captured by value: the compiler keeps them in
+    // registers over the loop instead of reloading them through the closure per row.
+    const mtx_u32 *rows = lap.rows.data(), *start = lap.start.data(), *col = lap.col.data(),
+                  *link = plan.link.data(), *lone = lanes.lone.data();
+    const float *weight = lap.weight.data(), *area = lap.area.data(), *inflow = flux.data(), *from = in;
+    const mtx_u8* step_class = plan.step_class.data();
+    const CoarseLanes* lanes_ptr = &lanes;
+    float* to = out;
     if (!local) {
-      pool.parallel_for(lap.rows.size(), kRowGrain, [&](size_t begin, size_t end) {
-        for (size_t r = begin; r < end; ++r)
-          out[lap.rows[r]] = mtx_diffuse_cell(lap.rows.data(), lap.start.data(), lap.col.data(),
-                                              lap.weight.data(), lap.area.data(), in,
-                                              static_cast<mtx_u32>(r), hf, d);
+      pool.parallel_for(chunks + lone_count, grain, [=](size_t begin, size_t end) {
+        step_lanes<true>(*lanes_ptr, from, to, hf, d, std::min(begin, chunks), std::min(end, chunks));
+        for (size_t q = std::max(begin, chunks); q < end; ++q) {
+          const mtx_u32 r = lone[q - chunks];
+          to[rows[r]] = mtx_diffuse_cell(rows, start, col, weight, area, from, r, hf, d);
+        }
       });
       std::swap(in, out);
       continue;
@@ -318,24 +419,18 @@ void forward_steps(const TexelLaplacian& lap, const LocalSteppingPlan& plan, flo
       });
       std::swap(cur, next);
     }
-    // The tables as plain pointers captured by value: the compiler keeps them in
-    // registers over the loop instead of reloading them through the closure per row.
-    const mtx_u32 *rows = lap.rows.data(), *start = lap.start.data(), *col = lap.col.data(),
-                  *link = plan.link.data();
-    const float *weight = lap.weight.data(), *area = lap.area.data(), *inflow = flux.data(), *from = in;
-    const mtx_u8* step_class = plan.step_class.data();
-    float* to = out;
-    const size_t row_count = lap.rows.size();
-    pool.parallel_for(row_count, kRowGrain, [=](size_t begin, size_t end) {
-      for (size_t r = begin; r < end; ++r) {
-        const uint32_t i = rows[r];
-        // A border row's links sit at scattered places of a table the other rows never
-        // touch: each would be a miss to memory, so fetch them some rows ahead.
-        if (r + kLinkPrefetch < row_count && step_class[rows[r + kLinkPrefetch]] == MTX_STEP_BORDER)
-          __builtin_prefetch(link + start[r + kLinkPrefetch]);
-        if (step_class[i] != MTX_STEP_FINE)
-          to[i] = mtx_coarse_cell(rows, start, col, weight, area, step_class, link, from, inflow,
-                                  static_cast<mtx_u32>(r), hf, d);
+    // What the fine cells drew from each border cell, in its row's order (mtx_coarse_cell).
+    float* drawn = lanes.drawn.data();
+    for (size_t b = 0; b < lanes.border_lane.size(); ++b) {
+      float sum = 0.f;
+      for (uint32_t e = lanes.border_start[b]; e < lanes.border_start[b + 1]; ++e) sum += inflow[lanes.border_link[e]];
+      drawn[lanes.border_lane[b]] = sum;
+    }
+    pool.parallel_for(chunks + lone_count, grain, [=](size_t begin, size_t end) {
+      step_lanes<false>(*lanes_ptr, from, to, hf, d, std::min(begin, chunks), std::min(end, chunks));
+      for (size_t q = std::max(begin, chunks); q < end; ++q) {
+        const mtx_u32 r = lone[q - chunks];
+        to[rows[r]] = mtx_coarse_cell(rows, start, col, weight, area, step_class, link, from, inflow, r, hf, d);
       }
     });
     for (size_t f = 0; f < fine_count; ++f) out[plan.fine_cell[f]] = cur[f] * d;

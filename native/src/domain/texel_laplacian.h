@@ -27,6 +27,27 @@ struct BackwardEulerSystem;  // texel_laplacian.cpp
 // their coarse neighbours' values at the coarse sub-step's start; the flux through each
 // coarse-fine face is summed on the fine side and taken once from the coarse side, so
 // the total is conserved exactly as with global steps (shared/pde.h).
+// The CPU's pass over the cells in lanes (forward_steps): four cells step together in one
+// vector register, each lane adding its own row's terms in the row's order, so every
+// lane's result has the bits of the one-row code (shared/pde.h). A row loop waits on its
+// chain of additions and on its unpredictable end (rows have 3 to 12 entries); four rows
+// padded to the longest of them do not. Chunk c holds the cells cell[4c .. 4c + 4) with
+// slots first[c] .. first[c + 1], each slot one entry per lane (col, weight; a lane past
+// its row's end has its own cell and conductance 0, which adds exactly +0). With local
+// time stepping the chunks hold every cell that is not fine; a border cell's entries
+// towards fine cells are left out (mtx_coarse_cell skips them too) and what its fine
+// neighbours drew from it is summed first, in its row's order, into drawn[its lane]
+// (border_lane; the compact entries border_link[border_start[b] .. border_start[b + 1]]).
+// `lone` lists the last few rows when the count is not a multiple of 4 (stepped one at a
+// time).
+struct CoarseLanes {
+  std::vector<uint32_t> cell, first, col, lone;
+  std::vector<float> weight, area;
+  std::vector<uint32_t> border_lane, border_start, border_link;
+  mutable std::vector<float> drawn;  // per lane; 0 but for border cells
+  size_t chunks() const { return first.empty() ? 0 : first.size() - 1; }
+};
+
 struct LocalSteppingPlan {
   double rdt = -1;                 // r_dif dt it was made for
   uint32_t coarse = 1, fine = 1;   // coarse sub-steps per step; fine ones per coarse one
@@ -41,6 +62,9 @@ struct LocalSteppingPlan {
   // Scratch of the CPU stepping: fine cells' values (per fine cell) and inflows (per
   // compact entry).
   mutable std::vector<float> cur, next, flux;
+  // The CPU's lanes for this plan, made on the first forward Euler step (the OpenCL
+  // backend does not use them).
+  mutable std::shared_ptr<const CoarseLanes> lanes;
 };
 
 struct TexelLaplacian {
