@@ -436,7 +436,7 @@ TEST(TexelLaplacian, LocalSteppingTablesAreTheMatrixBitForBit) {
       } else {
         ASSERT_EQ(n, j);
         ASSERT_EQ(plan.step_class[j], MTX_STEP_BORDER);
-        ASSERT_EQ(plan.link[lap.reverse[k]], e) << "the border cell's entry back must lead here";
+        ASSERT_EQ(plan.link[moldtex::reverse_entry(lap, r, k)], e) << "the border cell's entry back must lead here";
         ++links;
       }
     }
@@ -489,7 +489,7 @@ TEST(TexelLaplacian, LocalSteppingTablesAreTheMatrixBitForBit) {
         for (uint32_t k = lap.start[r]; k < lap.start[r + 1]; ++k) {
           const uint32_t j = lap.col[k];
           if (is_fine(j))
-            drawn += flux[lap.reverse[k]];
+            drawn += flux[moldtex::reverse_entry(lap, uint32_t(r), k)];
           else
             total += lap.weight[k] * (ref[j] - ui);
         }
@@ -504,6 +504,105 @@ TEST(TexelLaplacian, LocalSteppingTablesAreTheMatrixBitForBit) {
               "in-place reference after 3 steps of %u x %u sub-steps\n",
               plan.fine_rows.size(), border, links, differ, lap.rows.size(), n, plan.fine);
   EXPECT_EQ(differ, 0u);
+}
+
+// 5a'. The CPU steps the cells that are not fine in lanes of four (CoarseLanes): every such
+// cell is in exactly one lane or stepped alone; a lane holds its row's entries in the
+// row's order, less those towards fine cells, then padding (its own cell, conductance 0);
+// a border cell's fine inflows are listed in its row's order. With global sub-steps (a
+// torus and a plane, every cell alike) the lanes give the one-row code's result
+// (mtx_diffuse_cell) bit for bit; with local time stepping the test above compares them
+// with the in-place algorithm. Checked against a planted fault: lanes that read one slot
+// more (the next chunk's first) made every cell differ on the torus and the plane.
+TEST(TexelLaplacian, CoarseLanesAreTheMatrixBitForBit) {
+  struct Case {
+    const char* name;
+    Mesh mesh;
+    uint32_t side;
+    double rate_steps;  // r_dif dt max_rate
+  };
+  // The plane's rim cells have fewer neighbours, so its lanes are padded.
+  for (const Case& c : {Case{"torus", make_torus(32, 16, 1.0, 0.4), 128, 4.0}, Case{"plane", UnitPlane(), 128, 4.0},
+                        Case{"sphere", make_uv_sphere(64, 32, 1.0), 256, 40.0}}) {
+    Pde p(c.mesh, c.side, c.side);
+    const moldtex::TexelLaplacian& lap = p.lap;
+    const double dt = 0.002, r_dif = c.rate_steps / (lap.max_rate * dt);
+    std::vector<float> u = p.random_field(5), ref = u;
+    p.advance(u, r_dif, 0.5, dt, 3, kForward);
+    const moldtex::LocalSteppingPlan& plan = moldtex::local_stepping_plan(lap, r_dif, dt);
+    ASSERT_TRUE(plan.lanes) << c.name;
+    const moldtex::CoarseLanes& lanes = *plan.lanes;
+    const bool local = !plan.fine_rows.empty();
+    const auto is_fine = [&](uint32_t i) { return local && plan.step_class[i] == MTX_STEP_FINE; };
+    std::vector<uint32_t> row_of(p.texels(), UINT32_MAX);
+    for (size_t r = 0; r < lap.rows.size(); ++r) row_of[lap.rows[r]] = uint32_t(r);
+    std::vector<int> seen(p.texels(), 0);
+    ASSERT_EQ(lanes.cell.size(), 4 * lanes.chunks());
+    ASSERT_LT(lanes.lone.size(), 4u);
+    size_t border = 0;
+    for (size_t c4 = 0; c4 < lanes.chunks(); ++c4)
+      for (uint32_t l = 0; l < 4; ++l) {
+        const uint32_t lane = uint32_t(4 * c4 + l), i = lanes.cell[lane], r = row_of[i];
+        ++seen[i];
+        ASSERT_EQ(lanes.area[lane], lap.area[i]);
+        std::vector<uint32_t> cols, links;
+        std::vector<float> weights;
+        for (uint32_t k = lap.start[r]; k < lap.start[r + 1]; ++k) {
+          if (is_fine(lap.col[k])) {
+            links.push_back(plan.link[k]);
+            continue;
+          }
+          cols.push_back(lap.col[k]);
+          weights.push_back(lap.weight[k]);
+        }
+        const uint32_t slots = lanes.first[c4 + 1] - lanes.first[c4];
+        ASSERT_GE(slots, cols.size());
+        for (uint32_t s = 0; s < slots; ++s) {
+          const uint32_t at = 4 * (lanes.first[c4] + s) + l;
+          ASSERT_EQ(lanes.col[at], s < cols.size() ? cols[s] : i) << c.name << " cell " << i << " slot " << s;
+          ASSERT_EQ(lanes.weight[at], s < cols.size() ? weights[s] : 0.f) << c.name << " cell " << i;
+        }
+        if (links.empty()) continue;
+        ASSERT_LT(border, lanes.border_lane.size());
+        ASSERT_EQ(lanes.border_lane[border], lane);
+        ASSERT_EQ(std::vector<uint32_t>(lanes.border_link.begin() + lanes.border_start[border],
+                                        lanes.border_link.begin() + lanes.border_start[border + 1]),
+                  links);
+        ++border;
+      }
+    EXPECT_EQ(border, lanes.border_lane.size());
+    for (uint32_t r : lanes.lone) ++seen[lap.rows[r]];
+    size_t fine = 0;
+    for (uint32_t i : lap.rows) {
+      fine += is_fine(i);
+      ASSERT_EQ(seen[i], is_fine(i) ? 0 : 1) << c.name << " cell " << i;
+    }
+    std::printf("[ %s ] %zu cells: %zu chunks of 4, %zu alone, %zu fine, %zu border; %zu slots for %zu entries\n",
+                c.name, lap.rows.size(), lanes.chunks(), lanes.lone.size(), fine, lanes.border_lane.size(),
+                lanes.col.size(), lap.col.size());
+    if (local) {
+      EXPECT_STREQ(c.name, "sphere");
+      continue;
+    }
+    // Global sub-steps: the one-row code, 3 steps.
+    const uint32_t n = plan.coarse;
+    ASSERT_GT(n, 1u);
+    const float hf = float(r_dif * dt / n), decay = float(std::exp(-0.5 * dt));
+    std::vector<float> out(ref.size());
+    for (int step = 0; step < 3; ++step)
+      for (uint32_t sub = 0; sub < n; ++sub) {
+        for (size_t r = 0; r < lap.rows.size(); ++r)
+          out[lap.rows[r]] = moldtex::mtx_diffuse_cell(lap.rows.data(), lap.start.data(), lap.col.data(), lap.weight.data(),
+                                              lap.area.data(), ref.data(), uint32_t(r), hf,
+                                              sub + 1 == n ? decay : 1.f);
+        for (uint32_t i : lap.rows) ref[i] = out[i];
+      }
+    size_t differ = 0;
+    for (uint32_t i : lap.rows) differ += std::memcmp(&u[i], &ref[i], sizeof(float)) != 0;
+    std::printf("[ %s ] %u global sub-steps a step: %zu of %zu cells differ from the one-row code after 3 steps\n",
+                c.name, n, differ, lap.rows.size());
+    EXPECT_EQ(differ, 0u);
+  }
 }
 
 // 5b. A step that forward Euler would need more than 256 sub-steps for: FORWARD refuses

@@ -444,6 +444,13 @@ void forward_steps(const TexelLaplacian& lap, const LocalSteppingPlan& plan, flo
 
 }  // namespace
 
+uint32_t reverse_entry(const TexelLaplacian& lap, uint32_t r, uint32_t k) {
+  const uint32_t j = static_cast<uint32_t>(std::lower_bound(lap.rows.begin(), lap.rows.end(), lap.col[k]) -
+                                           lap.rows.begin());
+  const auto first = lap.col.begin() + lap.start[j], last = lap.col.begin() + lap.start[j + 1];
+  return static_cast<uint32_t>(std::lower_bound(first, last, lap.rows[r]) - lap.col.begin());
+}
+
 TexelLaplacian laplacian_from_edges(std::vector<uint32_t> rows, std::vector<float> area,
                                     const std::vector<CellEdge>& edges) {
   TexelLaplacian lap;
@@ -485,14 +492,6 @@ TexelLaplacian laplacian_from_edges(std::vector<uint32_t> rows, std::vector<floa
     lap.max_rate = std::max(lap.max_rate, rate / lap.area[lap.rows[r]]);
     lap.rate.push_back(static_cast<float>(rate / lap.area[lap.rows[r]]));
   }
-  // Reverse entries: row j's columns are sorted, so (j -> i) is found by bisection.
-  lap.reverse.resize(lap.col.size());
-  for (size_t r = 0; r < n; ++r)
-    for (uint32_t k = lap.start[r]; k < lap.start[r + 1]; ++k) {
-      const uint32_t j = row_index[lap.col[k]];
-      const auto first = lap.col.begin() + lap.start[j], last = lap.col.begin() + lap.start[j + 1];
-      lap.reverse[k] = static_cast<uint32_t>(std::lower_bound(first, last, lap.rows[r]) - lap.col.begin());
-    }
   lap.sorted_rate = lap.rate;
   std::sort(lap.sorted_rate.begin(), lap.sorted_rate.end());
   return lap;
@@ -622,7 +621,7 @@ const LocalSteppingPlan& local_stepping_plan(const TexelLaplacian& lap, double r
         } else {
           plan->step_class[j] = MTX_STEP_BORDER;
           plan->fine_nbr.push_back(j);
-          plan->link[lap.reverse[k]] = e;
+          plan->link[reverse_entry(lap, r, k)] = e;
         }
         plan->fine_weight.push_back(lap.weight[k]);
       }
@@ -678,7 +677,7 @@ PdeStepInfo advance_diffusion_decay(const TexelLaplacian& lap, float* u, std::ve
 }
 
 size_t TexelLaplacian::bytes() const {
-  size_t b = (rows.capacity() + start.capacity() + col.capacity() + reverse.capacity()) * 4 +
+  size_t b = (rows.capacity() + start.capacity() + col.capacity()) * 4 +
              (weight.capacity() + area.capacity() + rate.capacity() + sorted_rate.capacity()) * 4;
   if (local)
     b += (local->fine_rows.capacity() + local->fine_cell.capacity() + local->fine_start.capacity() +
@@ -686,6 +685,12 @@ size_t TexelLaplacian::bytes() const {
           local->fine_weight.capacity()) * 4 +
          local->step_class.capacity() +
          (local->cur.capacity() + local->next.capacity() + local->flux.capacity()) * 4;
+  if (local && local->lanes) {
+    const CoarseLanes& l = *local->lanes;
+    b += (l.cell.capacity() + l.first.capacity() + l.col.capacity() + l.lone.capacity() + l.weight.capacity() +
+          l.area.capacity() + l.border_lane.capacity() + l.border_start.capacity() + l.border_link.capacity() +
+          l.drawn.capacity()) * 4;
+  }
   return b;
 }
 

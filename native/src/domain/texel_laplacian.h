@@ -78,9 +78,8 @@ struct TexelLaplacian {
   std::vector<float> area;
   double max_rate = 0;    // max over cells of sum_j c_ij / A_i (1 / mesh units^2)
   double total_area = 0;  // sum of the cell areas
-  // Per row: its rate sum_j c_ij / A_i. Per CSR entry (i -> j): the index of (j -> i).
+  // Per row: its rate sum_j c_ij / A_i.
   std::vector<float> rate;
-  std::vector<uint32_t> reverse;
   // The rates, ascending: local time stepping weighs how many cells each sub-step leaves
   // too stiff.
   std::vector<float> sorted_rate;
@@ -93,6 +92,11 @@ struct TexelLaplacian {
   // share this cache.
   mutable std::shared_ptr<BackwardEulerSystem> backward;
 };
+
+// The CSR entry (j -> i) of entry k (i -> j) of row r, i = rows[r] (found by bisection:
+// rows and each row's columns are in texel order; not stored, 4 bytes per entry, since
+// only building a local time stepping plan and tests need it).
+uint32_t reverse_entry(const TexelLaplacian& lap, uint32_t r, uint32_t k);
 
 TexelLaplacian build_texel_laplacian(const Surface& surface, const TextureDomain& domain,
                                      ThreadPool& pool);
