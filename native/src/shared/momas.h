@@ -410,9 +410,15 @@ MTX_FN void mtx_momas_agent_finish(mtx_surface_tables s, MTX_GLOBAL const float*
                                    MTX_GLOBAL const float* field, MTX_GLOBAL mtx_u8* marks,
                                    mtx_walker* w, float* hunger, mtx_u32 species, mtx_u64 agent,
                                    const mtx_momas_constants* k, const mtx_momas_probes* probes) {
-  const float left = mtx_sense(s, pheromone, field, &probes->at[0], probes->texel[0], species, k);
-  const float front = mtx_sense(s, pheromone, field, &probes->at[1], probes->texel[1], species, k);
-  const float right = mtx_sense(s, pheromone, field, &probes->at[2], probes->texel[2], species, k);
+  /* One texel each (MoMaS' own sensor, the common case) is read here directly: the
+   * general reading is a call each. */
+  const int one_texel = k->sensor_size == 0u && !k->surface_mode;
+  const float left = one_texel ? mtx_sensed_value(pheromone, field, probes->texel[0], species, k)
+                               : mtx_sense(s, pheromone, field, &probes->at[0], probes->texel[0], species, k);
+  const float front = one_texel ? mtx_sensed_value(pheromone, field, probes->texel[1], species, k)
+                                : mtx_sense(s, pheromone, field, &probes->at[1], probes->texel[1], species, k);
+  const float right = one_texel ? mtx_sensed_value(pheromone, field, probes->texel[2], species, k)
+                                : mtx_sense(s, pheromone, field, &probes->at[2], probes->texel[2], species, k);
 
   /* Steering: keep going only while the front is strictly strongest, else turn toward
    * the stronger side, or to a random side on a tie (so agents on bare ground wander
