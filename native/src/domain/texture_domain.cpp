@@ -209,7 +209,7 @@ void apply_deposits(const TextureDomain& d, float* p, uint8_t* marks, float depo
   pool.parallel_for(d.texel_count(), 1 << 16, [&](size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i)
       if (marks[i]) {
-        p[i] = std::max(p[i], deposit);
+        if (d.classes[i] == MTX_TEXEL_INSIDE) p[i] = std::max(p[i], deposit);
         marks[i] = 0;
       }
   });

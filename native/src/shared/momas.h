@@ -471,7 +471,8 @@ MTX_FN void mtx_momas_agent_finish(mtx_surface_tables s, MTX_GLOBAL const float*
       mtx_mark_footprint(s, field, own_marks, w, texel, k);
       continue;
     }
-    if (s.classes[texel] != MTX_TEXEL_INSIDE) continue;
+    /* Marked whatever its class: applying the marks keeps those of island texels only
+     * (apply_deposits), a pass in texel order instead of a scattered read here. */
     MTX_MARK(own_marks, texel);
   }
 }

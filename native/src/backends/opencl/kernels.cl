@@ -76,14 +76,15 @@ __kernel void momas_agents(__global const mtx_frame* frames, __global const uint
   store_walker(&w, triangle, b1, b2, hx, hy, i);
 }
 
-/* pheromone and marks hold `planes` planes of `texels`; plane p gets deposit[p]. */
-__kernel void apply_deposits(__global float* pheromone, __global uchar* marks,
+/* pheromone and marks hold `planes` planes of `texels`; plane p gets deposit[p] where
+ * marked, on island texels only (agents mark whatever texel they stand on). */
+__kernel void apply_deposits(__global float* pheromone, __global uchar* marks, __global const uchar* classes,
                              const float4 deposit, const uint texels, const uint planes) {
   const uint i = get_global_id(0);
   if (i >= texels * planes || !marks[i]) return;
   const uint p = i / texels;
   const float d = p == 0 ? deposit.x : (p == 1 ? deposit.y : (p == 2 ? deposit.z : deposit.w));
-  pheromone[i] = fmax(pheromone[i], d);
+  if (classes[i - p * texels] == MTX_TEXEL_INSIDE) pheromone[i] = fmax(pheromone[i], d);
   marks[i] = 0;
 }
 

@@ -443,7 +443,7 @@ void OpenClBackend::step(const StepSettings& settings, uint64_t seed, uint64_t s
 
   cl_float4 deposit{};
   for (cl_uint i = 0; i < planes; ++i) deposit.s[i] = settings.species[i].deposit;
-  s.args(s.deposit_kernel, s.pheromone, s.marks, deposit, texels, planes);
+  s.args(s.deposit_kernel, s.pheromone, s.marks, s.classes, deposit, texels, planes);
   s.run(s.deposit_kernel, static_cast<size_t>(texels) * planes);
 
   auto gutter_pass = [&] {
