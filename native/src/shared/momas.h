@@ -170,11 +170,19 @@ MTX_FN float mtx_sense_footprint(mtx_surface_tables s, MTX_GLOBAL const float* p
   const float here = mtx_sensed_value(pheromone, field, texel, species, k);
   mtx_footprint box;
   if (!mtx_footprint_box(s, w, k, &box) || mtx_is_obstacle(field, texel, k)) return here;
+  /* Where the box lies within the probe texel's 3 x 3 block and the texel is an interior
+   * texel of the walker's island (that block all one island), every texel of the box is
+   * of the island: no test per texel (a load each, most of the reading's time). The
+   * OpenCL MoMaS kernel has no interior bits and tests each. */
+  const int cx = MTX_CAST(int, texel % k->width), cy = MTX_CAST(int, texel / k->width);
+  const int whole = s.interior_bits != 0 && box.x0 >= cx - 1 && box.x1 <= cx + 1 && box.y0 >= cy - 1 &&
+                    box.y1 <= cy + 1 && ((s.interior_bits[texel >> 5] >> (texel & 31u)) & 1u) &&
+                    mtx_in_footprint(s, texel, &box);
   float sum = here, count = 1.0f;
   for (int iy = box.y0; iy <= box.y1; ++iy)
     for (int ix = box.x0; ix <= box.x1; ++ix) {
       const mtx_u32 i = MTX_CAST(mtx_u32, iy) * k->width + MTX_CAST(mtx_u32, ix);
-      if (i == texel || !mtx_in_footprint(s, i, &box)) continue;
+      if (i == texel || (!whole && !mtx_in_footprint(s, i, &box))) continue;
       const float v = mtx_sensed_value(pheromone, field, i, species, k);
       if (mtx_is_obstacle(field, i, k)) return v;
       sum += v;
