@@ -544,6 +544,7 @@ TexelLaplacian with_diffusion_map(const TexelLaplacian& base, const std::vector<
   TexelLaplacian lap = base;
   lap.local.reset();
   lap.backward.reset();
+  lap.guard = std::make_shared<std::recursive_mutex>();  // caches of its own
   lap.max_rate = 0;
   for (size_t r = 0; r < base.rows.size(); ++r) {
     const float fi = factor[base.rows[r]];
@@ -576,6 +577,8 @@ uint32_t forward_substeps(const TexelLaplacian& lap, double r_dif, double dt) {
 }
 
 const LocalSteppingPlan& local_stepping_plan(const TexelLaplacian& lap, double r_dif, double dt) {
+  std::unique_lock<std::recursive_mutex> lock;
+  if (lap.guard) lock = std::unique_lock<std::recursive_mutex>(*lap.guard);
   const double rdt = r_dif * dt;
   if (lap.local && lap.local->rdt == rdt) return *lap.local;
   auto plan = std::make_shared<LocalSteppingPlan>();
@@ -669,6 +672,8 @@ PdeStepInfo advance_diffusion_decay(const TexelLaplacian& lap, float* u, std::ve
       !std::isfinite(r_dec * dt))
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Diffusion and decay rates and the time step must be "
                                          "finite and not negative");
+  std::unique_lock<std::recursive_mutex> lock;
+  if (lap.guard) lock = std::unique_lock<std::recursive_mutex>(*lap.guard);
   const uint32_t substeps = forward_substeps(lap, r_dif, dt);
   const bool backward = use_backward_euler(lap, r_dif, dt, integrator);
   const double decay = std::exp(-r_dec * dt);
@@ -685,6 +690,8 @@ PdeStepInfo advance_diffusion_decay(const TexelLaplacian& lap, float* u, std::ve
 }
 
 size_t TexelLaplacian::bytes() const {
+  std::unique_lock<std::recursive_mutex> lock;
+  if (guard) lock = std::unique_lock<std::recursive_mutex>(*guard);
   size_t b = (rows.capacity() + start.capacity() + col.capacity()) * 4 +
              (weight.capacity() + area.capacity() + rate.capacity() + sorted_rate.capacity()) * 4;
   if (local)

@@ -10,6 +10,7 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "backends/cpu/thread_pool.h"
@@ -20,13 +21,6 @@ namespace moldtex {
 
 struct BackwardEulerSystem;  // texel_laplacian.cpp
 
-// Local time stepping for forward Euler: most cells are stable with a sub-step of h, a few
-// stiff ones (texels that are small in 3D: UV poles, pinched or squeezed UVs) need much
-// shorter ones. Rather than sub-stepping every cell for the stiffest, a step runs
-// `coarse` sub-steps, and within each the fine cells run `fine` shorter ones against
-// their coarse neighbours' values at the coarse sub-step's start; the flux through each
-// coarse-fine face is summed on the fine side and taken once from the coarse side, so
-// the total is conserved exactly as with global steps (shared/pde.h).
 // The CPU's pass over the cells in lanes (forward_steps): four cells step together in one
 // vector register, each lane adding its own row's terms in the row's order, so every
 // lane's result has the bits of the one-row code (shared/pde.h). A row loop waits on its
@@ -48,6 +42,13 @@ struct CoarseLanes {
   size_t chunks() const { return first.empty() ? 0 : first.size() - 1; }
 };
 
+// Local time stepping for forward Euler: most cells are stable with a sub-step of h, a few
+// stiff ones (texels that are small in 3D: UV poles, pinched or squeezed UVs) need much
+// shorter ones. Rather than sub-stepping every cell for the stiffest, a step runs
+// `coarse` sub-steps, and within each the fine cells run `fine` shorter ones against
+// their coarse neighbours' values at the coarse sub-step's start; the flux through each
+// coarse-fine face is summed on the fine side and taken once from the coarse side, so
+// the total is conserved exactly as with global steps (shared/pde.h).
 struct LocalSteppingPlan {
   double rdt = -1;                 // r_dif dt it was made for
   uint32_t coarse = 1, fine = 1;   // coarse sub-steps per step; fine ones per coarse one
@@ -91,6 +92,10 @@ struct TexelLaplacian {
   // (advance_diffusion_decay). Treat the fields above as immutable once built: copies
   // share this cache.
   mutable std::shared_ptr<BackwardEulerSystem> backward;
+  // Taken by a step and by the caches' updates: copies share it with the caches, and two
+  // simulations on one cached domain (intrinsic_domain_for) may step at once, where the
+  // plan's scratch and its lazily made parts would otherwise be written by both.
+  mutable std::shared_ptr<std::recursive_mutex> guard = std::make_shared<std::recursive_mutex>();
 };
 
 // The CSR entry (j -> i) of entry k (i -> j) of row r, i = rows[r] (found by bisection:
