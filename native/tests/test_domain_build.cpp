@@ -159,12 +159,6 @@ TEST(DomainBuild, RefusesWhatNoSimulationWouldRun) {
   moldtex_domain_build_release(nullptr);
 }
 
-}  // namespace
-}  // namespace mtx
-
-namespace mtx {
-namespace {
-
 // Two simulations on one cached domain share its Laplacian and the PDE's plan, scratch
 // and lanes (texel_laplacian.h): stepped at once from two threads, each must still give
 // what one simulation alone gives, bit for bit (the Laplacian's guard serialises their

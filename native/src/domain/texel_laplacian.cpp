@@ -298,19 +298,17 @@ const CoarseLanes& coarse_lanes(const TexelLaplacian& lap, const LocalSteppingPl
     count = 0;
     for (size_t l = 0; l < 4; ++l) {
       const uint32_t q = pending[l];
-      const size_t lane = lanes->cell.size();
+      const size_t links = lanes->border_link.size();
       entries[l].clear();
       for (uint32_t k = lap.start[q]; k < lap.start[q + 1]; ++k) {
-        if (!fine(lap.col[k])) {
-          entries[l].push_back(k);
-        } else {
+        if (fine(lap.col[k]))
           lanes->border_link.push_back(plan.link[k]);
-          if (lanes->border_lane.empty() || lanes->border_lane.back() != lane) {
-            lanes->border_lane.push_back(static_cast<uint32_t>(lane));
-            lanes->border_start.push_back(0);
-          }
-          lanes->border_start.back() = static_cast<uint32_t>(lanes->border_link.size());
-        }
+        else
+          entries[l].push_back(k);
+      }
+      if (lanes->border_link.size() > links) {  // a border cell
+        lanes->border_lane.push_back(static_cast<uint32_t>(lanes->cell.size()));
+        lanes->border_start.push_back(static_cast<uint32_t>(lanes->border_link.size()));
       }
       length[l] = static_cast<uint32_t>(entries[l].size());
       lanes->cell.push_back(lap.rows[q]);
@@ -577,8 +575,7 @@ uint32_t forward_substeps(const TexelLaplacian& lap, double r_dif, double dt) {
 }
 
 const LocalSteppingPlan& local_stepping_plan(const TexelLaplacian& lap, double r_dif, double dt) {
-  std::unique_lock<std::recursive_mutex> lock;
-  if (lap.guard) lock = std::unique_lock<std::recursive_mutex>(*lap.guard);
+  const auto lock = lap.lock();
   const double rdt = r_dif * dt;
   if (lap.local && lap.local->rdt == rdt) return *lap.local;
   auto plan = std::make_shared<LocalSteppingPlan>();
@@ -672,8 +669,7 @@ PdeStepInfo advance_diffusion_decay(const TexelLaplacian& lap, float* u, std::ve
       !std::isfinite(r_dec * dt))
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Diffusion and decay rates and the time step must be "
                                          "finite and not negative");
-  std::unique_lock<std::recursive_mutex> lock;
-  if (lap.guard) lock = std::unique_lock<std::recursive_mutex>(*lap.guard);
+  const auto lock = lap.lock();
   const uint32_t substeps = forward_substeps(lap, r_dif, dt);
   const bool backward = use_backward_euler(lap, r_dif, dt, integrator);
   const double decay = std::exp(-r_dec * dt);
@@ -690,8 +686,7 @@ PdeStepInfo advance_diffusion_decay(const TexelLaplacian& lap, float* u, std::ve
 }
 
 size_t TexelLaplacian::bytes() const {
-  std::unique_lock<std::recursive_mutex> lock;
-  if (guard) lock = std::unique_lock<std::recursive_mutex>(*guard);
+  const auto held = lock();
   size_t b = (rows.capacity() + start.capacity() + col.capacity()) * 4 +
              (weight.capacity() + area.capacity() + rate.capacity() + sorted_rate.capacity()) * 4;
   if (local)

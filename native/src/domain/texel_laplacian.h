@@ -96,6 +96,10 @@ struct TexelLaplacian {
   // simulations on one cached domain (intrinsic_domain_for) may step at once, where the
   // plan's scratch and its lazily made parts would otherwise be written by both.
   mutable std::shared_ptr<std::recursive_mutex> guard = std::make_shared<std::recursive_mutex>();
+  // The guard, held until the returned lock goes (none for a moved-from Laplacian).
+  std::unique_lock<std::recursive_mutex> lock() const {
+    return guard ? std::unique_lock<std::recursive_mutex>(*guard) : std::unique_lock<std::recursive_mutex>();
+  }
 };
 
 // The CSR entry (j -> i) of entry k (i -> j) of row r, i = rows[r] (found by bisection:

@@ -713,8 +713,7 @@ void OpenClBackend::integrate(const moldtex_continuous_params& p, const TexelLap
   State& s = *state_;
   // The plan (and backward Euler's matrix) stay this step's while another simulation on
   // the same cached domain steps (TexelLaplacian::guard).
-  std::unique_lock<std::recursive_mutex> lock;
-  if (lap.guard) lock = std::unique_lock<std::recursive_mutex>(*lap.guard);
+  const auto lock = lap.lock();
   const uint32_t n = forward_substeps(lap, p.diffusion_rate, p.time_step);
   const bool backward = use_backward_euler(lap, p.diffusion_rate, p.time_step, p.integrator);
   const size_t texels = cells_;  // values per plane
