@@ -92,6 +92,27 @@ class LifecycleTests(unittest.TestCase):
         self.assertEqual(bpy.ops.moldtex.step(steps=1), {'FINISHED'})
         self.assertEqual(h.live().get(obj.name).stats["step_count"], 5)
 
+    def test_a_long_step_runs_in_chunks_the_core_accepts(self):
+        # The core refuses more than MOLDTEX_MAX_STEPS_PER_CALL steps in one call; the
+        # engine splits a longer run. With the chunk made tiny, 7 steps take 3 calls and
+        # all 7 are run; the core itself refuses a count over its bound.
+        from moldtex import engine
+        obj = h.add_primitive("torus")
+        h.configure(obj, agents=2000)
+        h.run(obj, 1)
+        entry = h.live().get(obj.name)
+        saved = engine.MAX_STEPS_PER_CALL
+        engine.MAX_STEPS_PER_CALL = 3
+        try:
+            entry.sim.step(7)
+        finally:
+            engine.MAX_STEPS_PER_CALL = saved
+        self.assertEqual(entry.sim.get_stats()["step_count"], 8)
+        with self.assertRaises(engine.EngineError) as caught:
+            engine._check(engine._lib.moldtex_sim_step(entry.sim.handle, saved + 1), "Stepping")
+        self.assertIn("chunks", str(caught.exception))
+        self.assertEqual(entry.sim.get_stats()["step_count"], 8)
+
     def test_undo_does_not_crash(self):
         obj = h.add_primitive("torus")
         name = obj.name

@@ -631,6 +631,7 @@ SEED_CIRCLE = 2
 SEED_BIG_BANG = 3
 SEED_STARBURST = 4
 MAX_SPECIES = 4
+MAX_STEPS_PER_CALL = 100_000  # MOLDTEX_MAX_STEPS_PER_CALL
 
 # Structs whose *_init function must report the same struct_size as our mirror.
 _STRUCT_INITS = (
@@ -1507,7 +1508,16 @@ class Simulation:
         _check(_lib.moldtex_sim_reset(self.handle), "Resetting the simulation")
 
     def step(self, steps=1):
-        _check(_lib.moldtex_sim_step(self.handle, int(steps)), "Stepping the simulation")
+        # One core call runs at most MAX_STEPS_PER_CALL steps: longer runs go in chunks.
+        steps = int(steps)
+        if steps < 0:
+            raise ValueError(f"Steps must be 0 or more (got {steps})")
+        while True:
+            chunk = min(steps, MAX_STEPS_PER_CALL)
+            _check(_lib.moldtex_sim_step(self.handle, chunk), "Stepping the simulation")
+            steps -= chunk
+            if steps <= 0:
+                return
 
     def run_start(self, chunk_seconds, limit_seconds=5.0, step_seconds_hint=0.0):
         """Steps on the core's own thread (moldtex_sim_run_start) in chunks of about

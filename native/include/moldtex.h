@@ -543,7 +543,11 @@ MOLDTEX_API moldtex_status moldtex_sim_get_backend_name(moldtex_sim sim, char* b
  * (a spawn map from the current fields). Fields and species parameters are kept; agents
  * added by slime brushes and the brushes' undo stashes are dropped. */
 MOLDTEX_API moldtex_status moldtex_sim_reset(moldtex_sim sim);
-/* Advances `steps` steps (sense, turn, move, deposit, blur, evaporate). */
+/* Advances `steps` steps (sense, turn, move, deposit, blur, evaporate). One call runs at
+ * most MOLDTEX_MAX_STEPS_PER_CALL steps, so no call holds its caller for days: a larger
+ * count is refused (MOLDTEX_ERROR_INVALID_ARGUMENT) with nothing stepped; step in
+ * chunks, or run in the background with moldtex_sim_run_start (which can be stopped). */
+#define MOLDTEX_MAX_STEPS_PER_CALL 100000u
 MOLDTEX_API moldtex_status moldtex_sim_step(moldtex_sim sim, uint32_t steps);
 
 /* Live stepping on the core's own thread (Blender's Start grows the mold this way while

@@ -468,5 +468,18 @@ TEST_F(ValidateSim, ZeroStepsIsANoOp) {
   EXPECT_EQ(get_stats(sim.get()).step_count, 0u);
 }
 
+TEST_F(ValidateSim, OneCallStepsAtMostTheBound) {
+  // A count that would hold the caller for days (a wrapped-around unsigned difference,
+  // say) is refused with nothing stepped, and says how to go on; the bound itself runs.
+  auto sim = create_sim(surface.get(), config, params);
+  ASSERT_TRUE(sim) << LastError();
+  EXPECT_EQ(moldtex_sim_step(sim.get(), 0xffffff6au), MOLDTEX_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(LastError().find("chunks"), std::string::npos) << LastError();
+  EXPECT_EQ(moldtex_sim_step(sim.get(), MOLDTEX_MAX_STEPS_PER_CALL + 1), MOLDTEX_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(get_stats(sim.get()).step_count, 0u);
+  EXPECT_EQ(moldtex_sim_step(sim.get(), 3), MOLDTEX_OK) << LastError();
+  EXPECT_EQ(get_stats(sim.get()).step_count, 3u);
+}
+
 }  // namespace
 }  // namespace mtx

@@ -531,7 +531,12 @@ moldtex_status moldtex_sim_reset(moldtex_sim sim) {
 
 moldtex_status moldtex_sim_step(moldtex_sim sim, uint32_t steps) {
   return guarded([&] {
-    use(sim).step(steps);
+    moldtex::Simulation& s = use(sim);
+    if (steps > MOLDTEX_MAX_STEPS_PER_CALL)
+      moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+                    "One call steps at most " + std::to_string(MOLDTEX_MAX_STEPS_PER_CALL) + " times (asked for " +
+                        std::to_string(steps) + "): step in chunks, or run in the background");
+    s.step(steps);
   });
 }
 
