@@ -8,8 +8,8 @@
 // smooth synthetic 3D field sampled at the texel centres (the measure's geometric floor),
 // and against the MoMaS texel units (length_unit 0), which show the defects.
 #include <algorithm>
-#include <map>
 #include <cstdlib>
+#include <map>
 #include <numeric>
 
 #include "pattern_measures.h"
@@ -96,6 +96,13 @@ std::vector<double> Synthetic(const TexelGeometry& g) {
 const Mesh& Torus() {
   static const Mesh m = make_torus(64, 32, 1.0, 0.4);
   return m;
+}
+
+// 3D position of a surface point on mesh m (from its triangle's corners).
+Vec3 PointOnMesh(const Mesh& m, const moldtex_surface_point& p) {
+  Vec3 q{0, 0, 0};
+  for (int k = 0; k < 3; ++k) q = add(q, scale(m.corner(p.triangle, k), p.bary[k]));
+  return q;
 }
 
 double TexelLength(const Mesh& m, uint32_t size) {
@@ -354,8 +361,7 @@ TEST(SurfaceUnits, DISABLED_UvSpherePoleDiagnostics) {
       const std::vector<double> f = Grow(m, W, W, agents, seed, p, steps, std::min(steps, 150u), nullptr, &pts);
       for (size_t i = 0; i < f.size(); ++i) pooled[i] += f[i] / seeds;
       for (const moldtex_surface_point& a : pts) {
-        double z = 0;
-        for (int k = 0; k < 3; ++k) z += a.bary[k] * m.corner(a.triangle, k)[2];
+        const double z = PointOnMesh(m, a)[2];
         count[band_of(std::acos(std::min(1.0, std::fabs(z))) * 180 / kPi)] += 1;
         total += 1;
       }
@@ -808,11 +814,11 @@ TEST(SurfaceUnits, DISABLED_SmallTexelsDiagnostics) {
   auto env = [](const char* n, double d) { const char* v = std::getenv(n); return v ? std::atof(v) : d; };
   const double h = 0.875;
   // MOLDTEX_SMALL_RATIO: how much narrower the left half's texels are (1: a control).
-  const double k = env("MOLDTEX_SMALL_RATIO", 6);
+  const double ratio = env("MOLDTEX_SMALL_RATIO", 6);
   const Mesh m = make_plane(64, 28, 0, 0, 2, h, [&](double x, double y) {
-    return Vec2{x < 1 ? x * k / (k + 1) : k / (k + 1) + (x - 1) / (k + 1), y / h};
+    return Vec2{x < 1 ? x * ratio / (ratio + 1) : ratio / (ratio + 1) + (x - 1) / (ratio + 1), y / h};
   });
-  const uint32_t W = uint32_t(146 * (k + 1)), H = 128;
+  const uint32_t W = uint32_t(146 * (ratio + 1)), H = 128;
   const TexelGeometry g = Texels(m, W, H);
   const double right_texel = h / H;  // 3D size of a right-half texel (square)
   moldtex_sim_params p = SmallCells(2 * right_texel);
@@ -834,11 +840,8 @@ TEST(SurfaceUnits, DISABLED_SmallTexelsDiagnostics) {
     const double l = Mean(g, f, band(0.2, 0.8)), r = Mean(g, f, band(1.2, 1.8));
     double cl = 0, cr = 0;
     for (const moldtex_surface_point& a : pts) {
-      double x = 0, y = 0;
-      for (int k = 0; k < 3; ++k) {
-        x += a.bary[k] * m.corner(a.triangle, k)[0];
-        y += a.bary[k] * m.corner(a.triangle, k)[1];
-      }
+      const Vec3 q = PointOnMesh(m, a);
+      const double x = q[0], y = q[1];
       if (y < 0.15 || y > h - 0.15) continue;
       if (x > 0.2 && x < 0.8) cl += 1;
       if (x > 1.2 && x < 1.8) cr += 1;

@@ -470,7 +470,7 @@ TEST_F(ValidateSim, ZeroStepsIsANoOp) {
 
 TEST_F(ValidateSim, OneCallStepsAtMostTheBound) {
   // A count that would hold the caller for days (a wrapped-around unsigned difference,
-  // say) is refused with nothing stepped, and says how to go on; the bound itself runs.
+  // say) is refused with nothing stepped, and says how to go on; a count within it runs.
   auto sim = create_sim(surface.get(), config, params);
   ASSERT_TRUE(sim) << LastError();
   EXPECT_EQ(moldtex_sim_step(sim.get(), 0xffffff6au), MOLDTEX_ERROR_INVALID_ARGUMENT);
