@@ -66,20 +66,26 @@ MTX_FN mtx_vec2 mtx_rotate(mtx_vec2 v, float c, float s) {
   return r;
 }
 
-/* Keeps barycentrics on the simplex despite rounding: three weights held apart (in
- * registers, as mtx_walk_leg keeps them) ... */
+/* Keeps barycentrics on the simplex despite rounding: none negative, summing to 1.
+ * After a walk the sum is within a few rounding errors of 1, and for any s within 1e-4
+ * of 1, scaling by 2 - s is 1/s up to a relative (s - 1)^2 <= 1e-8, under a float's
+ * rounding: the division, on every walk's path, is left for sums further off. Three
+ * weights held apart (in registers, as mtx_walk_leg keeps them) ... */
 MTX_FN void mtx_clamp_bary3(float* b0, float* b1, float* b2) {
   float x = *b0 < 0.0f ? 0.0f : *b0, y = *b1 < 0.0f ? 0.0f : *b1, z = *b2 < 0.0f ? 0.0f : *b2;
   const float s = x + y + z;
-  if (s != 1.0f) { /* (dividing by 1 would change no bit) */
-    if (s > 0.0f) {
-      const float inv = 1.0f / s;
-      x *= inv;
-      y *= inv;
-      z *= inv;
-    } else {
-      x = y = z = 1.0f / 3.0f;
-    }
+  if (fabs(s - 1.0f) <= 1e-4f) {
+    const float inv = 2.0f - s; /* 1 / s to first order */
+    x *= inv;
+    y *= inv;
+    z *= inv;
+  } else if (s > 0.0f) {
+    const float inv = 1.0f / s;
+    x *= inv;
+    y *= inv;
+    z *= inv;
+  } else {
+    x = y = z = 1.0f / 3.0f;
   }
   *b0 = x;
   *b1 = y;
@@ -187,10 +193,11 @@ MTX_FN int mtx_walk_leg(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const mtx
      * the reverse when `next` is wound the other way round. */
     const mtx_vec2 ccw = frames[next].edge[edge];
     const float sign = same_direction ? 1.0f : -1.0f;
-    mtx_vec2 h;
-    h.x = along * sign * ccw.x - across * ccw.y;
-    h.y = along * sign * ccw.y + across * ccw.x;
-    w->heading = mtx_unit(h);
+    /* Unit up to rounding (along^2 + across^2 = 1, ccw a unit vector): not renormalised
+     * here, where a square root and a division would lie on the path to the next leg;
+     * the walk renormalises once where it ends (mtx_walk_across). */
+    w->heading.x = along * sign * ccw.x - across * ccw.y;
+    w->heading.y = along * sign * ccw.y + across * ccw.x;
     w->triangle = next;
   }
   if (events && count < capacity) events[count] = *w;
@@ -204,7 +211,10 @@ MTX_FN int mtx_walk_across(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const 
   float remaining = length;
   for (int count = 0;; ++count) {
     const int on = mtx_walk_leg(frames, adjacency, w, &remaining, count, events, capacity, boundary, scatter_rng);
-    if (on <= 0) return on < 0 ? -1 : count;
+    if (on <= 0) {
+      if (count > 0) w->heading = mtx_unit(w->heading); /* the crossings' rounding */
+      return on < 0 ? -1 : count;
+    }
   }
 }
 
@@ -263,9 +273,10 @@ MTX_FN int mtx_walk_until(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const m
 
 /* Three walks of `length` at once (a fan of sensor traces), doing what `boundary` says
  * at open boundaries (MTX_BOUNDARY_BOUNCE or _STOP): for each walker the same legs in the
- * same order as mtx_walk_until, so the same results, but taken in turn, leg by leg, so that the processor overlaps the three
+ * same order as mtx_walk_until, so they end at the same points, but taken in turn, leg by leg, so that the processor overlaps the three
  * chains of dependent operations (each leg waits on the one before: its exit time, the
- * unfolding, the next triangle's frame). */
+ * unfolding, the next triangle's frame). The headings are left as the last crossing
+ * leaves them (unit up to rounding): a sensor trace is read only where it ends. */
 MTX_FN void mtx_walk_three(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const mtx_u32* adjacency, mtx_walker* w,
                            float length, int boundary) {
   float remaining[3];
