@@ -245,7 +245,7 @@ TEST(SurfaceUnits, UvSpherePolesAreAlive) {
       // 0.81 (one seed's ratio spreads by 0.085, so a 3-seed mean's by ~0.05), and which
       // 3 seeds land above 0.85 is luck: the walker change of 2026-12-04 (no division per
       // leg; the same walk up to rounding) moved seeds 1-3 from 0.831 / 0.848 / 0.880 to
-      // 0.696 / 0.821 / 0.964 (0.827 pooled). 0.70 lies 2.5 spreads below 0.81 and far
+      // 0.696 / 0.821 / 0.964 (0.827 pooled). 0.70 lies over 2 spreads below 0.81 and far
       // above a dead pole (texel units 0.32-0.38; surface units before the fan's
       // deposits 0.09-0.44). The 0.85 is not met (#9 open).
       EXPECT_GT(ratio, 0.70);
