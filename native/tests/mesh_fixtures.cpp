@@ -31,6 +31,11 @@ Vec3 Mesh::vertex(uint32_t v) const {
   return {positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]};
 }
 Vec3 Mesh::corner(uint32_t t, int k) const { return vertex(triangles[3 * t + k]); }
+Vec3 Mesh::point(const moldtex_surface_point& p) const {
+  Vec3 q{0, 0, 0};
+  for (int k = 0; k < 3; ++k) q = add(q, scale(corner(p.triangle, k), p.bary[k]));
+  return q;
+}
 Vec2 Mesh::corner_uv(uint32_t t, int k) const {
   const uint32_t i = triangle_uvs.empty() ? 3 * t + k : triangle_uvs[3 * t + k];
   return {uvs[2 * i], uvs[2 * i + 1]};

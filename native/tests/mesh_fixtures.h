@@ -47,6 +47,7 @@ struct Mesh {
 
   Vec3 vertex(uint32_t v) const;
   Vec3 corner(uint32_t t, int k) const;     // 3D position of corner k of triangle t
+  Vec3 point(const moldtex_surface_point& p) const;  // 3D position of a surface point
   Vec2 corner_uv(uint32_t t, int k) const;  // UV of corner k of triangle t
   double area(uint32_t t) const;            // 3D area of triangle t
   double uv_area(uint32_t t) const;         // unsigned UV area of triangle t

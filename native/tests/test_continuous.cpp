@@ -495,11 +495,8 @@ TEST(ContinuousModel, DISABLED_OpenBoundaryDiagnostics) {
     for (const auto& shown : o.snapshots)
       for (size_t i = 0; i < shown.size(); ++i) pooled[i] += shown[i];
     for (const moldtex_surface_point& a : o.agents) {
-      double x = 0, y = 0;
-      for (int k = 0; k < 3; ++k) {
-        x += a.bary[k] * m.corner(a.triangle, k)[0];
-        y += a.bary[k] * m.corner(a.triangle, k)[1];
-      }
+      const Vec3 q = m.point(a);
+      const double x = q[0], y = q[1];
       const double e = std::min(std::min(x, 1 - x), std::min(y, 1 - y));
       density[std::min(4, int(e / 0.09))] += 1;
     }

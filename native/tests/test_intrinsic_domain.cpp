@@ -935,8 +935,7 @@ TEST(IntrinsicSimulation, AgentsWalkAcrossFacesWithZeroUvArea) {
       ASSERT_EQ(moldtex_sim_read_agents(sim.get(), at.data(), at.size()), MOLDTEX_OK) << LastError();
       size_t right = 0, strip = 0;
       for (const moldtex_surface_point& a : at) {
-        double x = 0;
-        for (int k = 0; k < 3; ++k) x += a.bary[k] * m.corner(a.triangle, k)[0];
+        const double x = m.point(a)[0];
         right += x > 2.125 + 1e-4;
         strip += x > 1.875 + 1e-4 && x < 2.125 - 1e-4;
       }

@@ -98,13 +98,6 @@ const Mesh& Torus() {
   return m;
 }
 
-// 3D position of a surface point on mesh m (from its triangle's corners).
-Vec3 PointOnMesh(const Mesh& m, const moldtex_surface_point& p) {
-  Vec3 q{0, 0, 0};
-  for (int k = 0; k < 3; ++k) q = add(q, scale(m.corner(p.triangle, k), p.bary[k]));
-  return q;
-}
-
 double TexelLength(const Mesh& m, uint32_t size) {
   return std::sqrt(m.total_area() / (m.total_uv_area() * double(size) * size));
 }
@@ -369,7 +362,7 @@ TEST(SurfaceUnits, DISABLED_UvSpherePoleDiagnostics) {
       const std::vector<double> f = Grow(m, W, W, agents, seed, p, steps, std::min(steps, 150u), nullptr, &pts);
       for (size_t i = 0; i < f.size(); ++i) pooled[i] += f[i] / seeds;
       for (const moldtex_surface_point& a : pts) {
-        const double z = PointOnMesh(m, a)[2];
+        const double z = m.point(a)[2];
         count[band_of(std::acos(std::min(1.0, std::fabs(z))) * 180 / kPi)] += 1;
         total += 1;
       }
@@ -848,7 +841,7 @@ TEST(SurfaceUnits, DISABLED_SmallTexelsDiagnostics) {
     const double l = Mean(g, f, band(0.2, 0.8)), r = Mean(g, f, band(1.2, 1.8));
     double cl = 0, cr = 0;
     for (const moldtex_surface_point& a : pts) {
-      const Vec3 q = PointOnMesh(m, a);
+      const Vec3 q = m.point(a);
       const double x = q[0], y = q[1];
       if (y < 0.15 || y > h - 0.15) continue;
       if (x > 0.2 && x < 0.8) cl += 1;
