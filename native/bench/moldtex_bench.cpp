@@ -188,6 +188,13 @@ void BM_PlaneSurface(benchmark::State& state, moldtex_backend backend, const cha
   RunSteps(state, GetCase(key, mtx::make_quad(), 1024, 1024, 1000000, backend, 2.0));
 }
 
+// The plane's surface-units case at twice the resolution with the same length unit (4
+// texels per unit), as when an artist raises the texture size: footprints of 4-5 texels
+// a side instead of 2-3.
+void BM_PlaneSurfaceSharp(benchmark::State& state) {
+  RunSteps(state, GetCase("plane-surface-sharp", mtx::make_quad(), 2048, 2048, 1000000, MOLDTEX_BACKEND_CPU, 4.0));
+}
+
 void BM_SphereSurface(benchmark::State& state, moldtex_backend backend, const char* key) {
   RunSteps(state, GetCase(key, mtx::make_uv_sphere(64, 32, 1.0), 2048, 2048, 1000000, backend, 2.0));
 }
@@ -484,6 +491,7 @@ BENCHMARK_CAPTURE(BM_PlaneSurface, cpu, MOLDTEX_BACKEND_CPU, "plane-surface-cpu"
     ->Name("PlaneSurfaceCpu/1024x1024/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_PlaneSurface, opencl, MOLDTEX_BACKEND_OPENCL, "plane-surface-opencl")
     ->Name("PlaneSurfaceOpenCL/1024x1024/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PlaneSurfaceSharp)->Name("PlaneSurfaceCpu/2048x2048/1M/sharp")->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_SphereSurface, cpu, MOLDTEX_BACKEND_CPU, "sphere-surface-cpu")
     ->Name("SphereSurfaceCpu/2048x2048/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_SphereSurface, opencl, MOLDTEX_BACKEND_OPENCL, "sphere-surface-opencl")

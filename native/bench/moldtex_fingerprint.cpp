@@ -42,6 +42,9 @@ int main() {
                         {"sphere", mtx::make_uv_sphere(32, 16, 1.0), false, 0.f},
                         {"cylinder", mtx::make_open_cylinder(24, 6, 0.5, 1.5), false, 0.f},
                         {"torus-surface-units", mtx::make_torus(48, 24, 1.0, 0.35), false, 0.02f},
+                        // Footprints of 3-4 texels a side, and six islands with gutters.
+                        {"torus-wide-units", mtx::make_torus(48, 24, 1.0, 0.35), false, 0.05f},
+                        {"cube-surface-units", mtx::make_cube(), false, 0.03f},
                         {"sphere-continuous", mtx::make_uv_sphere(32, 16, 1.0), true, 0.f},
                         {"sphere-intrinsic", mtx::make_uv_sphere(32, 16, 1.0), true, 0.f, MOLDTEX_DOMAIN_INTRINSIC}};
   int failures = 0;

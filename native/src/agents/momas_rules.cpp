@@ -47,7 +47,7 @@ mtx_surface_tables surface_tables(const Surface& s, const TextureDomain& d) {
                             d.classes.data(), s.frame3d.data(), nullptr, nullptr,
                             d.texels_per_unit.data(), s.island.data(),
                             d.texel_island.data(), d.interior_bits.data(), nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, 0u,
-                            nullptr, nullptr};
+                            nullptr, nullptr, d.interior_reach.data()};
 }
 
 void momas_update_agents(const mtx_surface_tables& tables, const MomasStepConstants& c,

@@ -13,7 +13,8 @@ size_t TextureDomain::bytes() const {
   return texel_triangle.capacity() * 4 + classes.capacity() + gutter_texel.capacity() * 4 +
          gutter_source.capacity() * 4 + triangle_area_scale.capacity() * 4 +
          texels_per_unit.capacity() * 4 + seam_texel.capacity() * 4 + seam_neighbour.capacity() * 4 +
-         texel_island.capacity() * 4 + interior_bits.capacity() * 4;
+         texel_island.capacity() * 4 + interior_bits.capacity() * 4 +
+         interior_reach.capacity();
 }
 
 namespace {
@@ -162,6 +163,44 @@ void build_gutter(const Surface& s, TextureDomain& d, ThreadPool& pool) {
     }
 }
 
+// The interior reach of every texel (see TextureDomain::interior_reach): one less than
+// the chessboard distance to the nearest texel of another island (or none), the
+// texture's outside counting as another island. Two chamfer passes, each texel taking the
+// distance of its same-island neighbours plus one: the straight chessboard path to the
+// nearest other texel runs through texels of the same island only, so this is exact.
+std::vector<uint8_t> interior_reach_of(const std::vector<int32_t>& island, uint32_t width, uint32_t height) {
+  const int w = static_cast<int>(width), h = static_cast<int>(height);
+  std::vector<int> dist(island.size(), 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (island[size_t(y) * width + x] >= 0) dist[size_t(y) * width + x] = std::min({x + 1, y + 1, w - x, h - y});
+  auto relax = [&](int x, int y, int dx, int dy) {
+    const size_t i = size_t(y) * width + x;
+    if (island[i] < 0) return;
+    const int nx = x + dx, ny = y + dy;
+    if (nx < 0 || ny < 0 || nx >= w || ny >= h) return;  // the initial distance holds it
+    const size_t j = size_t(ny) * width + nx;
+    dist[i] = std::min(dist[i], island[j] == island[i] ? dist[j] + 1 : 1);
+  };
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      relax(x, y, -1, 0);
+      relax(x, y, -1, -1);
+      relax(x, y, 0, -1);
+      relax(x, y, 1, -1);
+    }
+  for (int y = h - 1; y >= 0; --y)
+    for (int x = w - 1; x >= 0; --x) {
+      relax(x, y, 1, 0);
+      relax(x, y, 1, 1);
+      relax(x, y, 0, 1);
+      relax(x, y, -1, 1);
+    }
+  std::vector<uint8_t> reach(island.size(), 0);
+  for (size_t i = 0; i < reach.size(); ++i) reach[i] = static_cast<uint8_t>(std::clamp(dist[i] - 1, 0, 255));
+  return reach;
+}
+
 }  // namespace
 
 TextureDomain build_texture_domain(const Surface& s, uint32_t width, uint32_t height,
@@ -201,6 +240,7 @@ TextureDomain build_texture_domain(const Surface& s, uint32_t width, uint32_t he
           interior = d.texel_island[i + dy * static_cast<ptrdiff_t>(width) + dx] == island;
       if (interior) d.interior_bits[i / 32] |= 1u << (i % 32);
     }
+  d.interior_reach = interior_reach_of(d.texel_island, width, height);
   return d;
 }
 

@@ -39,6 +39,11 @@ struct TextureDomain {
   // cells of one island, so a bilinear stencil around a point in it needs no check. A
   // small table (1 MiB texels: 128 KiB) that stays in cache.
   std::vector<uint32_t> interior_bits;
+  // Per texel, the largest r (at most 255) such that the (2r + 1)^2 block around it holds
+  // texels of its own island only, inside the texture (0 off the islands): 1 is an
+  // interior bit. A MoMaS footprint box in surface units that lies within that block
+  // needs no "texel of my island" test per texel (mtx_box_within_island).
+  std::vector<uint8_t> interior_reach;
 
   size_t texel_count() const { return static_cast<size_t>(width) * height; }
   size_t bytes() const;

@@ -73,6 +73,11 @@ typedef struct mtx_surface_tables {
    * NULL on the texture domain. */
   MTX_GLOBAL const mtx_u32* lattice;
   MTX_GLOBAL const float* lattice_field;
+  /* MoMaS in surface units, CPU: per texel the largest r (at most 255) such that the
+   * (2r + 1)^2 block around it holds texels of its own island only (0 off the islands;
+   * TextureDomain::interior_reach), so a footprint box within that block needs no test
+   * per texel. NULL: every footprint tests each texel (the OpenCL kernel). */
+  MTX_GLOBAL const mtx_u8* interior_reach;
 } mtx_surface_tables;
 
 MTX_FN mtx_u32 mtx_texel_of_uv(float u, float v, mtx_u32 width, mtx_u32 height) {
@@ -154,6 +159,18 @@ MTX_FN int mtx_footprint_box(mtx_surface_tables s, const mtx_walker* w,
   return 1;
 }
 
+/* Does the texel box [x0, x1] x [y0, y1] hold island texels of `island` only? Known
+ * without a test per texel where it lies within the block around `texel` (the texel under
+ * the walker or probe) that the interior reach says is all of that texel's island, and
+ * that island is `island`. 0 where not known (the caller then tests each texel). */
+MTX_FN int mtx_box_within_island(mtx_surface_tables s, mtx_u32 texel, int x0, int x1, int y0, int y1,
+                                 mtx_u32 island, const mtx_momas_constants* k) {
+  if (s.interior_reach == 0) return 0;
+  const int r = MTX_CAST(int, s.interior_reach[texel]);
+  const int cx = MTX_CAST(int, texel % k->width), cy = MTX_CAST(int, texel / k->width);
+  return x0 >= cx - r && x1 <= cx + r && y0 >= cy - r && y1 <= cy + r && s.texel_island[texel] == MTX_CAST(int, island);
+}
+
 /* Is texel i an island texel of the footprint's island? */
 MTX_FN int mtx_in_footprint(mtx_surface_tables s, mtx_u32 i, const mtx_footprint* box) {
   return s.texel_island[i] == MTX_CAST(int, box->island); /* -1 off the islands */
@@ -170,15 +187,25 @@ MTX_FN float mtx_sense_footprint(mtx_surface_tables s, MTX_GLOBAL const float* p
   const float here = mtx_sensed_value(pheromone, field, texel, species, k);
   mtx_footprint box;
   if (!mtx_footprint_box(s, w, k, &box) || mtx_is_obstacle(field, texel, k)) return here;
-  /* Where the box lies within the probe texel's 3 x 3 block and the texel is an interior
-   * texel of the walker's island (that block all one island), every texel of the box is
-   * of the island: no test per texel (a load each, most of the reading's time). The
-   * OpenCL MoMaS kernel has no interior bits and tests each. */
-  const int cx = MTX_CAST(int, texel % k->width), cy = MTX_CAST(int, texel / k->width);
-  const int whole = s.interior_bits != 0 && box.x0 >= cx - 1 && box.x1 <= cx + 1 && box.y0 >= cy - 1 &&
-                    box.y1 <= cy + 1 && ((s.interior_bits[texel >> 5] >> (texel & 31u)) & 1u) &&
-                    mtx_in_footprint(s, texel, &box);
+  /* Where the box lies within the block around the probe texel that is all of the
+   * walker's island, no test per texel (a load each, most of the reading's time). */
+  const int whole = mtx_box_within_island(s, texel, box.x0, box.x1, box.y0, box.y1, box.island, k);
   float sum = here, count = 1.0f;
+  if (whole && MTX_SPECIES_COUNT(k) == 1u && !(MTX_FIELDS && k->has_fields)) {
+    /* The usual reading, one species and no fields: the same sum in the same order
+     * without the general reading's per-texel branches. */
+    const float a = k->attraction[MTX_MAX_SPECIES * species];
+    for (int iy = box.y0; iy <= box.y1; ++iy) {
+      const mtx_u32 row = MTX_CAST(mtx_u32, iy) * k->width;
+      for (int ix = box.x0; ix <= box.x1; ++ix) {
+        const mtx_u32 i = row + MTX_CAST(mtx_u32, ix);
+        if (i == texel) continue;
+        sum += a * pheromone[i];
+        count += 1.0f;
+      }
+    }
+    return sum / count;
+  }
   for (int iy = box.y0; iy <= box.y1; ++iy)
     for (int ix = box.x0; ix <= box.x1; ++ix) {
       const mtx_u32 i = MTX_CAST(mtx_u32, iy) * k->width + MTX_CAST(mtx_u32, ix);
@@ -341,9 +368,23 @@ MTX_FN void mtx_mark_footprint(mtx_surface_tables s, MTX_GLOBAL const float* fie
     if (s.classes[texel] == MTX_TEXEL_INSIDE) MTX_MARK(own_marks, texel);
     if (ex < 0.5f && ey < 0.5f) return; /* the footprint lies within that texel */
   }
-  const float target = 4.0f * ex * ey;
   mtx_footprint box;
   box.island = s.island[w->triangle];
+  /* The common case: every texel the box overlaps is a texel of the walker's island, so
+   * it covers its whole area (the test below would find the same within rounding, far
+   * under its 0.1% margin) and every texel whose centre it holds is marked. */
+  if (!(jx | jy) && mtx_box_within_island(s, texel, MTX_CAST(int, floor(x - ex)), MTX_CAST(int, ceil(x + ex)) - 1,
+                                          MTX_CAST(int, floor(y - ey)), MTX_CAST(int, ceil(y + ey)) - 1,
+                                          box.island, k)) {
+    mtx_centres_within(x, y, ex, ey, k, &box);
+    for (int iy = box.y0; iy <= box.y1; ++iy)
+      for (int ix = box.x0; ix <= box.x1; ++ix) {
+        const mtx_u32 i = MTX_CAST(mtx_u32, iy) * k->width + MTX_CAST(mtx_u32, ix);
+        if (!mtx_is_obstacle(field, i, k)) MTX_MARK(own_marks, i);
+      }
+    return;
+  }
+  const float target = 4.0f * ex * ey;
   float covered = mtx_footprint_cover(s, k, x, y, ex, ey, &box);
   for (int grow = 0; grow < 3 && covered < 0.999f * target && ex < limit && ey < limit; ++grow) {
     const float f = covered > 0.0f ? mtx_min(2.0f, sqrt(target / covered)) : 2.0f;

@@ -53,6 +53,7 @@ __kernel void momas_agents(__global const mtx_frame* frames, __global const uint
   s.island = island;
   s.texel_island = texel_island;
   s.interior_bits = 0;
+  s.interior_reach = 0;
   s.face_vertices = 0;
   s.locator_grid = 0;
   s.locator_cells = 0;
@@ -287,6 +288,7 @@ __kernel void continuous_agents(__global const mtx_frame* frames, __global const
   s.island = island;
   s.texel_island = texel_island;
   s.interior_bits = interior_bits;
+  s.interior_reach = 0;
   s.face_vertices = face_vertices;
   s.locator_grid = locator_grid;
   s.locator_cells = locator_cells;
