@@ -101,6 +101,9 @@ Case* GetCase(const std::string& name, const mtx::Mesh& mesh, uint32_t w, uint32
   }
   moldtex_sim_params p = params ? *params : mtx::default_params();
   if (!params) p.thread_count = 0;  // all cores
+  // MOLDTEX_BENCH_THREADS=n runs the cases that use all cores on n threads instead (1
+  // thread is the steadiest figure for comparing two builds on a shared machine).
+  if (const char* n = std::getenv("MOLDTEX_BENCH_THREADS"); n && !params) p.thread_count = uint32_t(std::atoi(n));
   // Surface units: one length unit spans `texels_per_unit` mean texels (0 = texel units).
   if (texels_per_unit > 0)
     p.length_unit = float(texels_per_unit * std::sqrt(mesh.total_area() / (mesh.total_uv_area() * double(w) * h)));

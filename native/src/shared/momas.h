@@ -138,10 +138,10 @@ MTX_FN void mtx_clip_footprint(mtx_footprint* box, const mtx_momas_constants* k)
  * clipped to the texture (the island is left to the caller). */
 MTX_FN void mtx_centres_within(float x, float y, float ex, float ey, const mtx_momas_constants* k,
                                mtx_footprint* box) {
-  box->x0 = MTX_CAST(int, ceil(x - ex - 0.5f));
-  box->x1 = MTX_CAST(int, floor(x + ex - 0.5f));
-  box->y0 = MTX_CAST(int, ceil(y - ey - 0.5f));
-  box->y1 = MTX_CAST(int, floor(y + ey - 0.5f));
+  box->x0 = mtx_ceil_int(x - ex - 0.5f);
+  box->x1 = mtx_floor_int(x + ex - 0.5f);
+  box->y0 = mtx_ceil_int(y - ey - 0.5f);
+  box->y1 = mtx_floor_int(y + ey - 0.5f);
   mtx_clip_footprint(box, k);
 }
 
@@ -275,10 +275,10 @@ MTX_FN float mtx_sense(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
  * clipped to the texture, and its area on island texels of the footprint's island. */
 MTX_FN float mtx_footprint_cover(mtx_surface_tables s, const mtx_momas_constants* k, float x,
                                  float y, float ex, float ey, mtx_footprint* box) {
-  box->x0 = MTX_CAST(int, floor(x - ex));
-  box->x1 = MTX_CAST(int, ceil(x + ex)) - 1;
-  box->y0 = MTX_CAST(int, floor(y - ey));
-  box->y1 = MTX_CAST(int, ceil(y + ey)) - 1;
+  box->x0 = mtx_floor_int(x - ex);
+  box->x1 = mtx_ceil_int(x + ex) - 1;
+  box->y0 = mtx_floor_int(y - ey);
+  box->y1 = mtx_ceil_int(y + ey) - 1;
   mtx_clip_footprint(box, k);
   float covered = 0.0f;
   for (int iy = box->y0; iy <= box->y1; ++iy) {
@@ -314,12 +314,12 @@ MTX_FN void mtx_mark_sampled(mtx_surface_tables s, MTX_GLOBAL const float* field
   mtx_footprint box;
   mtx_centres_within(x, y, ex, ey, k, &box);
   if (jx) {
-    box.x0 = MTX_CAST(int, floor(x - ex));
-    box.x1 = MTX_CAST(int, floor(x + ex));
+    box.x0 = mtx_floor_int(x - ex);
+    box.x1 = mtx_floor_int(x + ex);
   }
   if (jy) {
-    box.y0 = MTX_CAST(int, floor(y - ey));
-    box.y1 = MTX_CAST(int, floor(y + ey));
+    box.y0 = mtx_floor_int(y - ey);
+    box.y1 = mtx_floor_int(y + ey);
   }
   mtx_clip_footprint(&box, k);
   const mtx_u64 key = mtx_rng_init(k->seed, MTX_RNG_DEPOSIT, 0, 0);
@@ -373,8 +373,8 @@ MTX_FN void mtx_mark_footprint(mtx_surface_tables s, MTX_GLOBAL const float* fie
   /* The common case: every texel the box overlaps is a texel of the walker's island, so
    * it covers its whole area (the test below would find the same within rounding, far
    * under its 0.1% margin) and every texel whose centre it holds is marked. */
-  if (!(jx | jy) && mtx_box_within_island(s, texel, MTX_CAST(int, floor(x - ex)), MTX_CAST(int, ceil(x + ex)) - 1,
-                                          MTX_CAST(int, floor(y - ey)), MTX_CAST(int, ceil(y + ey)) - 1,
+  if (!(jx | jy) && mtx_box_within_island(s, texel, mtx_floor_int(x - ex), mtx_ceil_int(x + ex) - 1,
+                                          mtx_floor_int(y - ey), mtx_ceil_int(y + ey) - 1,
                                           box.island, k)) {
     mtx_centres_within(x, y, ex, ey, k, &box);
     for (int iy = box.y0; iy <= box.y1; ++iy)

@@ -26,6 +26,8 @@ typedef long mtx_i64;
 #define MTX_END_NAMESPACE
 #define mtx_min(a, b) fmin((a), (b))
 #define mtx_max(a, b) fmax((a), (b))
+#define mtx_floor_int(v) ((int)floor(v))
+#define mtx_ceil_int(v) ((int)ceil(v))
 #else
 #include <atomic>
 #include <cmath>
@@ -61,6 +63,19 @@ using std::sqrt;
  * never passes NaN), but inlined: C++'s fmin is a libm call unless NaNs are ruled out. */
 inline float mtx_min(float a, float b) { return b < a ? b : a; }
 inline float mtx_max(float a, float b) { return a < b ? b : a; }
+/* floor(v) and ceil(v) as an int, for |v| < 2^31 (texel coordinates): the same values as
+ * (int)floor(v), from a truncation and one comparison. Without SSE4.1 (the x86-64
+ * baseline) the compiler expands floor and ceil into long sequences that keep the
+ * floating-point exception flags exact: they were a sixth of the instructions of a MoMaS
+ * step in surface units (callgrind). */
+inline int mtx_floor_int(float v) {
+  const int i = static_cast<int>(v);
+  return i - static_cast<int>(v < static_cast<float>(i));
+}
+inline int mtx_ceil_int(float v) {
+  const int i = static_cast<int>(v);
+  return i + static_cast<int>(v > static_cast<float>(i));
+}
 #endif
 
 #endif

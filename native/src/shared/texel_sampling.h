@@ -62,9 +62,8 @@ MTX_FN void mtx_texel_stencil_of(mtx_surface_tables s, const mtx_walker* w, mtx_
   MTX_GLOBAL const float* uv = s.corner_uvs + 6 * w->triangle;
   const float x = (w->bary[0] * uv[0] + w->bary[1] * uv[2] + w->bary[2] * uv[4]) * MTX_CAST(float, width) - 0.5f;
   const float y = (w->bary[0] * uv[1] + w->bary[1] * uv[3] + w->bary[2] * uv[5]) * MTX_CAST(float, height) - 0.5f;
-  const float fx0 = floor(x), fy0 = floor(y);
-  const float fx = x - fx0, fy = y - fy0;
-  const int x0 = MTX_CAST(int, fx0), y0 = MTX_CAST(int, fy0);
+  const int x0 = mtx_floor_int(x), y0 = mtx_floor_int(y);
+  const float fx = x - MTX_CAST(float, x0), fy = y - MTX_CAST(float, y0);
   /* Fast path: the texel holding the point is interior (its 3x3 block lies in one
    * island), so all four texels are cells of the point's island. */
   const mtx_u32 home = x >= 0.0f && y >= 0.0f
