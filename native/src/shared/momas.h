@@ -377,10 +377,13 @@ MTX_FN void mtx_mark_footprint(mtx_surface_tables s, MTX_GLOBAL const float* fie
                                           mtx_floor_int(y - ey), mtx_ceil_int(y + ey) - 1,
                                           box.island, k)) {
     mtx_centres_within(x, y, ex, ey, k, &box);
+    /* Held apart: each mark (an atomic store) would make the compiler load them anew. */
+    const mtx_u32 width = k->width;
+    const int fields = MTX_FIELDS && k->has_fields;
     for (int iy = box.y0; iy <= box.y1; ++iy)
       for (int ix = box.x0; ix <= box.x1; ++ix) {
-        const mtx_u32 i = MTX_CAST(mtx_u32, iy) * k->width + MTX_CAST(mtx_u32, ix);
-        if (!mtx_is_obstacle(field, i, k)) MTX_MARK(own_marks, i);
+        const mtx_u32 i = MTX_CAST(mtx_u32, iy) * width + MTX_CAST(mtx_u32, ix);
+        if (!fields || !(field[i] < MTX_OBSTACLE_THRESHOLD)) MTX_MARK(own_marks, i);
       }
     return;
   }
