@@ -6,7 +6,7 @@
 // within a fraction of a second of each other. Where both builds compute the same bits,
 // both simulations also stay in the same state, so every pair of steps does the same work.
 //
-//   moldtex_ab LIB_A LIB_B [CASE] [ROUNDS] [THREADS]
+//   moldtex_ab LIB_A LIB_B [CASE] [ROUNDS] [THREADS] [BACKEND]
 //
 // CASE: plane-jones, plane-surface (default), plane-surface-small (256^2, 64 k agents),
 // plane-surface-sharp, sphere, sphere-surface,
@@ -14,7 +14,8 @@
 // domain: a UV sphere 128 x 64 at 512^2, 300 k agents); ROUNDS (default 30) pairs of
 // steps after 10 warm-up steps each; THREADS (default 0: all cores). Prints the median
 // step time of each build, the median of the rounds' ratios B / A and how many rounds B
-// was faster.
+// was faster. BACKEND: cpu (default) or opencl (the first device listed: platform 0,
+// device 0).
 #include <dlfcn.h>
 
 #include <algorithm>
@@ -128,7 +129,7 @@ double Median(std::vector<double> v) {
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: %s LIB_A LIB_B [CASE] [ROUNDS] [THREADS]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s LIB_A LIB_B [CASE] [ROUNDS] [THREADS] [cpu|opencl]\n", argv[0]);
     return 2;
   }
   const std::string name = argc > 3 ? argv[3] : "plane-surface";
@@ -154,6 +155,7 @@ int main(int argc, char** argv) {
                           std::sqrt(spec.mesh.total_area() / (spec.mesh.total_uv_area() * double(spec.side) * spec.side)));
   moldtex_sim_config config = mtx::make_config(spec.side, spec.side, spec.agents, 1);
   if (spec.continuous) config.model = MOLDTEX_MODEL_CONTINUOUS;
+  if (argc > 6 && std::string(argv[6]) == "opencl") config.backend = MOLDTEX_BACKEND_OPENCL;
   config.domain = spec.domain;
   // The default agent is drawn on a lattice of 0.01 mesh units: rescaled to texels, as
   // moldtex_bench does.

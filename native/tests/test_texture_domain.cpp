@@ -65,7 +65,9 @@ TEST(TextureDomain, InteriorReachIsTheLargestBlockOfOneIsland) {
       }
     EXPECT_EQ(mismatches, 0) << c.name;
     // The quad fills the texture: its centre reaches 39 texels (80 / 2 - 1).
-    if (std::string(c.name) == "quad") EXPECT_EQ(deepest, 39);
+    if (std::string(c.name) == "quad") {
+      EXPECT_EQ(deepest, 39);
+    }
     std::printf("  %s: deepest reach %d texels\n", c.name, deepest);
   }
 }

@@ -73,10 +73,10 @@ typedef struct mtx_surface_tables {
    * NULL on the texture domain. */
   MTX_GLOBAL const mtx_u32* lattice;
   MTX_GLOBAL const float* lattice_field;
-  /* MoMaS in surface units, CPU: per texel the largest r (at most 255) such that the
+  /* MoMaS in surface units: per texel the largest r (at most 255) such that the
    * (2r + 1)^2 block around it holds texels of its own island only (0 off the islands;
    * TextureDomain::interior_reach), so a footprint box within that block needs no test
-   * per texel. NULL: every footprint tests each texel (the OpenCL kernel). */
+   * per texel. NULL: every footprint tests each texel. */
   MTX_GLOBAL const mtx_u8* interior_reach;
 } mtx_surface_tables;
 

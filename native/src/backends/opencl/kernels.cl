@@ -38,7 +38,7 @@ __kernel void momas_agents(__global const mtx_frame* frames, __global const uint
                            __global const float* frame3d, __global const float* food,
                            __global uint* eaters, __global const float* texels_per_unit,
                            __global const int* texel_island, __global const uint* island,
-                           const mtx_momas_constants k, const uint count) {
+                           __global const uchar* interior_reach, const mtx_momas_constants k, const uint count) {
   const uint i = get_global_id(0);
   if (i >= count) return;
   mtx_surface_tables s;
@@ -53,7 +53,7 @@ __kernel void momas_agents(__global const mtx_frame* frames, __global const uint
   s.island = island;
   s.texel_island = texel_island;
   s.interior_bits = 0;
-  s.interior_reach = 0;
+  s.interior_reach = interior_reach;
   s.face_vertices = 0;
   s.locator_grid = 0;
   s.locator_cells = 0;
