@@ -96,6 +96,17 @@ MTX_FN mtx_u32 mtx_walker_texel(MTX_GLOBAL const float* corner_uvs, const mtx_wa
   return mtx_texel_of_uv(u, v, width, height);
 }
 
+/* The texel under walker w, as mtx_walker_texel, and the walker's point in texels. */
+MTX_FN mtx_u32 mtx_walker_texel_at(MTX_GLOBAL const float* corner_uvs, const mtx_walker* w, mtx_u32 width,
+                                   mtx_u32 height, float* x, float* y) {
+  MTX_GLOBAL const float* uv = corner_uvs + 6 * w->triangle;
+  const float u = w->bary[0] * uv[0] + w->bary[1] * uv[2] + w->bary[2] * uv[4];
+  const float v = w->bary[0] * uv[1] + w->bary[1] * uv[3] + w->bary[2] * uv[5];
+  *x = u * MTX_CAST(float, width);
+  *y = v * MTX_CAST(float, height);
+  return mtx_texel_of_uv(u, v, width, height);
+}
+
 /* Texels per plane: pheromone and deposit marks hold one plane per species. */
 MTX_FN mtx_u32 mtx_texel_count(const mtx_momas_constants* k) { return k->width * k->height; }
 
@@ -345,17 +356,15 @@ MTX_FN void mtx_mark_sampled(mtx_surface_tables s, MTX_GLOBAL const float* field
  * be an island texel (next to a pole it seldom is). Along an axis where texels are over
  * two units long, marks are sampled instead (mtx_mark_sampled). Marks depend only on
  * where the walker is, so a trail is the union of its footprints at any
- * substep density. */
+ * substep density. (x, y): the walker's point in texels (mtx_walker_texel_at), over
+ * `texel`. */
 MTX_FN void mtx_mark_footprint(mtx_surface_tables s, MTX_GLOBAL const float* field,
                                MTX_GLOBAL mtx_u8* own_marks, const mtx_walker* w,
-                               mtx_u32 texel, const mtx_momas_constants* k) {
+                               mtx_u32 texel, float x, float y, const mtx_momas_constants* k) {
   MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * w->triangle;
   const float limit = MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS);
   float ex = mtx_min(0.5f * k->length_unit * tpu[0], limit);
   float ey = mtx_min(0.5f * k->length_unit * tpu[1], limit);
-  MTX_GLOBAL const float* uv = s.corner_uvs + 6 * w->triangle;
-  const float x = (w->bary[0] * uv[0] + w->bary[1] * uv[2] + w->bary[2] * uv[4]) * MTX_CAST(float, k->width);
-  const float y = (w->bary[0] * uv[1] + w->bary[1] * uv[3] + w->bary[2] * uv[5]) * MTX_CAST(float, k->height);
   /* Where a texel is over twice as long as the footprint along one axis and over twice
    * as long along it as along the other (strong UV stretch), marks are sampled along it
    * (mtx_mark_sampled). Other texels keep the rule below, which over-marks a long axis:
@@ -373,10 +382,11 @@ MTX_FN void mtx_mark_footprint(mtx_surface_tables s, MTX_GLOBAL const float* fie
   /* The common case: every texel the box overlaps is a texel of the walker's island, so
    * it covers its whole area (the test below would find the same within rounding, far
    * under its 0.1% margin) and every texel whose centre it holds is marked. */
-  if (!(jx | jy) && mtx_box_within_island(s, texel, mtx_floor_int(x - ex), mtx_ceil_int(x + ex) - 1,
-                                          mtx_floor_int(y - ey), mtx_ceil_int(y + ey) - 1,
-                                          box.island, k)) {
-    mtx_centres_within(x, y, ex, ey, k, &box);
+  if (!(jx | jy)) mtx_centres_within(x, y, ex, ey, k, &box);
+  /* The texels the box overlaps lie within one texel around those whose centres it holds
+   * (where it holds some along both axes), so that wider box is checked. */
+  if (!(jx | jy) && box.x0 <= box.x1 && box.y0 <= box.y1 &&
+      mtx_box_within_island(s, texel, box.x0 - 1, box.x1 + 1, box.y0 - 1, box.y1 + 1, box.island, k)) {
     /* Held apart: each mark (an atomic store) would make the compiler load them anew. */
     const mtx_u32 width = k->width;
     const int fields = MTX_FIELDS && k->has_fields;
@@ -509,7 +519,9 @@ MTX_FN void mtx_momas_agent_finish(mtx_surface_tables s, MTX_GLOBAL const float*
     const mtx_walker before = *w;
     const mtx_u32 before_texel = texel;
     mtx_walk_until(s.frames, s.adjacency, w, sub_length, 0, 0, MTX_BOUNDARY_SCATTER, &rng);
-    texel = mtx_walker_texel(s.corner_uvs, w, k->width, k->height);
+    float x = 0.0f, y = 0.0f; /* surface units: the point in texels, for its footprint */
+    texel = k->surface_mode ? mtx_walker_texel_at(s.corner_uvs, w, k->width, k->height, &x, &y)
+                            : mtx_walker_texel(s.corner_uvs, w, k->width, k->height);
     if (mtx_is_obstacle(field, texel, k)) {
       if (!mtx_is_obstacle(field, before_texel, k)) {
         *w = before;
@@ -520,7 +532,7 @@ MTX_FN void mtx_momas_agent_finish(mtx_surface_tables s, MTX_GLOBAL const float*
       continue; /* nothing is deposited in an obstacle */
     }
     if (k->surface_mode) {
-      mtx_mark_footprint(s, field, own_marks, w, texel, k);
+      mtx_mark_footprint(s, field, own_marks, w, texel, x, y, k);
       continue;
     }
     /* Marked whatever its class: applying the marks keeps those of island texels only
