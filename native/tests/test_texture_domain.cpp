@@ -12,12 +12,24 @@
 #include <vector>
 
 #include "domain/texture_domain.h"
-#include "shared/momas.h"
+#include "agents/momas_rules.h"
 #include "surface/surface.h"
 #include "test_util.h"
 
 namespace mtx {
 namespace {
+
+// A named mesh with its surface and texture domain.
+struct Textured {
+  const char* name;
+  moldtex::Surface surface;
+  moldtex::TextureDomain domain;
+  Textured(const char* n, const Mesh& mesh, uint32_t width, uint32_t height) : name(n) {
+    moldtex::ThreadPool pool(2);
+    surface = moldtex::build_surface(mesh.desc());
+    domain = moldtex::build_texture_domain(surface, width, height, pool);
+  }
+};
 
 // The interior reach of texel (x, y) by its definition: the largest r such that the
 // (2r + 1)^2 block around it lies in the texture and holds texels of its own island only.
@@ -42,18 +54,12 @@ int ReachByDefinition(const moldtex::TextureDomain& d, int x, int y) {
 // (UV sphere, torus), six islands with gutters between (cube), and a plane filling the
 // texture, at a size where blocks of many radii occur.
 TEST(TextureDomain, InteriorReachIsTheLargestBlockOfOneIsland) {
-  struct Case {
-    const char* name;
-    Mesh mesh;
-  };
-  const Case cases[] = {{"uv sphere", make_uv_sphere(32, 16, 1.0)},
-                        {"torus", make_torus(24, 12, 1.0, 0.3)},
-                        {"cube", make_cube()},
-                        {"quad", make_quad()}};
-  for (const Case& c : cases) {
-    moldtex::ThreadPool pool(2);
-    const moldtex::Surface surface = moldtex::build_surface(c.mesh.desc());
-    const moldtex::TextureDomain d = moldtex::build_texture_domain(surface, 96, 80, pool);
+  const Textured cases[] = {{"uv sphere", make_uv_sphere(32, 16, 1.0), 96, 80},
+                            {"torus", make_torus(24, 12, 1.0, 0.3), 96, 80},
+                            {"cube", make_cube(), 96, 80},
+                            {"quad", make_quad(), 96, 80}};
+  for (const Textured& c : cases) {
+    const moldtex::TextureDomain& d = c.domain;
     ASSERT_EQ(d.interior_reach.size(), d.texel_count()) << c.name;
     int mismatches = 0, deepest = 0;
     for (int y = 0; y < int(d.height); ++y)
@@ -64,9 +70,10 @@ TEST(TextureDomain, InteriorReachIsTheLargestBlockOfOneIsland) {
         if (got != expected && ++mismatches <= 5)
           ADD_FAILURE() << c.name << ": texel (" << x << ", " << y << ") reach " << got << ", by definition "
                         << expected;
-        // Its first level is the interior bit the continuous model's stencils use.
+        // The interior bit the continuous model's stencils use (derived from the reach):
+        // set where the 3 x 3 block is one island.
         const size_t i = size_t(y) * d.width + x;
-        EXPECT_EQ(got >= 1, bool((d.interior_bits[i / 32] >> (i % 32)) & 1u)) << c.name << " texel " << i;
+        EXPECT_EQ(expected >= 1, bool((d.interior_bits[i / 32] >> (i % 32)) & 1u)) << c.name << " texel " << i;
       }
     EXPECT_EQ(mismatches, 0) << c.name;
     // The quad fills the texture: its centre reaches 39 texels (80 / 2 - 1).
@@ -84,27 +91,12 @@ TEST(TextureDomain, InteriorReachIsTheLargestBlockOfOneIsland) {
 // with gutters between them) and a torus (seams on the texture border), with footprints
 // of 2-3 and of 5-6 texels a side, and a random pheromone plane.
 TEST(TextureDomain, FootprintsWithinTheReachMatchTheGeneralPath) {
-  struct Case {
-    const char* name;
-    Mesh mesh;
-  };
-  const Case cases[] = {{"cube", make_cube()}, {"torus", make_torus(24, 12, 1.0, 0.3)}};
-  for (const Case& c : cases) {
-    moldtex::ThreadPool pool(2);
-    const moldtex::Surface surface = moldtex::build_surface(c.mesh.desc());
-    const uint32_t W = 128, H = 128;
-    const moldtex::TextureDomain d = moldtex::build_texture_domain(surface, W, H, pool);
-    moldtex::mtx_surface_tables fast{};
-    fast.frames = surface.frames.data();
-    fast.adjacency = surface.adjacency.data();
-    fast.corner_uvs = surface.corner_uvs.data();
-    fast.classes = d.classes.data();
-    fast.frame3d = surface.frame3d.data();
-    fast.texels_per_unit = d.texels_per_unit.data();
-    fast.island = surface.island.data();
-    fast.texel_island = d.texel_island.data();
-    fast.interior_bits = d.interior_bits.data();
-    fast.interior_reach = d.interior_reach.data();
+  const uint32_t W = 128, H = 128;
+  const Textured cases[] = {{"cube", make_cube(), W, H}, {"torus", make_torus(24, 12, 1.0, 0.3), W, H}};
+  for (const Textured& c : cases) {
+    const moldtex::Surface& surface = c.surface;
+    const moldtex::TextureDomain& d = c.domain;
+    const moldtex::mtx_surface_tables fast = moldtex::surface_tables(surface, d);  // as the agents get them
     moldtex::mtx_surface_tables general = fast;
     general.interior_reach = nullptr;
     std::mt19937_64 rng(7);

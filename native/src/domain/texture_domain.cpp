@@ -229,18 +229,11 @@ TextureDomain build_texture_domain(const Surface& s, uint32_t width, uint32_t he
   for (size_t i = 0; i < d.texel_count(); ++i)
     if (d.classes[i] == MOLDTEX_TEXEL_INSIDE && d.texel_triangle[i] >= 0)
       d.texel_island[i] = static_cast<int32_t>(s.island[d.texel_triangle[i]]);
-  d.interior_bits.assign((d.texel_count() + 31) / 32, 0u);
-  for (uint32_t y = 1; y + 1 < height; ++y)
-    for (uint32_t x = 1; x + 1 < width; ++x) {
-      const size_t i = size_t(y) * width + x;
-      const int32_t island = d.texel_island[i];
-      bool interior = island >= 0;
-      for (int dy = -1; dy <= 1 && interior; ++dy)
-        for (int dx = -1; dx <= 1 && interior; ++dx)
-          interior = d.texel_island[i + dy * static_cast<ptrdiff_t>(width) + dx] == island;
-      if (interior) d.interior_bits[i / 32] |= 1u << (i % 32);
-    }
   d.interior_reach = interior_reach_of(d.texel_island, width, height);
+  // A texel is interior (its 3 x 3 block one island) where its reach is at least 1.
+  d.interior_bits.assign((d.texel_count() + 31) / 32, 0u);
+  for (size_t i = 0; i < d.texel_count(); ++i)
+    if (d.interior_reach[i] >= 1) d.interior_bits[i / 32] |= 1u << (i % 32);
   return d;
 }
 
