@@ -8,7 +8,7 @@
 //
 //   moldtex_ab LIB_A LIB_B [CASE] [ROUNDS] [THREADS] [BACKEND]
 //
-// CASE: plane-jones, plane-surface (default), plane-surface-small (256^2, 64 k agents),
+// CASE: plane-jones, plane-jones-small (256^2, 64 k agents), plane-surface (default), plane-surface-small (256^2, 64 k agents),
 // plane-surface-sharp, sphere, sphere-surface,
 // fine-sphere, plane-continuous, sphere-intrinsic (the continuous model on the intrinsic
 // domain: a UV sphere 128 x 64 at 512^2, 300 k agents); ROUNDS (default 30) pairs of
@@ -82,6 +82,11 @@ bool MakeCase(const std::string& name, CaseSpec* c) {
   if (name == "plane-jones") {
     c->mesh = mtx::make_quad();
     c->jones = true;
+  } else if (name == "plane-jones-small") {  // small enough to run under valgrind
+    c->mesh = mtx::make_quad();
+    c->jones = true;
+    c->side = 256;
+    c->agents = 65536;
   } else if (name == "plane-surface") {
     c->mesh = mtx::make_quad();
     c->texels_per_unit = 2;

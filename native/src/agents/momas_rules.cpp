@@ -47,7 +47,7 @@ mtx_surface_tables surface_tables(const Surface& s, const TextureDomain& d) {
                             d.classes.data(), s.frame3d.data(), nullptr, nullptr,
                             d.texels_per_unit.data(), s.island.data(),
                             d.texel_island.data(), d.interior_bits.data(), nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, 0u,
-                            nullptr, nullptr, d.interior_reach.data()};
+                            nullptr, nullptr, d.interior_reach.data(), s.unfolded.data()};
 }
 
 void momas_update_agents(const mtx_surface_tables& tables, const MomasStepConstants& c,
@@ -66,7 +66,12 @@ void momas_update_agents(const mtx_surface_tables& tables, const MomasStepConsta
         const uint32_t species = agents.species[i];
         mtx_momas_probe(tables, &w[j], species, &c, &probes[j]);
         for (int k = 0; k < 3; ++k) __builtin_prefetch(pheromone + species * plane + probes[j].texel[k]);
-        __builtin_prefetch(tables.classes + probes[j].here);  // where it moves and marks
+        // Where it moves and marks: the mark's byte (texel units) or, in surface units,
+        // the class there first.
+        if (c.surface_mode)
+          __builtin_prefetch(tables.classes + probes[j].here);
+        else
+          __builtin_prefetch(marks + species * plane + probes[j].here, 1);
       },
       [&](size_t i, size_t j) {
         float hunger = agents.hunger[i];

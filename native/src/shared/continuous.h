@@ -121,7 +121,7 @@ MTX_FN float mtx_map_value(MTX_GLOBAL const float* maps, const mtx_continuous_co
  * drawn; after MTX_SPAWN_TRIES_PER_TRIANGLE misses (a triangle the map's edge barely
  * enters) another triangle is drawn, and after MTX_MAX_SPAWN_TRIES the point of highest
  * weight drawn is kept. */
-MTX_FN void mtx_respawn_weighted(mtx_surface_tables s, MTX_GLOBAL const float* alias_prob,
+MTX_FN void mtx_respawn_weighted(MTX_TABLES s, MTX_GLOBAL const float* alias_prob,
                                  MTX_GLOBAL const mtx_u32* alias_index, MTX_GLOBAL const float* maps,
                                  MTX_GLOBAL const float* spawn_max, const mtx_continuous_constants* k,
                                  mtx_walker* w, mtx_u64* rng) {
@@ -187,7 +187,7 @@ MTX_FN float mtx_continuous_read(MTX_GLOBAL const float* u, MTX_GLOBAL const flo
 
 /* The ends of the three sensor traces (left, front, right) of `length` from walker
  * `from`, the sides turned by (c, +-sn). */
-MTX_FN void mtx_continuous_traces(mtx_surface_tables s, const mtx_walker* from, float c, float sn,
+MTX_FN void mtx_continuous_traces(MTX_TABLES s, const mtx_walker* from, float c, float sn,
                                   float length, mtx_walker* at) {
   for (int i = 0; i < 3; ++i) {
     at[i] = *from;
@@ -198,7 +198,7 @@ MTX_FN void mtx_continuous_traces(mtx_surface_tables s, const mtx_walker* from, 
 }
 
 /* The reading stencils of the three sensors (left, front, right) of walker `from`. */
-MTX_FN void mtx_continuous_probes(mtx_surface_tables s, const mtx_walker* from, float c, float sn,
+MTX_FN void mtx_continuous_probes(MTX_TABLES s, const mtx_walker* from, float c, float sn,
                                   float length, const mtx_continuous_constants* k, mtx_texel_stencil* st) {
   mtx_walker at[3];
   mtx_continuous_traces(s, from, c, sn, length, at);
@@ -223,7 +223,7 @@ typedef struct mtx_continuous_plan {
  * parameter maps where it then stands, its decision clock, and where it decides, the
  * first decision's sensor traces. Reads no concentration, so a backend can run it for a
  * batch of agents and fetch the cells their sensors read together. */
-MTX_FN void mtx_continuous_agent_begin(mtx_surface_tables s, MTX_GLOBAL const float* alias_prob,
+MTX_FN void mtx_continuous_agent_begin(MTX_TABLES s, MTX_GLOBAL const float* alias_prob,
                                        MTX_GLOBAL const mtx_u32* alias_index,
                                        MTX_GLOBAL const float* bias, MTX_GLOBAL const float* maps,
                                        MTX_GLOBAL const float* spawn_max, mtx_walker* w,
@@ -304,7 +304,7 @@ MTX_FN void mtx_continuous_agent_begin(mtx_surface_tables s, MTX_GLOBAL const fl
 
 /* The second part: the reading stencils where the plan's sensor traces end. Apart from
  * the first, so a backend can fetch what locating them reads for a batch of agents. */
-MTX_FN void mtx_continuous_plan_stencils(mtx_surface_tables s, const mtx_continuous_constants* k,
+MTX_FN void mtx_continuous_plan_stencils(MTX_TABLES s, const mtx_continuous_constants* k,
                                          mtx_continuous_plan* plan) {
   if (!plan->decide) return;
   for (int i = 0; i < 3; ++i) mtx_texel_stencil_of(s, &plan->at[i], k->width, k->height, 1, &plan->probe[i]);
@@ -313,7 +313,7 @@ MTX_FN void mtx_continuous_plan_stencils(mtx_surface_tables s, const mtx_continu
 /* The rest of the step (after mtx_continuous_agent_begin and mtx_continuous_plan_stencils,
  * with their plan). `sums` holds
  * one fixed-point plane per species (k->deposit_units per whole deposit of r_dep * dt). */
-MTX_FN void mtx_continuous_agent_finish(mtx_surface_tables s, MTX_GLOBAL const float* u,
+MTX_FN void mtx_continuous_agent_finish(MTX_TABLES s, MTX_GLOBAL const float* u,
                                         MTX_GLOBAL const float* field, MTX_GLOBAL mtx_i32* sums,
                                         MTX_GLOBAL const float* bias, mtx_walker* w, mtx_agent_life* life,
                                         mtx_u32 species, mtx_u64 agent, const mtx_continuous_constants* k,
@@ -419,7 +419,7 @@ MTX_FN void mtx_continuous_agent_finish(mtx_surface_tables s, MTX_GLOBAL const f
 
 /* One step of agent `agent` (walker w, clocks life, species `species`): the three parts
  * in a row. `sums` holds one fixed-point plane per species. */
-MTX_FN void mtx_continuous_agent_step(mtx_surface_tables s, MTX_GLOBAL const float* u,
+MTX_FN void mtx_continuous_agent_step(MTX_TABLES s, MTX_GLOBAL const float* u,
                                       MTX_GLOBAL const float* field, MTX_GLOBAL mtx_i32* sums,
                                       MTX_GLOBAL const float* alias_prob,
                                       MTX_GLOBAL const mtx_u32* alias_index,

@@ -78,6 +78,10 @@ typedef struct mtx_surface_tables {
    * TextureDomain::interior_reach), so a footprint box within that block needs no test
    * per texel. NULL: every footprint tests each texel. */
   MTX_GLOBAL const mtx_u8* interior_reach;
+  /* Each edge's neighbour unfolded into the triangle's frame (shared/walk.h,
+   * MTX_UNFOLDED_FLOATS): a sensor trace that crosses one edge is located without a
+   * walk. NULL: every trace that leaves its triangle walks. */
+  MTX_GLOBAL const float* unfolded;
 } mtx_surface_tables;
 
 MTX_FN mtx_u32 mtx_texel_of_uv(float u, float v, mtx_u32 width, mtx_u32 height) {
@@ -156,25 +160,32 @@ MTX_FN void mtx_centres_within(float x, float y, float ex, float ey, const mtx_m
   mtx_clip_footprint(box, k);
 }
 
-MTX_FN int mtx_footprint_box(mtx_surface_tables s, const mtx_walker* w,
-                             const mtx_momas_constants* k, mtx_footprint* box) {
-  MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * w->triangle;
+/* The footprint around the point (x, y), in texels, on `triangle`. */
+MTX_FN int mtx_footprint_box_at(MTX_TABLES s, mtx_u32 triangle, float x, float y,
+                                const mtx_momas_constants* k, mtx_footprint* box) {
+  MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * triangle;
   const float ex = mtx_min(0.5f * k->length_unit * tpu[0], MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
   const float ey = mtx_min(0.5f * k->length_unit * tpu[1], MTX_CAST(float, MTX_MAX_FOOTPRINT_TEXELS));
   if (ex < 0.5f && ey < 0.5f) return 0;
+  mtx_centres_within(x, y, ex, ey, k, box);
+  box->island = s.island[triangle];
+  return 1;
+}
+
+/* The footprint around walker w. */
+MTX_FN int mtx_footprint_box(MTX_TABLES s, const mtx_walker* w,
+                             const mtx_momas_constants* k, mtx_footprint* box) {
   MTX_GLOBAL const float* uv = s.corner_uvs + 6 * w->triangle;
   const float x = (w->bary[0] * uv[0] + w->bary[1] * uv[2] + w->bary[2] * uv[4]) * MTX_CAST(float, k->width);
   const float y = (w->bary[0] * uv[1] + w->bary[1] * uv[3] + w->bary[2] * uv[5]) * MTX_CAST(float, k->height);
-  mtx_centres_within(x, y, ex, ey, k, box);
-  box->island = s.island[w->triangle];
-  return 1;
+  return mtx_footprint_box_at(s, w->triangle, x, y, k, box);
 }
 
 /* Does the texel box [x0, x1] x [y0, y1] hold island texels of `island` only? Known
  * without a test per texel where it lies within the block around `texel` (the texel under
  * the walker or probe) that the interior reach says is all of that texel's island, and
  * that island is `island`. 0 where not known (the caller then tests each texel). */
-MTX_FN int mtx_box_within_island(mtx_surface_tables s, mtx_u32 texel, int x0, int x1, int y0, int y1,
+MTX_FN int mtx_box_within_island(MTX_TABLES s, mtx_u32 texel, int x0, int x1, int y0, int y1,
                                  mtx_u32 island, const mtx_momas_constants* k) {
   if (s.interior_reach == 0) return 0;
   const int r = MTX_CAST(int, s.interior_reach[texel]);
@@ -183,7 +194,7 @@ MTX_FN int mtx_box_within_island(mtx_surface_tables s, mtx_u32 texel, int x0, in
 }
 
 /* Is texel i an island texel of the footprint's island? */
-MTX_FN int mtx_in_footprint(mtx_surface_tables s, mtx_u32 i, const mtx_footprint* box) {
+MTX_FN int mtx_in_footprint(MTX_TABLES s, mtx_u32 i, const mtx_footprint* box) {
   return s.texel_island[i] == MTX_CAST(int, box->island); /* -1 off the islands */
 }
 
@@ -192,12 +203,12 @@ MTX_FN int mtx_in_footprint(mtx_surface_tables s, mtx_u32 i, const mtx_footprint
  * (the deposit footprint's size), or an obstacle if one lies there: a sensor reads the
  * same 3D neighbourhood at any resolution (a texel of one length unit holds what the
  * mean over the finer texels of that unit holds). */
-MTX_FN float mtx_sense_footprint(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
-                                 MTX_GLOBAL const float* field, const mtx_walker* w,
-                                 mtx_u32 texel, mtx_u32 species, const mtx_momas_constants* k) {
+MTX_FN float mtx_sense_footprint_at(MTX_TABLES s, MTX_GLOBAL const float* pheromone,
+                                    MTX_GLOBAL const float* field, mtx_u32 triangle, float x, float y,
+                                    mtx_u32 texel, mtx_u32 species, const mtx_momas_constants* k) {
   const float here = mtx_sensed_value(pheromone, field, texel, species, k);
   mtx_footprint box;
-  if (!mtx_footprint_box(s, w, k, &box) || mtx_is_obstacle(field, texel, k)) return here;
+  if (!mtx_footprint_box_at(s, triangle, x, y, k, &box) || mtx_is_obstacle(field, texel, k)) return here;
   /* Where the box lies within the block around the probe texel that is all of the
    * walker's island, no test per texel (a load each, most of the reading's time). */
   const int whole = mtx_box_within_island(s, texel, box.x0, box.x1, box.y0, box.y1, box.island, k);
@@ -229,41 +240,109 @@ MTX_FN float mtx_sense_footprint(mtx_surface_tables s, MTX_GLOBAL const float* p
   return sum / count;
 }
 
+/* ... or around walker w. */
+MTX_FN float mtx_sense_footprint(MTX_TABLES s, MTX_GLOBAL const float* pheromone,
+                                 MTX_GLOBAL const float* field, const mtx_walker* w,
+                                 mtx_u32 texel, mtx_u32 species, const mtx_momas_constants* k) {
+  float x = 0.0f, y = 0.0f;
+  mtx_walker_texel_at(s.corner_uvs, w, k->width, k->height, &x, &y);
+  return mtx_sense_footprint_at(s, pheromone, field, w->triangle, x, y, texel, species, k);
+}
+
+/* The texel holding the point (x, y) in texels, clamped to the texture. */
+MTX_FN mtx_u32 mtx_texel_at_point(float x, float y, mtx_u32 width, mtx_u32 height) {
+  int ix = MTX_CAST(int, x), iy = MTX_CAST(int, y);
+  ix = ix < 0 ? 0 : (ix >= MTX_CAST(int, width) ? MTX_CAST(int, width) - 1 : ix);
+  iy = iy < 0 ? 0 : (iy >= MTX_CAST(int, height) ? MTX_CAST(int, height) - 1 : iy);
+  return MTX_CAST(mtx_u32, iy) * width + MTX_CAST(mtx_u32, ix);
+}
+
 /* An agent's three sensor probes (left, front, right): where each trace over the surface
- * ends and the texel there. Computed apart from the reading (mtx_momas_agent_finish), so
- * a backend can trace a batch of agents first and fetch their texels together. */
+ * ends (its triangle and its point in texels) and the texel there. Computed apart from
+ * the reading (mtx_momas_agent_finish), so a backend can trace a batch of agents first
+ * and fetch their texels together. */
 typedef struct mtx_momas_probes {
-  mtx_walker at[3];
+  mtx_u32 triangle[3];
+  float x[3], y[3];
   mtx_u32 texel[3];
-  mtx_u32 here; /* the texel under the agent */
+  mtx_u32 here;      /* the texel under the agent */
+  float clearance;   /* the agent's distance to its triangle's edges (mtx_edge_clearance) */
 } mtx_momas_probes;
 
-MTX_FN void mtx_momas_probe(mtx_surface_tables s, const mtx_walker* w, mtx_u32 species,
+MTX_FN void mtx_momas_probe(MTX_TABLES s, const mtx_walker* w, mtx_u32 species,
                             const mtx_momas_constants* k, mtx_momas_probes* p) {
   const float c = k->sensor_cos[species], sn = k->sensor_sin[species];
   const float length = k->sensor_length[species];
-  for (int i = 0; i < 3; ++i) {
-    p->at[i] = *w;
-    if (i != 1) p->at[i].heading = mtx_rotate(w->heading, c, i == 0 ? sn : -sn);
+  const float width = MTX_CAST(float, k->width), height = MTX_CAST(float, k->height);
+  MTX_GLOBAL const float* uv = s.corner_uvs + 6 * w->triangle;
+  const float u = w->bary[0] * uv[0] + w->bary[1] * uv[2] + w->bary[2] * uv[4];
+  const float v = w->bary[0] * uv[1] + w->bary[1] * uv[3] + w->bary[2] * uv[5];
+  p->here = mtx_texel_of_uv(u, v, k->width, k->height);
+  p->clearance = mtx_edge_clearance(s.frames, w);
+  if (mtx_walk_stays_inside(p->clearance, length)) {
+    /* The usual case: all three traces end inside the agent's triangle, where texel
+     * coordinates are an affine map of the frame's: each end is the agent's point plus
+     * `length` times its heading mapped by that map's Jacobian, J = dUV/dq scaled to
+     * texels (d(b1, b2)/dq = [[1/a, -bx/(a by)], [0, 1/by]]). */
+    MTX_GLOBAL const mtx_frame* f = s.frames + w->triangle;
+    const float du1 = (uv[2] - uv[0]) * width, dv1 = (uv[3] - uv[1]) * height;
+    const float du2 = (uv[4] - uv[0]) * width, dv2 = (uv[5] - uv[1]) * height;
+    const float jxx = du1 * f->inv_a, jyx = dv1 * f->inv_a;
+    const float jxy = (du2 - f->bx * jxx) * f->inv_by, jyy = (dv2 - f->bx * jyx) * f->inv_by;
+    const float x = u * width, y = v * height;
+    for (int i = 0; i < 3; ++i) {
+      const mtx_vec2 h = i == 1 ? w->heading : mtx_rotate(w->heading, c, i == 0 ? sn : -sn);
+      p->triangle[i] = w->triangle;
+      p->x[i] = x + length * (jxx * h.x + jxy * h.y);
+      p->y[i] = y + length * (jyx * h.x + jyy * h.y);
+      p->texel[i] = mtx_texel_at_point(p->x[i], p->y[i], k->width, k->height);
+    }
+    return;
   }
-  /* A trace ends where it meets an open boundary, and the sensor reads there (as Layton
-   * et al. do): a bounced trace would read the mirror image of the agent's own
-   * neighbourhood, and trails along the wall would merge with their images. */
-  mtx_walk_three(s.frames, s.adjacency, p->at, length, MTX_BOUNDARY_STOP);
-  for (int i = 0; i < 3; ++i) p->texel[i] = mtx_walker_texel(s.corner_uvs, &p->at[i], k->width, k->height);
-  p->here = mtx_walker_texel(s.corner_uvs, w, k->width, k->height);
+  if (s.unfolded) {
+    /* Each trace on its own: located through the unfolded neighbours where it can be
+     * (mtx_trace_unfolded), walked where not. */
+    for (int i = 0; i < 3; ++i) {
+      mtx_walker at = *w;
+      if (i != 1) at.heading = mtx_rotate(w->heading, c, i == 0 ? sn : -sn);
+      if (!mtx_trace_unfolded(s.frames, s.adjacency, s.unfolded, &at, length))
+        /* A trace ends where it meets an open boundary, and the sensor reads there (as
+         * Layton et al. do): a bounced trace would read the mirror image of the
+         * agent's own neighbourhood, and trails along the wall would merge with their
+         * images. */
+        mtx_walk_until(s.frames, s.adjacency, &at, length, 0, 0, MTX_BOUNDARY_STOP, 0);
+      p->triangle[i] = at.triangle;
+      p->texel[i] = mtx_walker_texel_at(s.corner_uvs, &at, k->width, k->height, &p->x[i], &p->y[i]);
+    }
+    return;
+  }
+  mtx_walker at[3];
+  for (int i = 0; i < 3; ++i) {
+    at[i] = *w;
+    if (i != 1) at[i].heading = mtx_rotate(w->heading, c, i == 0 ? sn : -sn);
+  }
+  /* A trace ends where it meets an open boundary, and the sensor reads there (see
+   * above). */
+  mtx_walk_three(s.frames, s.adjacency, at, length, MTX_BOUNDARY_STOP);
+  for (int i = 0; i < 3; ++i) {
+    p->triangle[i] = at[i].triangle;
+    p->texel[i] = mtx_walker_texel_at(s.corner_uvs, &at[i], k->width, k->height, &p->x[i], &p->y[i]);
+  }
 }
 
-/* What species `species` reads at the end of a sensor trace (`probe`, over `texel`). */
-MTX_FN float mtx_sense(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
-                       MTX_GLOBAL const float* field, const mtx_walker* probe, mtx_u32 texel,
+/* What species `species` reads at the end of sensor trace i of `probes`. */
+MTX_FN float mtx_sense(MTX_TABLES s, MTX_GLOBAL const float* pheromone,
+                       MTX_GLOBAL const float* field, const mtx_momas_probes* probes, int probe,
                        mtx_u32 species, const mtx_momas_constants* k) {
+  const mtx_u32 texel = probes->texel[probe];
   int rx = MTX_CAST(int, k->sensor_size), ry = rx;
-  if (rx == 0 && k->surface_mode) return mtx_sense_footprint(s, pheromone, field, probe, texel, species, k);
+  if (rx == 0 && k->surface_mode)
+    return mtx_sense_footprint_at(s, pheromone, field, probes->triangle[probe], probes->x[probe], probes->y[probe],
+                                  texel, species, k);
   if (rx == 0) return mtx_sensed_value(pheromone, field, texel, species, k);
   if (k->surface_mode) {
     /* The square's reach is in surface units: r length units along each texel axis. */
-    MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * probe->triangle;
+    MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * probes->triangle[probe];
     const float fx = MTX_CAST(float, rx) * k->length_unit * tpu[0] + 0.5f;
     const float fy = MTX_CAST(float, ry) * k->length_unit * tpu[1] + 0.5f;
     rx = fx < MTX_MAX_FOOTPRINT_TEXELS ? MTX_CAST(int, fx) : MTX_MAX_FOOTPRINT_TEXELS;
@@ -284,7 +363,7 @@ MTX_FN float mtx_sense(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
 
 /* The texels that the box [x - ex, x + ex] x [y - ey, y + ey] (in texels) overlaps,
  * clipped to the texture, and its area on island texels of the footprint's island. */
-MTX_FN float mtx_footprint_cover(mtx_surface_tables s, const mtx_momas_constants* k, float x,
+MTX_FN float mtx_footprint_cover(MTX_TABLES s, const mtx_momas_constants* k, float x,
                                  float y, float ex, float ey, mtx_footprint* box) {
   box->x0 = mtx_floor_int(x - ex);
   box->x1 = mtx_ceil_int(x + ex) - 1;
@@ -317,7 +396,7 @@ MTX_FN float mtx_footprint_cover(mtx_surface_tables s, const mtx_momas_constants
  * sampled (ex, ey may have grown past their first size where the footprint lay partly
  * off its island, as in mtx_mark_footprint). Texels of the footprint's island only,
  * free of obstacles. */
-MTX_FN void mtx_mark_sampled(mtx_surface_tables s, MTX_GLOBAL const float* field,
+MTX_FN void mtx_mark_sampled(MTX_TABLES s, MTX_GLOBAL const float* field,
                              MTX_GLOBAL mtx_u8* own_marks, float x, float y, float ex, float ey,
                              int jx, int jy, mtx_u32 island, const mtx_momas_constants* k) {
   /* Texels whose sample point may lie within the footprint: every texel it overlaps along
@@ -358,7 +437,7 @@ MTX_FN void mtx_mark_sampled(mtx_surface_tables s, MTX_GLOBAL const float* field
  * where the walker is, so a trail is the union of its footprints at any
  * substep density. (x, y): the walker's point in texels (mtx_walker_texel_at), over
  * `texel`. */
-MTX_FN void mtx_mark_footprint(mtx_surface_tables s, MTX_GLOBAL const float* field,
+MTX_FN void mtx_mark_footprint(MTX_TABLES s, MTX_GLOBAL const float* field,
                                MTX_GLOBAL mtx_u8* own_marks, const mtx_walker* w,
                                mtx_u32 texel, float x, float y, const mtx_momas_constants* k) {
   MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * w->triangle;
@@ -422,7 +501,7 @@ MTX_FN void mtx_mark_footprint(mtx_surface_tables s, MTX_GLOBAL const float* fie
  * finds the nearest source with food left; within food_radius the agent eats (hunger 0,
  * the source's eater counter + 1), otherwise a hungry agent blends its heading toward
  * the source, projected into its triangle, with weight min(1, hunger^8 strength / d^2). */
-MTX_FN void mtx_food_steer(mtx_surface_tables s, mtx_walker* w, float* hunger,
+MTX_FN void mtx_food_steer(MTX_TABLES s, mtx_walker* w, float* hunger,
                            const mtx_momas_constants* k) {
   MTX_GLOBAL const mtx_frame* f = s.frames + w->triangle;
   MTX_GLOBAL const float* g = s.frame3d + 9 * w->triangle;
@@ -468,7 +547,7 @@ MTX_FN void mtx_food_steer(mtx_surface_tables s, mtx_walker* w, float* hunger,
  * its probes (mtx_momas_probe). `pheromone` holds species_count planes of width * height
  * texels, `marks` as many byte planes; `field` is the static field plane (read only when
  * k->has_fields); `hunger` is the agent's hunger, changed only while k->hunger_step > 0. */
-MTX_FN void mtx_momas_agent_finish(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
+MTX_FN void mtx_momas_agent_finish(MTX_TABLES s, MTX_GLOBAL const float* pheromone,
                                    MTX_GLOBAL const float* field, MTX_GLOBAL mtx_u8* marks,
                                    mtx_walker* w, float* hunger, mtx_u32 species, mtx_u64 agent,
                                    const mtx_momas_constants* k, const mtx_momas_probes* probes) {
@@ -476,11 +555,11 @@ MTX_FN void mtx_momas_agent_finish(mtx_surface_tables s, MTX_GLOBAL const float*
    * general reading is a call each. */
   const int one_texel = k->sensor_size == 0u && !k->surface_mode;
   const float left = one_texel ? mtx_sensed_value(pheromone, field, probes->texel[0], species, k)
-                               : mtx_sense(s, pheromone, field, &probes->at[0], probes->texel[0], species, k);
+                               : mtx_sense(s, pheromone, field, probes, 0, species, k);
   const float front = one_texel ? mtx_sensed_value(pheromone, field, probes->texel[1], species, k)
-                                : mtx_sense(s, pheromone, field, &probes->at[1], probes->texel[1], species, k);
+                                : mtx_sense(s, pheromone, field, probes, 1, species, k);
   const float right = one_texel ? mtx_sensed_value(pheromone, field, probes->texel[2], species, k)
-                                : mtx_sense(s, pheromone, field, &probes->at[2], probes->texel[2], species, k);
+                                : mtx_sense(s, pheromone, field, probes, 2, species, k);
 
   /* Steering: keep going only while the front is strictly strongest, else turn toward
    * the stronger side, or to a random side on a tie (so agents on bare ground wander
@@ -515,10 +594,15 @@ MTX_FN void mtx_momas_agent_finish(mtx_surface_tables s, MTX_GLOBAL const float*
   const float sub_length = k->move_length[species] / MTX_CAST(float, k->substeps);
   MTX_GLOBAL mtx_u8* own_marks = marks + species * mtx_texel_count(k);
   mtx_u32 texel = probes->here;
+  /* Usually the whole move stays inside the agent's triangle: no edge tests then. */
+  const int inside = mtx_walk_stays_inside(probes->clearance, k->move_length[species]);
   for (mtx_u32 i = 0; i < k->substeps; ++i) {
     const mtx_walker before = *w;
     const mtx_u32 before_texel = texel;
-    mtx_walk_until(s.frames, s.adjacency, w, sub_length, 0, 0, MTX_BOUNDARY_SCATTER, &rng);
+    if (inside)
+      mtx_walk_inside_known(s.frames, w, sub_length);
+    else
+      mtx_walk_until(s.frames, s.adjacency, w, sub_length, 0, 0, MTX_BOUNDARY_SCATTER, &rng);
     float x = 0.0f, y = 0.0f; /* surface units: the point in texels, for its footprint */
     texel = k->surface_mode ? mtx_walker_texel_at(s.corner_uvs, w, k->width, k->height, &x, &y)
                             : mtx_walker_texel(s.corner_uvs, w, k->width, k->height);
@@ -543,7 +627,7 @@ MTX_FN void mtx_momas_agent_finish(mtx_surface_tables s, MTX_GLOBAL const float*
 
 /* Updates walker w (agent number `agent`, of species `species`) by one step: its probes,
  * then the rest (mtx_momas_agent_finish). */
-MTX_FN void mtx_momas_agent_step(mtx_surface_tables s, MTX_GLOBAL const float* pheromone,
+MTX_FN void mtx_momas_agent_step(MTX_TABLES s, MTX_GLOBAL const float* pheromone,
                                  MTX_GLOBAL const float* field, MTX_GLOBAL mtx_u8* marks,
                                  mtx_walker* w, float* hunger, mtx_u32 species, mtx_u64 agent,
                                  const mtx_momas_constants* k) {

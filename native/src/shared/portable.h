@@ -15,6 +15,7 @@ typedef ulong mtx_u64;
 typedef long mtx_i64;
 #define MTX_GLOBAL __global
 #define MTX_FN static inline
+#define MTX_TABLES mtx_surface_tables
 #define MTX_CAST(type, value) ((type)(value))
 /* Every writer stores the same value 1, so plain byte stores are enough. */
 #define MTX_MARK(marks, index) ((marks)[index] = (mtx_u8)1)
@@ -39,6 +40,10 @@ typedef uint64_t mtx_u64;
 typedef int64_t mtx_i64;
 #define MTX_GLOBAL
 #define MTX_FN inline
+/* The read-only tables (mtx_surface_tables, ~25 pointers) as a parameter: by value in
+ * OpenCL C, which has no references; by reference in C++, where a call the compiler does
+ * not inline would copy them at every call. */
+#define MTX_TABLES const mtx_surface_tables&
 #define MTX_CAST(type, value) static_cast<type>(value)
 #define MTX_MARK(marks, index) \
   std::atomic_ref<mtx_u8>((marks)[index]).store(1, std::memory_order_relaxed)

@@ -36,7 +36,7 @@ typedef struct mtx_texel_stencil {
   int count;       /* 0: no cell of the island near the point (nothing to read or write) */
 } mtx_texel_stencil;
 
-MTX_FN void mtx_texel_stencil_of(mtx_surface_tables s, const mtx_walker* w, mtx_u32 width,
+MTX_FN void mtx_texel_stencil_of(MTX_TABLES s, const mtx_walker* w, mtx_u32 width,
                                  mtx_u32 height, int reading, mtx_texel_stencil* st) {
   if (s.lattice) { /* the intrinsic domain's lattice: three nodes of the point's triangle */
     mtx_lattice_corners(s.lattice, w->triangle, w->bary, st->cell, st->weight);
@@ -116,7 +116,7 @@ MTX_FN void mtx_texel_stencil_of(mtx_surface_tables s, const mtx_walker* w, mtx_
 
 /* The cell whose parameter-map values hold at the walker's point: its texel, or on the
  * intrinsic domain the vertex of its face it is nearest to (the largest weight). */
-MTX_FN mtx_u32 mtx_point_cell(mtx_surface_tables s, const mtx_walker* w, mtx_u32 width, mtx_u32 height) {
+MTX_FN mtx_u32 mtx_point_cell(MTX_TABLES s, const mtx_walker* w, mtx_u32 width, mtx_u32 height) {
   if (s.vertex_cells) {
     float c[3];
     mtx_u32 v[3];

@@ -33,13 +33,26 @@ typedef struct mtx_vec2 {
 } mtx_vec2;
 
 /* Local frame of a triangle: q0 = (0,0), q1 = (a,0), q2 = (bx,by) with by > 0; cached
- * 1/a, 1/by and the unit tangent of each edge i, running counter-clockwise from corner
- * i+1 to corner i+2. */
+ * 1/a, 1/by, the unit tangent of each edge i, running counter-clockwise from corner
+ * i+1 to corner i+2, and the altitude from corner i to edge i (2 area / edge i's length):
+ * a point with weights b lies b[i] altitude[i] from edge i. */
 typedef struct mtx_frame {
   float a, bx, by;
   float inv_a, inv_by;
   mtx_vec2 edge[3];
+  float altitude[3];
 } mtx_frame;
+
+/* The neighbour across edge i of triangle t unfolded into t's frame (built by
+ * surface/unfolded_neighbours.cpp): MTX_UNFOLDED_FLOATS floats at
+ * unfolded[(3t + i) * MTX_UNFOLDED_FLOATS], two affine functions of a point's weights
+ * (b1, b2) in t, extended past t's edges, each as (c0, c1, c2) for c0 + c1 b1 + c2 b2:
+ * the neighbour's weights at its corners equal to t's corners i + 1 and i + 2 (its
+ * third weight is 1 minus these). Zeros where adjacency[3t+i] is MTX_NO_NEIGHBOUR. */
+#define MTX_UNFOLDED_FLOATS 6
+/* The most edges a trace crosses through the unfolded neighbours (mtx_trace_unfolded)
+ * before it is left to the walk. */
+#define MTX_UNFOLDED_HOPS 6
 
 /* Neighbour across edge i of triangle t is adjacency[3t+i], packed as
  * (triangle << 3) | (edge_in_neighbour << 1) | same_direction, where same_direction = 1
@@ -257,6 +270,33 @@ MTX_FN int mtx_walk_inside(MTX_GLOBAL const mtx_frame* frames, mtx_walker* w, fl
   return 1;
 }
 
+/* How far walker w is from the nearest edge of its triangle (3D units): any walk
+ * shorter than that, in any direction, stays inside the triangle. */
+MTX_FN float mtx_edge_clearance(MTX_GLOBAL const mtx_frame* frames, const mtx_walker* w) {
+  MTX_GLOBAL const mtx_frame* f = frames + w->triangle;
+  return mtx_min(mtx_min(w->bary[0] * f->altitude[0], w->bary[1] * f->altitude[1]), w->bary[2] * f->altitude[2]);
+}
+
+/* Is a walk of `length` from a point `clearance` from every edge (mtx_edge_clearance)
+ * sure to stay inside? With a relative margin of 1e-4, far over the rounding of the
+ * clearance and of the altitudes (a few float ulps): the weight b[i] then exceeds
+ * length |rate of b[i]| (at most length / altitude[i]) by that margin, so mtx_walk_inside
+ * finds every weight clear of its edge, or decides that it meets none. */
+MTX_FN int mtx_walk_stays_inside(float clearance, float length) { return clearance > length * 1.0001f; }
+
+/* mtx_walk_inside for a walk known to stay inside (mtx_walk_stays_inside): the same
+ * move in the same operations, so the same bits, without the tests. */
+MTX_FN void mtx_walk_inside_known(MTX_GLOBAL const mtx_frame* frames, mtx_walker* w, float length) {
+  MTX_GLOBAL const mtx_frame* f = frames + w->triangle;
+  const float db2 = w->heading.y * f->inv_by;
+  const float db1 = (w->heading.x - f->bx * db2) * f->inv_a;
+  const float db0 = -(db1 + db2);
+  w->bary[0] += length * db0;
+  w->bary[1] += length * db1;
+  w->bary[2] += length * db2;
+  mtx_clamp_bary(w->bary);
+}
+
 /* Walks `length` 3D units. If `events` is not null, the walker's state after each edge
  * crossing or bounce is stored there, up to `capacity` of them. Returns the number of
  * crossings and bounces. At an open boundary edge it does what `boundary` says
@@ -289,6 +329,63 @@ MTX_FN void mtx_walk_three(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const 
     for (int i = 0; i < 3; ++i)
       if (on[i])
         on[i] = mtx_walk_leg(frames, adjacency, &w[i], &remaining[i], count, 0, 0, boundary, 0) > 0;
+}
+
+/* A straight walk of `length` from walker w, located without walking where it crosses
+ * at most MTX_UNFOLDED_HOPS edges between triangles (none open): the weights of its start
+ * and end points in the walker's triangle are linear in `length`; while the end lies
+ * outside the current triangle, the trace leaves it by the edge whose weight reaches 0
+ * first between start and end, and both points are carried into the neighbour there
+ * through `unfolded` (MTX_UNFOLDED_FLOATS: affine maps, no division). The same end as
+ * the walk up to rounding, with the heading left as it was (a sensor trace is read only
+ * where it ends). Returns 1 with w moved there, or 0 with w unchanged (an open
+ * boundary, more crossings, or a trace within rounding of a corner): the caller walks. */
+MTX_FN int mtx_trace_unfolded(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const mtx_u32* adjacency,
+                              MTX_GLOBAL const float* unfolded, mtx_walker* w, float length) {
+  MTX_GLOBAL const mtx_frame* f = frames + w->triangle;
+  const float d2 = w->heading.y * f->inv_by;
+  const float d1 = (w->heading.x - f->bx * d2) * f->inv_a;
+  float s0 = w->bary[0], s1 = w->bary[1], s2 = w->bary[2];
+  float e0 = s0 - length * (d1 + d2), e1 = s1 + length * d1, e2 = s2 + length * d2;
+  mtx_u32 t = w->triangle;
+  for (int hop = 0;; ++hop) {
+    const int n0 = e0 < 0.0f, n1 = e1 < 0.0f, n2 = e2 < 0.0f;
+    if (!(n0 | n1 | n2)) break;
+    if (hop == MTX_UNFOLDED_HOPS) return 0;
+    int edge = n0 ? 0 : (n1 ? 1 : 2);
+    if (n0 + n1 + n2 > 1) {
+      /* Two ends beyond edges i < j: the trace meets first the one whose weight falls
+       * to 0 sooner, tau = s / (s - e), compared without dividing. */
+      const int j = n2 ? 2 : 1;
+      const float si = edge == 0 ? s0 : s1, ei = edge == 0 ? e0 : e1;
+      const float sj = j == 2 ? s2 : s1, ej = j == 2 ? e2 : e1;
+      if (si < 0.0f || sj < 0.0f) return 0;
+      if (sj * (si - ei) < si * (sj - ej)) edge = j;
+    }
+    /* The start lies on the inner side of the edge the trace leaves by (up to rounding
+     * next to a corner, which the walk resolves). */
+    if ((edge == 0 ? s0 : (edge == 1 ? s1 : s2)) < 0.0f) return 0;
+    const mtx_u32 code = adjacency[3 * t + MTX_CAST(mtx_u32, edge)];
+    if (code == MTX_NO_NEIGHBOUR) return 0;
+    MTX_GLOBAL const float* g = unfolded + (3 * t + MTX_CAST(mtx_u32, edge)) * MTX_UNFOLDED_FLOATS;
+    const float sj_ = g[0] + g[1] * s1 + g[2] * s2, sk_ = g[3] + g[4] * s1 + g[5] * s2;
+    const float ej_ = g[0] + g[1] * e1 + g[2] * e2, ek_ = g[3] + g[4] * e1 + g[5] * e2;
+    const float so_ = 1.0f - sj_ - sk_, eo_ = 1.0f - ej_ - ek_;
+    const int ne = MTX_CAST(int, (code >> 1) & 3u);
+    const int jn = (ne + ((code & 1u) ? 1 : 2)) % 3; /* corner of the neighbour equal to j */
+    s0 = ne == 0 ? so_ : (jn == 0 ? sj_ : sk_);
+    s1 = ne == 1 ? so_ : (jn == 1 ? sj_ : sk_);
+    s2 = ne == 2 ? so_ : (jn == 2 ? sj_ : sk_);
+    e0 = ne == 0 ? eo_ : (jn == 0 ? ej_ : ek_);
+    e1 = ne == 1 ? eo_ : (jn == 1 ? ej_ : ek_);
+    e2 = ne == 2 ? eo_ : (jn == 2 ? ej_ : ek_);
+    t = code >> 3;
+  }
+  w->triangle = t;
+  w->bary[0] = e0;
+  w->bary[1] = e1;
+  w->bary[2] = e2;
+  return 1;
 }
 
 /* A walk that bounces at open boundaries. */

@@ -7,6 +7,7 @@
 
 #include "common/error.h"
 #include "surface/triangle_atlas.h"
+#include "surface/unfolded_neighbours.h"
 
 namespace moldtex {
 
@@ -234,6 +235,7 @@ TriangleFrame make_frame(double a, double bx, double by) {
     const double* to = q[(i + 2) % 3];
     double dx = to[0] - from[0], dy = to[1] - from[1], n = std::sqrt(dx * dx + dy * dy);
     f.edge[i] = {static_cast<float>(dx / n), static_cast<float>(dy / n)};
+    f.altitude[i] = static_cast<float>(a * by / n);
   }
   return f;
 }
@@ -241,7 +243,7 @@ TriangleFrame make_frame(double a, double bx, double by) {
 size_t Surface::bytes() const {
   return positions.capacity() * sizeof(float) + triangles.capacity() * sizeof(uint32_t) +
          corner_uvs.capacity() * sizeof(float) + frames.capacity() * sizeof(TriangleFrame) + frame3d.capacity() * sizeof(float) +
-         adjacency.capacity() * sizeof(AdjacencyCode) + areas.capacity() * sizeof(float) +
+         adjacency.capacity() * sizeof(AdjacencyCode) + unfolded.capacity() * sizeof(float) + areas.capacity() * sizeof(float) +
          degenerate.capacity() + island.capacity() * sizeof(uint32_t);
 }
 
@@ -341,6 +343,7 @@ Surface build_surface(const moldtex_mesh_desc& d) {
     fail(MOLDTEX_ERROR_MISSING_UVS,
          "The UV map has zero area: unwrap the mesh (UV > Unwrap or Smart UV Project)");
   link_triangles(s);
+  unfold_neighbours(s);
   label_islands(s);
   // FNV-1a over the inputs: checkpoints refuse to load onto a different mesh.
   uint64_t h = 1469598103934665603ull;
@@ -372,6 +375,7 @@ std::shared_ptr<const Surface> walkable_in_3d(std::shared_ptr<const Surface> sur
   }
   if (opened == 0) return surface;
   link_triangles(*walkable);  // the islands stay those of the UV map
+  unfold_neighbours(*walkable);
   return walkable;
 }
 

@@ -45,6 +45,9 @@ struct Surface {
   // (zeros for degenerate triangles), so a frame point (x, y) is at p0 + x X + y Y.
   std::vector<float> frame3d;
   std::vector<AdjacencyCode> adjacency;    // 3 per triangle
+  // Each edge's neighbour unfolded into the triangle's frame: 3 MTX_UNFOLDED_FLOATS per
+  // triangle (shared/walk.h; surface/unfolded_neighbours.h).
+  std::vector<float> unfolded;
   std::vector<float> areas;                // 3D area per triangle
   std::vector<uint8_t> degenerate;         // 1 where the 3D or UV area is ~zero (3D: walkable_in_3d)
   std::vector<uint32_t> island;            // UV island id: joined across non-seam edges

@@ -38,7 +38,8 @@ __kernel void momas_agents(__global const mtx_frame* frames, __global const uint
                            __global const float* frame3d, __global const float* food,
                            __global uint* eaters, __global const float* texels_per_unit,
                            __global const int* texel_island, __global const uint* island,
-                           __global const uchar* interior_reach, const mtx_momas_constants k, const uint count) {
+                           __global const uchar* interior_reach, __global const float* unfolded,
+                           const mtx_momas_constants k, const uint count) {
   const uint i = get_global_id(0);
   if (i >= count) return;
   mtx_surface_tables s;
@@ -54,6 +55,7 @@ __kernel void momas_agents(__global const mtx_frame* frames, __global const uint
   s.texel_island = texel_island;
   s.interior_bits = 0;
   s.interior_reach = interior_reach;
+  s.unfolded = unfolded;
   s.face_vertices = 0;
   s.locator_grid = 0;
   s.locator_cells = 0;
@@ -289,6 +291,7 @@ __kernel void continuous_agents(__global const mtx_frame* frames, __global const
   s.texel_island = texel_island;
   s.interior_bits = interior_bits;
   s.interior_reach = 0;
+  s.unfolded = 0;
   s.face_vertices = face_vertices;
   s.locator_grid = locator_grid;
   s.locator_cells = locator_cells;

@@ -107,7 +107,7 @@ struct OpenClBackend::State {
   const void* maps_source = nullptr;
   uint64_t maps_version = 0;
   size_t maps_bytes = 0;
-  cl_mem texel_island = nullptr, interior_bits = nullptr, interior_reach = nullptr, sums = nullptr, alias_prob = nullptr, alias_index = nullptr, rows = nullptr,
+  cl_mem texel_island = nullptr, interior_bits = nullptr, interior_reach = nullptr, unfolded = nullptr, sums = nullptr, alias_prob = nullptr, alias_index = nullptr, rows = nullptr,
          row_start = nullptr, col = nullptr, weight = nullptr, area = nullptr;
   // Local time stepping: the plan's lists (remade when r_dif dt changes) and the fine
   // cells' values and compact inflows.
@@ -129,7 +129,7 @@ struct OpenClBackend::State {
     for (cl_mem m : {frames, adjacency, corner_uvs, classes, gutter_texel, gutter_source, frame3d,
                      food, eaters, triangle, b1, b2, hx, hy, species, hunger, lives, pheromone,
                      scratch, marks, field, texels_per_unit, texel_triangle, island, seam_texel,
-                     seam_neighbour, bias, texel_island, interior_bits, interior_reach, sums, alias_prob, alias_index, rows, row_start, col, weight,
+                     seam_neighbour, bias, texel_island, interior_bits, interior_reach, unfolded, sums, alias_prob, alias_index, rows, row_start, col, weight,
                      area, step_class, flux_link, fine_cell, fine_start, fine_nbr, fine_area, fine_weight, fine_cur, fine_next, fine_flux, map_planes,
                      spawn_max, spawn_prob, spawn_index, write, decay, rate, feed_map, kill_map, face_vertices,
                      locator_grid, locator_cells, locator_face, locator_map, locator_next, locator_across,
@@ -242,7 +242,7 @@ OpenClBackend::OpenClBackend(std::shared_ptr<const Surface> surface,
                                         intrinsic_->lattice.node_count() * (8.0 * species_count_ + 4.0)
                                   : 0.0) +
                       agent_count_ * 41.0 + sf.frame3d.size() * 4.0 + texels * (9.0 * species_count_ + 5.0) + sf.frames.size() * sizeof(mtx_frame) +
-                      sf.adjacency.size() * 4.0 + sf.corner_uvs.size() * 4.0 + d.gutter_texel.size() * 8.0 +
+                      sf.adjacency.size() * 4.0 + sf.unfolded.size() * 4.0 + sf.corner_uvs.size() * 4.0 + d.gutter_texel.size() * 8.0 +
                       texels * 4.0 + d.texels_per_unit.size() * 4.0 + sf.island.size() * 4.0 +
                       d.seam_texel.size() * 20.0;
   if (device_.global_memory && need > 0.9 * static_cast<double>(device_.global_memory))
@@ -264,6 +264,7 @@ OpenClBackend::OpenClBackend(std::shared_ptr<const Surface> surface,
   s.texel_triangle = s.buffer(texels * 4, d.texel_triangle.data(), device_bytes_);
   s.texel_island = s.buffer(texels * 4, d.texel_island.data(), device_bytes_);
   s.interior_reach = s.buffer(texels, d.interior_reach.data(), device_bytes_);
+  s.unfolded = s.buffer(sf.unfolded.size() * 4, sf.unfolded.data(), device_bytes_);
   s.island = s.buffer(sf.island.size() * 4, sf.island.data(), device_bytes_);
   s.seam_texel = s.buffer(d.seam_texel.size() * 4, d.seam_texel.empty() ? nullptr : d.seam_texel.data(), device_bytes_);
   s.seam_neighbour = s.buffer(d.seam_neighbour.size() * 4,
@@ -435,7 +436,7 @@ void OpenClBackend::step(const StepSettings& settings, uint64_t seed, uint64_t s
   cl_kernel k = agent_kernel(c.hunger_step > 0.0f, c.has_fields != 0);
   s.args(k, s.frames, s.adjacency, s.corner_uvs, s.classes, s.pheromone, s.field, s.marks,
          s.triangle, s.b1, s.b2, s.hx, s.hy, s.species, s.hunger, s.frame3d, s.food, s.eaters,
-         s.texels_per_unit, s.texel_island, s.island, s.interior_reach, c, static_cast<cl_uint>(agent_count_));
+         s.texels_per_unit, s.texel_island, s.island, s.interior_reach, s.unfolded, c, static_cast<cl_uint>(agent_count_));
   s.run(k, agent_count_);
   if (c.food_count > 0)  // the host needs the counts before the next step's food
     check(s.r.clEnqueueReadBuffer(s.queue, s.eaters, CL_TRUE, 0, c.food_count * 4ull, eaters, 0,

@@ -1,0 +1,139 @@
+// MoMaS' sensor probes (shared/momas.h, mtx_momas_probe), white-box: a trace that stays
+// inside the agent's triangle, or crosses a few edges into neighbours unfolded one after
+// another (surface/unfolded_neighbours.h, mtx_trace_unfolded), is located without walking. Where each
+// trace ends must be where the walk it stands for ends, on every kind of edge: UV seams,
+// folds, poles, neighbours wound the other way round, open boundaries.
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "agents/momas_rules.h"
+#include "domain/texture_domain.h"
+#include "surface/surface.h"
+#include "test_util.h"
+
+namespace mtx {
+namespace {
+
+// The mesh with every other triangle wound the other way round (corners 1 and 2 and
+// their UVs swapped), so half the edges join neighbours of opposite winding.
+Mesh FlipEveryOther(Mesh m) {
+  const bool shared_uvs = !m.triangle_uvs.empty();
+  for (uint32_t t = 1; t < m.triangle_count(); t += 2) {
+    std::swap(m.triangles[3 * t + 1], m.triangles[3 * t + 2]);
+    if (shared_uvs) {
+      std::swap(m.triangle_uvs[3 * t + 1], m.triangle_uvs[3 * t + 2]);
+    } else {
+      std::swap(m.uvs[6 * t + 2], m.uvs[6 * t + 4]);
+      std::swap(m.uvs[6 * t + 3], m.uvs[6 * t + 5]);
+    }
+  }
+  return m;
+}
+
+struct ProbeCase {
+  const char* name;
+  Mesh mesh;
+};
+
+struct Agreement {
+  int probes = 0, unwalked = 0, far = 0, other_triangle = 0;
+  double worst = 0;  // texels
+};
+
+// Probes of `count` random agents (random triangle, weights and heading; sensor length
+// `length` mesh units, sensor angle 30 degrees), located with the tables as given,
+// against each trace walked (mtx_walk_until, stopping at open boundaries).
+Agreement CompareWithWalks(const moldtex::Surface& surface, const moldtex::mtx_surface_tables& tables,
+                           uint32_t side, float length, int count, uint64_t seed) {
+  moldtex::mtx_momas_constants k{};
+  k.width = k.height = side;
+  k.species_count = 1;
+  k.sensor_length[0] = length;
+  k.sensor_cos[0] = std::cos(0.5236f);
+  k.sensor_sin[0] = std::sin(0.5236f);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<float> uniform(0.f, 1.f);
+  Agreement a;
+  for (int n = 0; n < count; ++n) {
+    moldtex::mtx_walker w{};
+    do w.triangle = uint32_t(rng() % surface.triangle_count());
+    while (surface.degenerate[w.triangle]);
+    float b1 = uniform(rng), b2 = uniform(rng);
+    if (b1 + b2 > 1.f) b1 = 1.f - b1, b2 = 1.f - b2;
+    w.bary[0] = 1.f - b1 - b2;
+    w.bary[1] = b1;
+    w.bary[2] = b2;
+    const float angle = 6.2831853f * uniform(rng);
+    w.heading = {std::cos(angle), std::sin(angle)};
+    moldtex::mtx_momas_probes p;
+    moldtex::mtx_momas_probe(tables, &w, 0, &k, &p);
+    for (int i = 0; i < 3; ++i) {
+      moldtex::mtx_walker at = w;
+      if (i != 1) at.heading = moldtex::mtx_rotate(w.heading, k.sensor_cos[0], i == 0 ? k.sensor_sin[0] : -k.sensor_sin[0]);
+      const int crossings = moldtex::mtx_walk_until(surface.frames.data(), surface.adjacency.data(), &at, length, nullptr, 0,
+                                                    MTX_BOUNDARY_STOP, nullptr);
+      float x, y;
+      const uint32_t texel = moldtex::mtx_walker_texel_at(surface.corner_uvs.data(), &at, side, side, &x, &y);
+      ++a.probes;
+      a.unwalked += crossings >= 0 && crossings <= MTX_UNFOLDED_HOPS;
+      const double d = std::max(std::fabs(x - p.x[i]), std::fabs(y - p.y[i]));
+      a.worst = std::max(a.worst, d);
+      a.far += d > 1e-3;
+      a.other_triangle += at.triangle != p.triangle[i];
+      (void)texel;
+    }
+  }
+  return a;
+}
+
+// Tolerance: the texel coordinates agree within 0.001 texels (float weights round at
+// about 1e-7, times a 512-texel texture, through a few unfoldings, and the walk clamps
+// its weights at each crossing), and the trace ends on the same triangle, except
+// for a few in 10^4 that end within rounding of a seam edge, where one side's UVs and
+// the other's are far apart. Sensor lengths from a fifth of a triangle to three
+// triangles, so traces cross zero, one and several edges.
+TEST(SensorProbes, TracesEndWhereTheirWalksEnd) {
+  const ProbeCase cases[] = {{"uv sphere", make_uv_sphere(32, 16, 1.0)},
+                             {"torus", make_torus(24, 12, 1.0, 0.3)},
+                             {"cube", make_cube()},
+                             {"flipped torus", FlipEveryOther(make_torus(24, 12, 1.0, 0.3))},
+                             {"open cylinder", make_open_cylinder(16, 6, 0.5, 1.0)}};
+  constexpr uint32_t kSide = 512;
+  for (const ProbeCase& c : cases) {
+    const moldtex::Surface surface = moldtex::build_surface(c.mesh.desc());
+    moldtex::ThreadPool pool(2);
+    const moldtex::TextureDomain domain = moldtex::build_texture_domain(surface, kSide, kSide, pool);
+    const moldtex::mtx_surface_tables tables = moldtex::surface_tables(surface, domain);
+    ASSERT_NE(tables.unfolded, nullptr);
+    const double edge = std::sqrt(2.0 * surface.area / surface.triangle_count());  // a typical edge
+    for (double lengths : {0.2, 0.7, 3.0}) {
+      const Agreement a = CompareWithWalks(surface, tables, kSide, float(lengths * edge), 4000, 11);
+      std::printf("%-14s length %.1f edges: %d probes, %d within the unfolded hops, worst %.2e texels, %d far, %d on another triangle\n",
+                  c.name, lengths, a.probes, a.unwalked, a.worst, a.far, a.other_triangle);
+      EXPECT_EQ(a.far, 0) << c.name << " at " << lengths << " edges: worst " << a.worst << " texels";
+      EXPECT_LE(a.other_triangle, a.probes / 2000) << c.name << " at " << lengths << " edges";
+    }
+  }
+}
+
+// The same check fails when the unfolded neighbours are wrong: with the weights of each
+// shared edge's two corners swapped (each neighbour mirrored along the edge), traces
+// that cross an edge end elsewhere. (Tables taken from the wrong edge are not enough: the
+// traces then fail their own checks and are walked.)
+TEST(SensorProbes, AWrongUnfoldingIsCaught) {
+  const Mesh mesh = make_torus(24, 12, 1.0, 0.3);
+  moldtex::Surface surface = moldtex::build_surface(mesh.desc());
+  for (size_t e = 0; e < surface.unfolded.size(); e += MTX_UNFOLDED_FLOATS)
+    for (int m = 0; m < 3; ++m) std::swap(surface.unfolded[e + m], surface.unfolded[e + 3 + m]);
+  moldtex::ThreadPool pool(2);
+  const moldtex::TextureDomain domain = moldtex::build_texture_domain(surface, 512, 512, pool);
+  const double edge = std::sqrt(2.0 * surface.area / surface.triangle_count());
+  const Agreement a = CompareWithWalks(surface, moldtex::surface_tables(surface, domain), 512, float(0.7 * edge), 4000, 11);
+  std::printf("neighbours mirrored: %d of %d probes far\n", a.far, a.probes);
+  EXPECT_GT(a.far, a.probes / 20) << "worst " << a.worst << " texels";
+}
+
+}  // namespace
+}  // namespace mtx
