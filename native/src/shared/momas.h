@@ -79,8 +79,8 @@ typedef struct mtx_surface_tables {
    * per texel. NULL: every footprint tests each texel. */
   MTX_GLOBAL const mtx_u8* interior_reach;
   /* Each edge's neighbour unfolded into the triangle's frame (shared/walk.h,
-   * MTX_UNFOLDED_FLOATS): a sensor trace that crosses one edge is located without a
-   * walk. NULL: every trace that leaves its triangle walks. */
+   * MTX_UNFOLDED_FLOATS): a sensor trace that crosses a few edges is located without a
+   * walk (mtx_trace_unfolded). NULL: every trace that leaves its triangle walks. */
   MTX_GLOBAL const float* unfolded;
 } mtx_surface_tables;
 
