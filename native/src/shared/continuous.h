@@ -186,13 +186,24 @@ MTX_FN float mtx_continuous_read(MTX_GLOBAL const float* u, MTX_GLOBAL const flo
 }
 
 /* The ends of the three sensor traces (left, front, right) of `length` from walker
- * `from`, the sides turned by (c, +-sn). */
+ * `from`, the sides turned by (c, +-sn): where the traces end (triangle and weights;
+ * their headings are not used). Located through the unfolded neighbours where the
+ * tables have them (mtx_trace_unfolded), walked where not (open boundaries bounce). */
 MTX_FN void mtx_continuous_traces(MTX_TABLES s, const mtx_walker* from, float c, float sn,
                                   float length, mtx_walker* at) {
   for (int i = 0; i < 3; ++i) {
     at[i] = *from;
     /* (The front turned by (1, 0) too, as it always was: that keeps the sign of a zero.) */
     at[i].heading = i == 1 ? mtx_rotate(from->heading, 1.0f, 0.0f) : mtx_rotate(from->heading, c, i == 0 ? sn : -sn);
+  }
+  if (s.unfolded) {
+    for (int i = 0; i < 3; ++i) {
+      if (mtx_trace_unfolded(s.frames, s.adjacency, s.unfolded, &at[i], length))
+        mtx_clamp_bary(at[i].bary); /* on the simplex, as a walk leaves its weights */
+      else
+        mtx_walk_until(s.frames, s.adjacency, &at[i], length, 0, 0, MTX_BOUNDARY_BOUNCE, 0);
+    }
+    return;
   }
   mtx_walk_three(s.frames, s.adjacency, at, length, MTX_BOUNDARY_BOUNCE);
 }

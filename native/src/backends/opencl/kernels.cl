@@ -267,7 +267,7 @@ __kernel void continuous_agents(__global const mtx_frame* frames, __global const
                                 __global const uchar* species, __global float4* lives,
                                 __global const float* texels_per_unit, __global const uint* island,
                                 __global const int* texel_island, __global const uint* interior_bits,
-                                __global const float* alias_prob, __global const uint* alias_index,
+                                __global const float* unfolded, __global const float* alias_prob, __global const uint* alias_index,
                                 __global const float* bias, __global const float* maps,
                                 __global const float* spawn_max, __global const uint* face_vertices,
                                 __global const uint* locator_grid, __global const uint* locator_cells,
@@ -291,7 +291,7 @@ __kernel void continuous_agents(__global const mtx_frame* frames, __global const
   s.texel_island = texel_island;
   s.interior_bits = interior_bits;
   s.interior_reach = 0;
-  s.unfolded = 0;
+  s.unfolded = unfolded;
   s.face_vertices = face_vertices;
   s.locator_grid = locator_grid;
   s.locator_cells = locator_cells;
