@@ -1,11 +1,14 @@
 // MoMaS' sensor probes (shared/momas.h, mtx_momas_probe), white-box: a trace that stays
 // inside the agent's triangle, or crosses a few edges into neighbours unfolded one after
-// another (surface/unfolded_neighbours.h, mtx_trace_unfolded), is located without walking. Where each
-// trace ends must be where the walk it stands for ends, on every kind of edge: UV seams,
-// folds, poles, neighbours wound the other way round, open boundaries.
+// another (surface/unfolded_neighbours.h, mtx_trace_unfolded), is located without
+// walking. Where each trace ends must be where the walk it stands for ends, on every kind
+// of edge: UV seams, folds, poles, neighbours wound the other way round, open boundaries.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "agents/momas_rules.h"
