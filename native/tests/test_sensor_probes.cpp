@@ -78,14 +78,13 @@ Agreement CompareWithWalks(const moldtex::Surface& surface, const moldtex::mtx_s
       const int crossings = moldtex::mtx_walk_until(surface.frames.data(), surface.adjacency.data(), &at, length, nullptr, 0,
                                                     MTX_BOUNDARY_STOP, nullptr);
       float x, y;
-      const uint32_t texel = moldtex::mtx_walker_texel_at(surface.corner_uvs.data(), &at, side, side, &x, &y);
+      moldtex::mtx_walker_texel_at(surface.corner_uvs.data(), &at, side, side, &x, &y);
       ++a.probes;
       a.unwalked += crossings >= 0 && crossings <= MTX_UNFOLDED_HOPS;
       const double d = std::max(std::fabs(x - p.x[i]), std::fabs(y - p.y[i]));
       a.worst = std::max(a.worst, d);
       a.far += d > 1e-3;
       a.other_triangle += at.triangle != p.triangle[i];
-      (void)texel;
     }
   }
   return a;

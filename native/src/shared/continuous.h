@@ -196,16 +196,9 @@ MTX_FN void mtx_continuous_traces(MTX_TABLES s, const mtx_walker* from, float c,
     /* (The front turned by (1, 0) too, as it always was: that keeps the sign of a zero.) */
     at[i].heading = i == 1 ? mtx_rotate(from->heading, 1.0f, 0.0f) : mtx_rotate(from->heading, c, i == 0 ? sn : -sn);
   }
-  if (s.unfolded) {
-    for (int i = 0; i < 3; ++i) {
-      if (mtx_trace_unfolded(s.frames, s.adjacency, s.unfolded, &at[i], length))
-        mtx_clamp_bary(at[i].bary); /* on the simplex, as a walk leaves its weights */
-      else
-        mtx_walk_until(s.frames, s.adjacency, &at[i], length, 0, 0, MTX_BOUNDARY_BOUNCE, 0);
-    }
-    return;
-  }
-  mtx_walk_three(s.frames, s.adjacency, at, length, MTX_BOUNDARY_BOUNCE);
+  for (int i = 0; i < 3; ++i)
+    if (mtx_walk_trace(s.frames, s.adjacency, s.unfolded, &at[i], length, MTX_BOUNDARY_BOUNCE))
+      mtx_clamp_bary(at[i].bary); /* on the simplex, as a walk leaves its weights */
 }
 
 /* The reading stencils of the three sensors (left, front, right) of walker `from`. */

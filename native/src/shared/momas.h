@@ -84,12 +84,16 @@ typedef struct mtx_surface_tables {
   MTX_GLOBAL const float* unfolded;
 } mtx_surface_tables;
 
-MTX_FN mtx_u32 mtx_texel_of_uv(float u, float v, mtx_u32 width, mtx_u32 height) {
-  int ix = MTX_CAST(int, u * MTX_CAST(float, width));
-  int iy = MTX_CAST(int, v * MTX_CAST(float, height));
+/* The texel holding the point (x, y) in texels, clamped to the texture. */
+MTX_FN mtx_u32 mtx_texel_at_point(float x, float y, mtx_u32 width, mtx_u32 height) {
+  int ix = MTX_CAST(int, x), iy = MTX_CAST(int, y);
   ix = ix < 0 ? 0 : (ix >= MTX_CAST(int, width) ? MTX_CAST(int, width) - 1 : ix);
   iy = iy < 0 ? 0 : (iy >= MTX_CAST(int, height) ? MTX_CAST(int, height) - 1 : iy);
   return MTX_CAST(mtx_u32, iy) * width + MTX_CAST(mtx_u32, ix);
+}
+
+MTX_FN mtx_u32 mtx_texel_of_uv(float u, float v, mtx_u32 width, mtx_u32 height) {
+  return mtx_texel_at_point(u * MTX_CAST(float, width), v * MTX_CAST(float, height), width, height);
 }
 
 MTX_FN mtx_u32 mtx_walker_texel(MTX_GLOBAL const float* corner_uvs, const mtx_walker* w,
@@ -249,14 +253,6 @@ MTX_FN float mtx_sense_footprint(MTX_TABLES s, MTX_GLOBAL const float* pheromone
   return mtx_sense_footprint_at(s, pheromone, field, w->triangle, x, y, texel, species, k);
 }
 
-/* The texel holding the point (x, y) in texels, clamped to the texture. */
-MTX_FN mtx_u32 mtx_texel_at_point(float x, float y, mtx_u32 width, mtx_u32 height) {
-  int ix = MTX_CAST(int, x), iy = MTX_CAST(int, y);
-  ix = ix < 0 ? 0 : (ix >= MTX_CAST(int, width) ? MTX_CAST(int, width) - 1 : ix);
-  iy = iy < 0 ? 0 : (iy >= MTX_CAST(int, height) ? MTX_CAST(int, height) - 1 : iy);
-  return MTX_CAST(mtx_u32, iy) * width + MTX_CAST(mtx_u32, ix);
-}
-
 /* An agent's three sensor probes (left, front, right): where each trace over the surface
  * ends (its triangle and its point in texels) and the texel there. Computed apart from
  * the reading (mtx_momas_agent_finish), so a backend can trace a batch of agents first
@@ -273,11 +269,8 @@ MTX_FN void mtx_momas_probe(MTX_TABLES s, const mtx_walker* w, mtx_u32 species,
                             const mtx_momas_constants* k, mtx_momas_probes* p) {
   const float c = k->sensor_cos[species], sn = k->sensor_sin[species];
   const float length = k->sensor_length[species];
-  const float width = MTX_CAST(float, k->width), height = MTX_CAST(float, k->height);
-  MTX_GLOBAL const float* uv = s.corner_uvs + 6 * w->triangle;
-  const float u = w->bary[0] * uv[0] + w->bary[1] * uv[2] + w->bary[2] * uv[4];
-  const float v = w->bary[0] * uv[1] + w->bary[1] * uv[3] + w->bary[2] * uv[5];
-  p->here = mtx_texel_of_uv(u, v, k->width, k->height);
+  float x, y; /* the agent's point in texels */
+  p->here = mtx_walker_texel_at(s.corner_uvs, w, k->width, k->height, &x, &y);
   p->clearance = mtx_edge_clearance(s.frames, w);
   if (mtx_walk_stays_inside(p->clearance, length)) {
     /* The usual case: all three traces end inside the agent's triangle, where texel
@@ -285,11 +278,12 @@ MTX_FN void mtx_momas_probe(MTX_TABLES s, const mtx_walker* w, mtx_u32 species,
      * `length` times its heading mapped by that map's Jacobian, J = dUV/dq scaled to
      * texels (d(b1, b2)/dq = [[1/a, -bx/(a by)], [0, 1/by]]). */
     MTX_GLOBAL const mtx_frame* f = s.frames + w->triangle;
+    MTX_GLOBAL const float* uv = s.corner_uvs + 6 * w->triangle;
+    const float width = MTX_CAST(float, k->width), height = MTX_CAST(float, k->height);
     const float du1 = (uv[2] - uv[0]) * width, dv1 = (uv[3] - uv[1]) * height;
     const float du2 = (uv[4] - uv[0]) * width, dv2 = (uv[5] - uv[1]) * height;
     const float jxx = du1 * f->inv_a, jyx = dv1 * f->inv_a;
     const float jxy = (du2 - f->bx * jxx) * f->inv_by, jyy = (dv2 - f->bx * jyx) * f->inv_by;
-    const float x = u * width, y = v * height;
     for (int i = 0; i < 3; ++i) {
       const mtx_vec2 h = i == 1 ? w->heading : mtx_rotate(w->heading, c, i == 0 ? sn : -sn);
       p->triangle[i] = w->triangle;
@@ -299,34 +293,17 @@ MTX_FN void mtx_momas_probe(MTX_TABLES s, const mtx_walker* w, mtx_u32 species,
     }
     return;
   }
-  if (s.unfolded) {
-    /* Each trace on its own: located through the unfolded neighbours where it can be
-     * (mtx_trace_unfolded), walked where not. */
-    for (int i = 0; i < 3; ++i) {
-      mtx_walker at = *w;
-      if (i != 1) at.heading = mtx_rotate(w->heading, c, i == 0 ? sn : -sn);
-      if (!mtx_trace_unfolded(s.frames, s.adjacency, s.unfolded, &at, length))
-        /* A trace ends where it meets an open boundary, and the sensor reads there (as
-         * Layton et al. do): a bounced trace would read the mirror image of the
-         * agent's own neighbourhood, and trails along the wall would merge with their
-         * images. */
-        mtx_walk_until(s.frames, s.adjacency, &at, length, 0, 0, MTX_BOUNDARY_STOP, 0);
-      p->triangle[i] = at.triangle;
-      p->texel[i] = mtx_walker_texel_at(s.corner_uvs, &at, k->width, k->height, &p->x[i], &p->y[i]);
-    }
-    return;
-  }
-  mtx_walker at[3];
+  /* Otherwise each trace on its own: located through the unfolded neighbours where it
+   * can be, walked where not. A trace ends where it meets an open boundary, and the
+   * sensor reads there (as Layton et al. do): a bounced trace would read the mirror
+   * image of the agent's own neighbourhood, and trails along the wall would merge with
+   * their images. */
   for (int i = 0; i < 3; ++i) {
-    at[i] = *w;
-    if (i != 1) at[i].heading = mtx_rotate(w->heading, c, i == 0 ? sn : -sn);
-  }
-  /* A trace ends where it meets an open boundary, and the sensor reads there (see
-   * above). */
-  mtx_walk_three(s.frames, s.adjacency, at, length, MTX_BOUNDARY_STOP);
-  for (int i = 0; i < 3; ++i) {
-    p->triangle[i] = at[i].triangle;
-    p->texel[i] = mtx_walker_texel_at(s.corner_uvs, &at[i], k->width, k->height, &p->x[i], &p->y[i]);
+    mtx_walker at = *w;
+    if (i != 1) at.heading = mtx_rotate(w->heading, c, i == 0 ? sn : -sn);
+    mtx_walk_trace(s.frames, s.adjacency, s.unfolded, &at, length, MTX_BOUNDARY_STOP);
+    p->triangle[i] = at.triangle;
+    p->texel[i] = mtx_walker_texel_at(s.corner_uvs, &at, k->width, k->height, &p->x[i], &p->y[i]);
   }
 }
 

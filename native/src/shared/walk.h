@@ -246,6 +246,19 @@ MTX_FN int mtx_meets_edge(float b, float db, float length) {
   return db < 0.0f && (b > 0.0f ? -b / db : 0.0f) < length;
 }
 
+/* A walk known to stay inside the walker's triangle (mtx_walk_stays_inside, or
+ * mtx_walk_inside's tests): moves it, without tests. */
+MTX_FN void mtx_walk_inside_known(MTX_GLOBAL const mtx_frame* frames, mtx_walker* w, float length) {
+  MTX_GLOBAL const mtx_frame* f = frames + w->triangle;
+  const float db2 = w->heading.y * f->inv_by;
+  const float db1 = (w->heading.x - f->bx * db2) * f->inv_a;
+  const float db0 = -(db1 + db2);
+  w->bary[0] += length * db0;
+  w->bary[1] += length * db1;
+  w->bary[2] += length * db2;
+  mtx_clamp_bary(w->bary);
+}
+
 /* The common case: a walk that ends inside the walker's own triangle, done without the
  * general walk's loop. It decides and moves exactly as mtx_walk_across does when that
  * meets no edge (the same operations in the same order, so the same bits): moves the
@@ -263,10 +276,7 @@ MTX_FN int mtx_walk_inside(MTX_GLOBAL const mtx_frame* frames, mtx_walker* w, fl
   if (!clear && (mtx_meets_edge(b0, db0, length) || mtx_meets_edge(b1, db1, length) ||
                  mtx_meets_edge(b2, db2, length)))
     return 0;
-  w->bary[0] += length * db0;
-  w->bary[1] += length * db1;
-  w->bary[2] += length * db2;
-  mtx_clamp_bary(w->bary);
+  mtx_walk_inside_known(frames, w, length);
   return 1;
 }
 
@@ -284,19 +294,6 @@ MTX_FN float mtx_edge_clearance(MTX_GLOBAL const mtx_frame* frames, const mtx_wa
  * finds every weight clear of its edge, or decides that it meets none. */
 MTX_FN int mtx_walk_stays_inside(float clearance, float length) { return clearance > length * 1.0001f; }
 
-/* mtx_walk_inside for a walk known to stay inside (mtx_walk_stays_inside): the same
- * move in the same operations, so the same bits, without the tests. */
-MTX_FN void mtx_walk_inside_known(MTX_GLOBAL const mtx_frame* frames, mtx_walker* w, float length) {
-  MTX_GLOBAL const mtx_frame* f = frames + w->triangle;
-  const float db2 = w->heading.y * f->inv_by;
-  const float db1 = (w->heading.x - f->bx * db2) * f->inv_a;
-  const float db0 = -(db1 + db2);
-  w->bary[0] += length * db0;
-  w->bary[1] += length * db1;
-  w->bary[2] += length * db2;
-  mtx_clamp_bary(w->bary);
-}
-
 /* Walks `length` 3D units. If `events` is not null, the walker's state after each edge
  * crossing or bounce is stored there, up to `capacity` of them. Returns the number of
  * crossings and bounces. At an open boundary edge it does what `boundary` says
@@ -309,26 +306,6 @@ MTX_FN int mtx_walk_until(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const m
                           int boundary, mtx_u64* scatter_rng) {
   if (mtx_walk_inside(frames, w, length)) return 0;
   return mtx_walk_across(frames, adjacency, w, length, events, capacity, boundary, scatter_rng);
-}
-
-/* Three walks of `length` at once (a fan of sensor traces), doing what `boundary` says
- * at open boundaries (MTX_BOUNDARY_BOUNCE or _STOP): for each walker the same legs in the
- * same order as mtx_walk_until, so they end at the same points, but taken in turn, leg by leg, so that the processor overlaps the three
- * chains of dependent operations (each leg waits on the one before: its exit time, the
- * unfolding, the next triangle's frame). The headings are left as the last crossing
- * leaves them (unit up to rounding): a sensor trace is read only where it ends. */
-MTX_FN void mtx_walk_three(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const mtx_u32* adjacency, mtx_walker* w,
-                           float length, int boundary) {
-  float remaining[3];
-  int on[3];
-  for (int i = 0; i < 3; ++i) {
-    remaining[i] = length;
-    on[i] = !mtx_walk_inside(frames, &w[i], length);
-  }
-  for (int count = 0; on[0] | on[1] | on[2]; ++count)
-    for (int i = 0; i < 3; ++i)
-      if (on[i])
-        on[i] = mtx_walk_leg(frames, adjacency, &w[i], &remaining[i], count, 0, 0, boundary, 0) > 0;
 }
 
 /* A straight walk of `length` from walker w, located without walking where it crosses
@@ -386,6 +363,17 @@ MTX_FN int mtx_trace_unfolded(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL con
   w->bary[1] = e1;
   w->bary[2] = e2;
   return 1;
+}
+
+/* A sensor trace of `length` from walker w, read only where it ends: located through
+ * the unfolded neighbours where it can be (mtx_trace_unfolded, when `unfolded` is not
+ * NULL; returns 1, the end's weights as it leaves them), walked otherwise, doing what
+ * `boundary` says at open boundaries (MTX_BOUNDARY_STOP or _BOUNCE; returns 0). */
+MTX_FN int mtx_walk_trace(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const mtx_u32* adjacency,
+                          MTX_GLOBAL const float* unfolded, mtx_walker* w, float length, int boundary) {
+  if (unfolded && mtx_trace_unfolded(frames, adjacency, unfolded, w, length)) return 1;
+  mtx_walk_until(frames, adjacency, w, length, 0, 0, boundary, 0);
+  return 0;
 }
 
 /* A walk that bounces at open boundaries. */

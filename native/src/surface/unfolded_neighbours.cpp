@@ -11,7 +11,8 @@ struct P2 {
 };
 
 P2 corner(const TriangleFrame& f, int c) {
-  return c == 0 ? P2{0, 0} : (c == 1 ? P2{f.a, 0} : P2{f.bx, f.by});
+  const Vec2 q = frame_corner(f, c);
+  return P2{q.x, q.y};
 }
 
 // An affine function of a frame point, g(q) = g0 + gx qx + gy qy.
