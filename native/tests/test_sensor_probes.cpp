@@ -120,9 +120,9 @@ TEST(SensorProbes, TracesEndWhereTheirWalksEnd) {
   }
 }
 
-// The same check fails when the unfolded neighbours are wrong: with the weights of each
-// shared edge's two corners swapped (each neighbour mirrored along the edge), traces
-// that cross an edge end elsewhere. (Tables taken from the wrong edge are not enough: the
+// The same check fails when the unfolded neighbours are wrong: with the weights at each
+// neighbour's corners 1 and 2 swapped (the neighbour mirrored), traces that cross an
+// edge end elsewhere. (Tables taken from the wrong edge are not enough: the
 // traces then fail their own checks and are walked.)
 TEST(SensorProbes, AWrongUnfoldingIsCaught) {
   const Mesh mesh = make_torus(24, 12, 1.0, 0.3);

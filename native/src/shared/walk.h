@@ -47,12 +47,12 @@ typedef struct mtx_frame {
  * surface/unfolded_neighbours.cpp): MTX_UNFOLDED_FLOATS floats at
  * unfolded[(3t + i) * MTX_UNFOLDED_FLOATS], two affine functions of a point's weights
  * (b1, b2) in t, extended past t's edges, each as (c0, c1, c2) for c0 + c1 b1 + c2 b2:
- * the neighbour's weights at its corners equal to t's corners i + 1 and i + 2 (its
- * third weight is 1 minus these). Zeros where adjacency[3t+i] is MTX_NO_NEIGHBOUR. */
+ * the point's weights in the neighbour at its own corners 1 and 2 (its weight at corner
+ * 0 is 1 minus these). Zeros where adjacency[3t+i] is MTX_NO_NEIGHBOUR. */
 #define MTX_UNFOLDED_FLOATS 6
 /* The most edges a trace crosses through the unfolded neighbours (mtx_trace_unfolded)
  * before it is left to the walk. */
-#define MTX_UNFOLDED_HOPS 6
+#define MTX_UNFOLDED_HOPS 16
 
 /* Neighbour across edge i of triangle t is adjacency[3t+i], packed as
  * (triangle << 3) | (edge_in_neighbour << 1) | same_direction, where same_direction = 1
@@ -329,11 +329,11 @@ MTX_FN int mtx_trace_unfolded(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL con
     const int n0 = e0 < 0.0f, n1 = e1 < 0.0f, n2 = e2 < 0.0f;
     if (!(n0 | n1 | n2)) break;
     if (hop == MTX_UNFOLDED_HOPS) return 0;
-    int edge = n0 ? 0 : (n1 ? 1 : 2);
+    mtx_u32 edge = n0 ? 0u : (n1 ? 1u : 2u);
     if (n0 + n1 + n2 > 1) {
       /* Two ends beyond edges i < j: the trace meets first the one whose weight falls
        * to 0 sooner, tau = s / (s - e), compared without dividing. */
-      const int j = n2 ? 2 : 1;
+      const mtx_u32 j = n2 ? 2u : 1u;
       const float si = edge == 0 ? s0 : s1, ei = edge == 0 ? e0 : e1;
       const float sj = j == 2 ? s2 : s1, ej = j == 2 ? e2 : e1;
       if (si < 0.0f || sj < 0.0f) return 0;
@@ -342,20 +342,18 @@ MTX_FN int mtx_trace_unfolded(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL con
     /* The start lies on the inner side of the edge the trace leaves by (up to rounding
      * next to a corner, which the walk resolves). */
     if ((edge == 0 ? s0 : (edge == 1 ? s1 : s2)) < 0.0f) return 0;
-    const mtx_u32 code = adjacency[3 * t + MTX_CAST(mtx_u32, edge)];
+    const mtx_u32 code = adjacency[3 * t + edge];
     if (code == MTX_NO_NEIGHBOUR) return 0;
-    MTX_GLOBAL const float* g = unfolded + (3 * t + MTX_CAST(mtx_u32, edge)) * MTX_UNFOLDED_FLOATS;
-    const float sj_ = g[0] + g[1] * s1 + g[2] * s2, sk_ = g[3] + g[4] * s1 + g[5] * s2;
-    const float ej_ = g[0] + g[1] * e1 + g[2] * e2, ek_ = g[3] + g[4] * e1 + g[5] * e2;
-    const float so_ = 1.0f - sj_ - sk_, eo_ = 1.0f - ej_ - ek_;
-    const int ne = MTX_CAST(int, (code >> 1) & 3u);
-    const int jn = (ne + ((code & 1u) ? 1 : 2)) % 3; /* corner of the neighbour equal to j */
-    s0 = ne == 0 ? so_ : (jn == 0 ? sj_ : sk_);
-    s1 = ne == 1 ? so_ : (jn == 1 ? sj_ : sk_);
-    s2 = ne == 2 ? so_ : (jn == 2 ? sj_ : sk_);
-    e0 = ne == 0 ? eo_ : (jn == 0 ? ej_ : ek_);
-    e1 = ne == 1 ? eo_ : (jn == 1 ? ej_ : ek_);
-    e2 = ne == 2 ? eo_ : (jn == 2 ? ej_ : ek_);
+    /* Both points carried into the neighbour, in its own weights. */
+    MTX_GLOBAL const float* g = unfolded + (3 * t + edge) * MTX_UNFOLDED_FLOATS;
+    const float s1n = g[0] + g[1] * s1 + g[2] * s2, s2n = g[3] + g[4] * s1 + g[5] * s2;
+    const float e1n = g[0] + g[1] * e1 + g[2] * e2, e2n = g[3] + g[4] * e1 + g[5] * e2;
+    s1 = s1n;
+    s2 = s2n;
+    s0 = 1.0f - s1 - s2;
+    e1 = e1n;
+    e2 = e2n;
+    e0 = 1.0f - e1 - e2;
     t = code >> 3;
   }
   w->triangle = t;

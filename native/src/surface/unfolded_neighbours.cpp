@@ -57,8 +57,11 @@ void unfold_neighbours(Surface& s) {
       const Affine wk{(-pj.x * by + pj.y * bx) / det, by / det, -bx / det};
       const Affine wo{(-ax * pj.y + ay * pj.x) / det, -ay / det, ax / det};
       const Affine wj{1 - wk.g0 - wo.g0, -wk.gx - wo.gx, -wk.gy - wo.gy};
+      // The neighbour's own weights at its corners 1 and 2 (its corner 0's is 1 minus
+      // these), so a trace carried across needs no reordering.
+      auto weight_at = [&](int corner) { return corner == jn ? wj : (corner == kn ? wk : wo); };
       // In t's weights (b1, b2): q = (a b1 + bx b2, by b2).
-      const Affine fs[2] = {wj, wk};
+      const Affine fs[2] = {weight_at(1), weight_at(2)};
       float* out = &s.unfolded[(size_t(t) * 3 + i) * MTX_UNFOLDED_FLOATS];
       for (int m = 0; m < 2; ++m) {
         out[3 * m] = static_cast<float>(fs[m].g0);
