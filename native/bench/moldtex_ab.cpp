@@ -18,7 +18,7 @@
 // device 0). CASE mesh=FILE: a mesh read from FILE (tools/export_mesh.py writes one from
 // Blender, e.g. Suzanne with Subdivision 2: issue #15's own case) at 1024^2 with 300 k
 // agents, core defaults otherwise; mesh-intrinsic=FILE: the same mesh on the intrinsic
-// domain (continuous model, 512^2, as sphere-intrinsic). MOLDTEX_AB_AGENTS, if set,
+// domain (continuous model, core defaults, as tools/bench_suzanne.py --intrinsic). MOLDTEX_AB_AGENTS, if set,
 // overrides any case's agent count (small runs under valgrind).
 #include <dlfcn.h>
 
@@ -81,6 +81,7 @@ struct CaseSpec {
   bool jones = false;
   bool continuous = false;  // the continuous model, scaled as moldtex_bench scales it
   uint32_t domain = MOLDTEX_DOMAIN_TEXTURE;
+  bool core_defaults = false;  // the continuous model's parameters as the core has them
 };
 
 // A mesh in tools/export_mesh.py's format: four little-endian u32 counts (vertices,
@@ -101,8 +102,8 @@ bool MakeCase(const std::string& name, CaseSpec* c) {
   if (name.rfind("mesh=", 0) == 0 || name.rfind("mesh-intrinsic=", 0) == 0) {
     if (!ReadMesh(name.substr(name.find('=') + 1), &c->mesh)) return false;
     c->agents = 300000;
+    c->core_defaults = true;
     if (name[4] == '-') {
-      c->side = 512;
       c->continuous = true;
       c->domain = MOLDTEX_DOMAIN_INTRINSIC;
     }
@@ -208,7 +209,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "%s: %s\n", argv[1 + i], b.last_error());
       return 2;
     }
-    if ((spec.continuous && b.set_continuous(b.sim, &cp) != MOLDTEX_OK) || b.sim_step(b.sim, 10) != MOLDTEX_OK) {
+    if ((spec.continuous && !spec.core_defaults && b.set_continuous(b.sim, &cp) != MOLDTEX_OK) || b.sim_step(b.sim, 10) != MOLDTEX_OK) {
       std::fprintf(stderr, "%s: %s\n", argv[1 + i], b.last_error());
       return 2;
     }
