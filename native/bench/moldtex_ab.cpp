@@ -18,8 +18,8 @@
 // device 0). CASE mesh=FILE: a mesh read from FILE (tools/export_mesh.py writes one from
 // Blender, e.g. Suzanne with Subdivision 2: issue #15's own case) at 1024^2 with 300 k
 // agents, core defaults otherwise; mesh-intrinsic=FILE: the same mesh on the intrinsic
-// domain (continuous model, core defaults, as tools/bench_suzanne.py --intrinsic). MOLDTEX_AB_AGENTS, if set,
-// overrides any case's agent count (small runs under valgrind).
+// domain (continuous model, core defaults, as tools/bench_suzanne.py --intrinsic).
+// MOLDTEX_AB_AGENTS, if set, overrides any case's agent count (small runs under valgrind).
 #include <dlfcn.h>
 
 #include <algorithm>
@@ -90,6 +90,8 @@ bool ReadMesh(const std::string& path, mtx::Mesh* m) {
   std::ifstream in(path, std::ios::binary);
   uint32_t n[4];
   if (!in.read(reinterpret_cast<char*>(n), sizeof n)) return false;
+  for (uint32_t count : n)
+    if (count == 0 || count > (1u << 26)) return false;  // not a mesh this tool wrote
   m->positions.resize(size_t(n[0]) * 3);
   m->triangles.resize(size_t(n[1]) * 3);
   m->uvs.resize(size_t(n[2]) * 2);

@@ -623,8 +623,10 @@ TEST(SurfaceUnits, SameCellsAtEveryResolution) {
   // 512^2 (1, 2 and 4 texels per unit, as 512^2 / 1024^2 / 2048^2 are at the add-on's
   // default pattern scale; smaller sizes keep CI short) the characteristic length in 3D
   // agrees within 12%. Each mean is over 4 seeds and 3 snapshots (steps 300, 350, 400);
-  // one snapshot's length spreads by ~10%, so a mean's standard error is ~4%: 12% is the
-  // issue's 10% plus room for that. With the last snapshot alone (as until 2026-12-05)
+  // one seed's length spreads by ~10%, and the snapshots of one run are correlated (at
+  // the bin's resolution two of them are often equal), so three lower a mean's standard
+  // error from ~5% by less than sqrt(3): 12% is the 10% plus room for that. With
+  // the last snapshot alone (as until 2026-12-05)
   // rounding-level changes to the code moved the ratio from 0.92 to 0.877; with three,
   // the same two builds read 0.262 / 0.257 / 0.269 (0.98, 1.02) and 0.282 / 0.259 /
   // 0.264 (0.92, 0.94). Earlier (one snapshot): 0.304 / 0.279 / 0.283, and 0.281 / 0.301
@@ -643,6 +645,7 @@ TEST(SurfaceUnits, SameCellsAtEveryResolution) {
       for (int seed = 1; seed <= seeds; ++seed) {
         const std::vector<double> l = LengthsAt(Torus(), g, 128 * 128, seed, SmallCells(surface ? unit : 0.0),
                                                 {300, 350, 400}, unit / 4, 40 * unit);
+        ASSERT_EQ(l.size(), 3u);
         std::printf("    %s units, %u^2, seed %d: length %.4f / %.4f / %.4f\n", surface ? "surface" : "texel", W,
                     seed, l[0], l[1], l[2]);
         sum += (l[0] + l[1] + l[2]) / 3 / seeds;
