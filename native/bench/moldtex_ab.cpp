@@ -101,11 +101,12 @@ bool ReadMesh(const std::string& path, mtx::Mesh* m) {
 }
 
 bool MakeCase(const std::string& name, CaseSpec* c) {
-  if (name.rfind("mesh=", 0) == 0 || name.rfind("mesh-intrinsic=", 0) == 0) {
+  const bool on_intrinsic = name.rfind("mesh-intrinsic=", 0) == 0;
+  if (on_intrinsic || name.rfind("mesh=", 0) == 0) {
     if (!ReadMesh(name.substr(name.find('=') + 1), &c->mesh)) return false;
     c->agents = 300000;
     c->core_defaults = true;
-    if (name[4] == '-') {
+    if (on_intrinsic) {
       c->continuous = true;
       c->domain = MOLDTEX_DOMAIN_INTRINSIC;
     }
