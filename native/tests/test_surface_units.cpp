@@ -381,7 +381,15 @@ std::vector<double> PolarBandShares(const Mesh& m, const double* bands, int nb) 
 //   gave caps 0.853 for seeds 1-3 (0.878 before), the crowd at the pole still 2.0x;
 //   growing only its longer axis (the teeth's width) left the pole's own texels unmarked
 //   (0.863); sensors that also read gutter texels 0.783. So neither the walk, the
-//   sensing of a given field nor the fan's over-marking explains the crowd.
+//   sensing of a given field nor the fan's over-marking explains the crowd. Agents that
+//   never turn (MOLDTEX_POLE_TURN=0, 1000 steps) stay uniform (0.91-1.05 by cap band),
+//   so moves carry their headings across the fan correctly. What is special at 256^2:
+//   the teeth end at v = 1 on texel column centres' half-way points, so the top two
+//   texel rows (within about 1.8 units of the pole) hold no island texel at all: a disc
+//   of about 10 square units with no cells, whose agents deposit into the ring of texels
+//   around it (their footprints grow) and whose probes read gutter copies of that ring.
+//   At 512^2 with the same unit that disc is half as wide and the crowd is gone (the fan
+//   reads about 0.6 instead).
 TEST(SurfaceUnits, DISABLED_UvSpherePoleDiagnostics) {
   auto env = [](const char* n, int d) { const char* v = std::getenv(n); return v ? std::atoi(v) : d; };
   Mesh m = make_uv_sphere(env("MOLDTEX_POLE_SEGMENTS", 64), env("MOLDTEX_POLE_RINGS", 32), 1.0);
@@ -405,6 +413,7 @@ TEST(SurfaceUnits, DISABLED_UvSpherePoleDiagnostics) {
     if (!steer) p.vision_angle = 0.f;
     if (const char* v = std::getenv("MOLDTEX_POLE_DIFFUSION")) p.diffusion_rate = float(std::atof(v));
     if (const char* v = std::getenv("MOLDTEX_POLE_EVAPORATION")) p.evaporation_rate = float(std::atof(v));
+    if (const char* v = std::getenv("MOLDTEX_POLE_TURN")) p.turn_speed = float(std::atof(v));
     if (env("MOLDTEX_POLE_ONLY_WALK", 0) && steer) break;
     if (env("MOLDTEX_POLE_ONLY_STEER", 0) && !steer) continue;
     std::vector<double> pooled(size_t(W) * W, 0.0);
