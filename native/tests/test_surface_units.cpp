@@ -580,7 +580,6 @@ TEST(SurfaceUnits, DISABLED_UvSphereMarkedArea) {
     const double mean = area / n, sd = std::sqrt(std::max(0.0, area2 / n - mean * mean));
     std::printf("%5.1f deg: marked area %.3f sq units (sd %.3f, se %.3f)\n", deg, mean, sd, sd / std::sqrt(n));
   }
-  std::printf("move length %.3f units\n", p.movement_speed);
 }
 
 // A cube whose six faces fill a 3 x 2 grid of UV cells with no gap: every island
