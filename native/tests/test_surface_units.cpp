@@ -395,6 +395,11 @@ std::vector<double> PolarBandShares(const Mesh& m, const double* bands, int nb) 
 //   empties the pole instead: agents 0.41 / 0.33 / 0.38 / 0.48 / 0.77 by cap band,
 //   caps 0.700 (0.878 unshifted). A half-texel shift of the layout swings the caps by
 //   0.18: at 256^2 the fan's texels, not the walk or the pattern, set what the pole holds.
+//   At 512^2 with 256^2's unit (two texels per unit, as the add-on's default pattern
+//   scale gives at 1024^2; MOLDTEX_POLE_W=512 MOLDTEX_POLE_UNIT_W=256) seeds 1-9 pooled
+//   read caps 0.928 (placebo caps 0.96-1.03), within the 15%; one seed reads
+//   0.59-1.17 (seeds 1-6, MOLDTEX_POLE_FIRST_SEED), so asserting it would take many
+//   more seeds than CI can afford.
 TEST(SurfaceUnits, DISABLED_UvSpherePoleDiagnostics) {
   auto env = [](const char* n, int d) { const char* v = std::getenv(n); return v ? std::atoi(v) : d; };
   Mesh m = make_uv_sphere(env("MOLDTEX_POLE_SEGMENTS", 64), env("MOLDTEX_POLE_RINGS", 32), 1.0);
@@ -427,7 +432,8 @@ TEST(SurfaceUnits, DISABLED_UvSpherePoleDiagnostics) {
     std::vector<double> pooled(size_t(W) * W, 0.0);
     std::vector<double> count(nb, 0.0);
     double total = 0;
-    for (int seed = 1; seed <= seeds; ++seed) {
+    const int first_seed = env("MOLDTEX_POLE_FIRST_SEED", 1);
+    for (int seed = first_seed; seed < first_seed + seeds; ++seed) {
       // Few agents for the random walk, so that its pheromone is far from saturated.
       const uint32_t agents = steer ? UW * UW : UW * UW / uint32_t(env("MOLDTEX_POLE_SPARSE", 64));
       std::vector<moldtex_surface_point> pts;
