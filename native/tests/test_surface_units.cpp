@@ -249,6 +249,24 @@ TEST(SurfaceUnits, UvSpherePolesAreAlive) {
   }
 }
 
+// The hand-run diagnostics' settings: the integer in environment variable `name`, or
+// `fallback` where it is not set.
+int EnvInt(const char* name, int fallback) {
+  const char* v = std::getenv(name);
+  return v ? std::atoi(v) : fallback;
+}
+
+// Degrees from the nearer pole of the z axis: acos |z| of a point of the unit UV sphere
+// (on its flat facets |z| is a little under the sphere's, clamped at 1).
+double PolarDegrees(const Vec3& p) { return std::acos(std::min(1.0, std::fabs(p[2]))) * 180 / kPi; }
+
+// The band [bands[b], bands[b + 1]) holding angle a (the last band takes what lies above).
+int BandOf(const double* bands, int nb, double a) {
+  int b = 0;
+  while (b + 1 < nb && a >= bands[b + 1]) ++b;
+  return b;
+}
+
 // The same mesh with cube-projected UVs (each triangle on the cube face of its normal's
 // largest axis, faces in a 3 x 2 atlas with margins): a UV sphere's pole vertex then lies
 // inside an ordinary patch of texels, so what remains at the pole comes from the mesh,
@@ -299,11 +317,7 @@ std::vector<double> PolarBandShares(const Mesh& m, const double* bands, int nb) 
           // Centroid of the piece (i, j), pointing up or down, in barycentrics.
           const double u = (i + (up ? 2.0 : 1.0) / 3) / n, v = (j + (up ? 2.0 : 1.0) / 3) / n;
           const Vec3 q = add(a, add(scale(sub(b, a), u), scale(sub(c, a), v)));
-          const double z = std::min(1.0, std::fabs(q[2]));  // as the agents are binned
-          const double ang = std::acos(z) * 180 / kPi;
-          int k = 0;
-          while (k + 1 < nb && ang >= bands[k + 1]) ++k;
-          share[k] += piece;
+          share[BandOf(bands, nb, PolarDegrees(q))] += piece;  // as the agents are binned
           total += piece;
         }
   }
@@ -401,47 +415,45 @@ std::vector<double> PolarBandShares(const Mesh& m, const double* bands, int nb) 
 //   0.59-1.17 (seeds 1-6, MOLDTEX_POLE_FIRST_SEED), so asserting it would take many
 //   more seeds than CI can afford.
 TEST(SurfaceUnits, DISABLED_UvSpherePoleDiagnostics) {
-  auto env = [](const char* n, int d) { const char* v = std::getenv(n); return v ? std::atoi(v) : d; };
-  Mesh m = make_uv_sphere(env("MOLDTEX_POLE_SEGMENTS", 64), env("MOLDTEX_POLE_RINGS", 32), 1.0);
-  if (env("MOLDTEX_POLE_CUBE_UV", 0)) UseCubeUvs(m);
-  const uint32_t W = uint32_t(env("MOLDTEX_POLE_W", 256));
-  if (env("MOLDTEX_POLE_TIP_SHIFT", 0))
+  Mesh m = make_uv_sphere(EnvInt("MOLDTEX_POLE_SEGMENTS", 64), EnvInt("MOLDTEX_POLE_RINGS", 32), 1.0);
+  if (EnvInt("MOLDTEX_POLE_CUBE_UV", 0)) UseCubeUvs(m);
+  const uint32_t W = uint32_t(EnvInt("MOLDTEX_POLE_W", 256));
+  if (EnvInt("MOLDTEX_POLE_TIP_SHIFT", 0))
     for (size_t i = 0; i + 1 < m.uvs.size(); i += 2)
       if (m.uvs[i + 1] == 1.0f || m.uvs[i + 1] == 0.0f) m.uvs[i] += 0.5f / float(W);
-  const uint32_t steps = uint32_t(env("MOLDTEX_POLE_STEPS", 400));
-  const int seeds = env("MOLDTEX_POLE_SEEDS", 1);
+  const uint32_t steps = uint32_t(EnvInt("MOLDTEX_POLE_STEPS", 400));
+  const int seeds = EnvInt("MOLDTEX_POLE_SEEDS", 1);
   const TexelGeometry g = Texels(m, W, W);
   auto polar = [&](uint32_t x, uint32_t y) {
-    return std::acos(std::min(1.0, std::fabs(g.position[size_t(y) * W + x][2]))) * 180 / kPi;
+    return PolarDegrees(g.position[size_t(y) * W + x]);
   };
   // MOLDTEX_POLE_UNIT_W: the length unit of that resolution (and as many agents as it
   // has texels), to compare resolutions at the same pattern.
-  const uint32_t UW = uint32_t(env("MOLDTEX_POLE_UNIT_W", int(W)));
+  const uint32_t UW = uint32_t(EnvInt("MOLDTEX_POLE_UNIT_W", int(W)));
   const double unit = TexelLength(m, UW);
   const double bands[] = {0, 4, 5.625, 8, 11.25, 15, 20, 30, 45, 60, 90};
   const int nb = 10;
-  auto band_of = [&](double a) { int b = 0; while (b + 1 < nb && a >= bands[b + 1]) ++b; return b; };
+  auto band_of = [&](double a) { return BandOf(bands, nb, a); };
   for (int steer = 0; steer <= 1; ++steer) {
     moldtex_sim_params p = SmallCells(unit);
     if (!steer) p.vision_angle = 0.f;
     if (const char* v = std::getenv("MOLDTEX_POLE_DIFFUSION")) p.diffusion_rate = float(std::atof(v));
     if (const char* v = std::getenv("MOLDTEX_POLE_EVAPORATION")) p.evaporation_rate = float(std::atof(v));
     if (const char* v = std::getenv("MOLDTEX_POLE_TURN")) p.turn_speed = float(std::atof(v));
-    if (env("MOLDTEX_POLE_ONLY_WALK", 0) && steer) break;
-    if (env("MOLDTEX_POLE_ONLY_STEER", 0) && !steer) continue;
+    if (EnvInt("MOLDTEX_POLE_ONLY_WALK", 0) && steer) break;
+    if (EnvInt("MOLDTEX_POLE_ONLY_STEER", 0) && !steer) continue;
     std::vector<double> pooled(size_t(W) * W, 0.0);
     std::vector<double> count(nb, 0.0);
     double total = 0;
-    const int first_seed = env("MOLDTEX_POLE_FIRST_SEED", 1);
+    const int first_seed = EnvInt("MOLDTEX_POLE_FIRST_SEED", 1);
     for (int seed = first_seed; seed < first_seed + seeds; ++seed) {
       // Few agents for the random walk, so that its pheromone is far from saturated.
-      const uint32_t agents = steer ? UW * UW : UW * UW / uint32_t(env("MOLDTEX_POLE_SPARSE", 64));
+      const uint32_t agents = steer ? UW * UW : UW * UW / uint32_t(EnvInt("MOLDTEX_POLE_SPARSE", 64));
       std::vector<moldtex_surface_point> pts;
       const std::vector<double> f = Grow(m, W, W, agents, seed, p, steps, std::min(steps, 150u), nullptr, &pts);
       for (size_t i = 0; i < f.size(); ++i) pooled[i] += f[i] / seeds;
       for (const moldtex_surface_point& a : pts) {
-        const double z = m.point(a)[2];
-        count[band_of(std::acos(std::min(1.0, std::fabs(z))) * 180 / kPi)] += 1;
+        count[band_of(PolarDegrees(m.point(a)))] += 1;
         total += 1;
       }
     }
@@ -477,18 +489,17 @@ TEST(SurfaceUnits, DISABLED_UvSpherePoleDiagnostics) {
 // MOLDTEX_POLE_W, MOLDTEX_POLE_STEPS, MOLDTEX_POLE_SEEDS, MOLDTEX_POLE_WAVE (wavelength in
 // length units).
 TEST(SurfaceUnits, DISABLED_UvSpherePoleStaticField) {
-  auto env = [](const char* n, int d) { const char* v = std::getenv(n); return v ? std::atoi(v) : d; };
-  const uint32_t W = uint32_t(env("MOLDTEX_POLE_W", 256));
-  const uint32_t steps = uint32_t(env("MOLDTEX_POLE_STEPS", 300));
-  const int seeds = env("MOLDTEX_POLE_SEEDS", 3);
+  const uint32_t W = uint32_t(EnvInt("MOLDTEX_POLE_W", 256));
+  const uint32_t steps = uint32_t(EnvInt("MOLDTEX_POLE_STEPS", 300));
+  const int seeds = EnvInt("MOLDTEX_POLE_SEEDS", 3);
   const Mesh sphere = make_uv_sphere(64, 32, 1.0);
   const double unit = TexelLength(sphere, W);
   // Plane waves in 12 random 3D directions with random phases: statistically the same
   // everywhere on the sphere.
-  std::mt19937_64 gen(uint64_t(env("MOLDTEX_POLE_FIELD", 7)));
+  std::mt19937_64 gen(uint64_t(EnvInt("MOLDTEX_POLE_FIELD", 7)));
   std::uniform_real_distribution<double> uni(0.0, 1.0);
   std::vector<std::array<double, 4>> waves;
-  const double k = 2 * kPi / (env("MOLDTEX_POLE_WAVE", 12) * unit);
+  const double k = 2 * kPi / (EnvInt("MOLDTEX_POLE_WAVE", 12) * unit);
   for (int i = 0; i < 12; ++i) {
     double d[3], n = 0;
     for (double& c : d) { c = uni(gen) * 2 - 1; n += c * c; }
@@ -502,7 +513,7 @@ TEST(SurfaceUnits, DISABLED_UvSpherePoleStaticField) {
   };
   const double bands[] = {0, 5.625, 11.25, 15, 30, 60, 90};
   const int nb = 6;
-  auto band_of = [&](double a) { int b = 0; while (b + 1 < nb && a >= bands[b + 1]) ++b; return b; };
+  auto band_of = [&](double a) { return BandOf(bands, nb, a); };
   for (int cube = 0; cube <= 1; ++cube) {
     Mesh m = sphere;
     if (cube) UseCubeUvs(m);
@@ -512,9 +523,9 @@ TEST(SurfaceUnits, DISABLED_UvSpherePoleStaticField) {
       if (g.inside(i)) rgba[4 * i + 2] = float(field(g.position[i]));
     std::vector<double> count(nb, 0.0), xcap(2, 0.0);
     double total = 0;
+    auto s = create_surface(m);
+    ASSERT_TRUE(s) << LastError();
     for (int seed = 1; seed <= seeds; ++seed) {
-      auto s = create_surface(m);
-      ASSERT_TRUE(s) << LastError();
       moldtex_sim_config c = make_config(W, W, W * W / 4, uint64_t(seed));
       c.fields_rgba = rgba.data();
       auto sim = create_sim(s.get(), c, SmallCells(unit));
@@ -529,7 +540,7 @@ TEST(SurfaceUnits, DISABLED_UvSpherePoleStaticField) {
         ASSERT_EQ(moldtex_sim_step(sim.get(), 30), MOLDTEX_OK);
         for (const moldtex_surface_point& a : read_agents(sim.get(), W * W / 4)) {
           const Vec3 q = m.point(a);
-          count[band_of(std::acos(std::min(1.0, std::fabs(q[2]))) * 180 / kPi)] += 1;
+          count[band_of(PolarDegrees(q))] += 1;
           if (std::fabs(q[0]) > std::cos(15 * kPi / 180)) xcap[0] += 1;
           if (std::fabs(q[1]) > std::cos(15 * kPi / 180)) xcap[1] += 1;
           total += 1;
@@ -550,11 +561,10 @@ TEST(SurfaceUnits, DISABLED_UvSpherePoleStaticField) {
 // one agent per simulation (MOLDTEX_MARK_N of them at random longitudes). Ideally the
 // same everywhere; MOLDTEX_POLE_CUBE_UV=1 for the cube-projected layout.
 TEST(SurfaceUnits, DISABLED_UvSphereMarkedArea) {
-  auto env = [](const char* n, int d) { const char* v = std::getenv(n); return v ? std::atoi(v) : d; };
   Mesh m = make_uv_sphere(64, 32, 1.0);
   const uint32_t W = 256;
   const double unit = TexelLength(m, W);
-  if (env("MOLDTEX_POLE_CUBE_UV", 0)) UseCubeUvs(m);
+  if (EnvInt("MOLDTEX_POLE_CUBE_UV", 0)) UseCubeUvs(m);
   const TexelGeometry g = Texels(m, W, W);
   auto s = create_surface(m);
   ASSERT_TRUE(s);
@@ -563,7 +573,7 @@ TEST(SurfaceUnits, DISABLED_UvSphereMarkedArea) {
   moldtex_sim_params p = SmallCells(unit);
   p.diffusion_rate = 0.f;
   p.evaporation_rate = 0.f;
-  const int n = env("MOLDTEX_MARK_N", 60);
+  const int n = EnvInt("MOLDTEX_MARK_N", 60);
   for (double deg : {0.3, 1.5, 3.0, 4.5, 6.5, 9.5, 13.0, 30.0, 60.0, 88.0}) {
     double area = 0, area2 = 0;
     for (int i = 0; i < n; ++i) {
