@@ -112,13 +112,16 @@ void IntrinsicLattice::gather(const float* values, size_t vertex_count, float* n
 }
 
 void IntrinsicLattice::scatter(int32_t* node_sums, int32_t* vertex_sums, size_t vertex_count, uint32_t planes,
-                               ThreadPool& pool) const {
+                               PrivateSums& per_thread, ThreadPool& pool) const {
   const uint32_t count = node_count();
-  pool.parallel_for(count, 8192, [&](size_t begin, size_t end) {
+  const int exclusive = per_thread.exclusive() ? 1 : 0;
+  pool.parallel_for_threads(count, 8192, [&](size_t begin, size_t end, unsigned thread) {
+    int32_t* const into = per_thread.for_thread(vertex_sums, thread);
     for (size_t n = begin; n < end; ++n)
-      mtx_lattice_scatter_node(node_sums, vertex_sums, vertex.data(), weight.data(), static_cast<uint32_t>(n), count,
-                               static_cast<uint32_t>(vertex_count), planes);
+      mtx_lattice_scatter_node(node_sums, into, vertex.data(), weight.data(), static_cast<uint32_t>(n), count,
+                               static_cast<uint32_t>(vertex_count), planes, exclusive);
   });
+  per_thread.fold_into(vertex_sums, pool);
 }
 
 std::vector<float> IntrinsicLattice::field(const std::vector<float>& f) const {

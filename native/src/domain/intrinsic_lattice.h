@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "backends/cpu/thread_pool.h"
+#include "backends/cpu/private_sums.h"
 #include "intrinsic/correspondence.h"
 #include "surface/surface.h"
 
@@ -38,8 +39,10 @@ struct IntrinsicLattice {
   // The nodes' deposit sums passed on to the vertices (added to vertex_sums, planes of
   // vertex_count) and cleared: each node splits its units over its three vertices by
   // their weights, the parts adding up exactly (mtx_texel_deposit).
+  // Each thread adds into its plane of per_thread (prepared for vertex_count * planes
+  // sums), folded into vertex_sums at the end.
   void scatter(int32_t* node_sums, int32_t* vertex_sums, size_t vertex_count, uint32_t planes,
-               ThreadPool& pool) const;
+               PrivateSums& per_thread, ThreadPool& pool) const;
   // A static field at the nodes from its vertex values: an obstacle at any vertex of a
   // node's stencil (weight > 0) makes the node that obstacle, as a read over the exact
   // stencil would; elsewhere the interpolated value.

@@ -239,12 +239,23 @@ TextureDomain build_texture_domain(const Surface& s, uint32_t width, uint32_t he
 
 void apply_deposits(const TextureDomain& d, float* p, uint8_t* marks, float deposit,
                     ThreadPool& pool) {
-  pool.parallel_for(d.texel_count(), 1 << 16, [&](size_t begin, size_t end) {
-    for (size_t i = begin; i < end; ++i)
-      if (marks[i]) {
-        if (d.classes[i] == MTX_TEXEL_INSIDE) p[i] = std::max(p[i], deposit);
-        marks[i] = 0;
-      }
+  // Branch-free, so the compiler vectorises it: marks fall where agents happen to be, so
+  // a branch on each would be mispredicted about as often as not; and with the pointers
+  // in locals, since a store through the uint8_t marks may alias anything and would
+  // otherwise reload them every texel. Every texel's value is stored, unchanged where
+  // unmarked: the same result.
+  const uint8_t* classes = d.classes.data();
+  pool.parallel_for(d.texel_count(), 1 << 16, [classes, p, marks, deposit](size_t begin, size_t end) {
+    const uint8_t* const cls = classes;
+    float* const value = p;
+    uint8_t* const mark = marks;
+    const float amount = deposit;
+    for (size_t i = begin; i < end; ++i) {
+      const bool hit = (mark[i] != 0) & (cls[i] == MTX_TEXEL_INSIDE);
+      const float v = value[i];
+      value[i] = hit ? std::max(v, amount) : v;
+      mark[i] = 0;
+    }
   });
 }
 
@@ -284,9 +295,15 @@ void diffuse_and_evaporate(const TextureDomain& d, const float* in, float* out, 
           o[x] = v < 0.f ? 0.f : (v > 1.f ? 1.f : v);
         }
       }
+      const uint32_t* interior = d.interior_bits.data();
       for (int x = 0; x < W; ++x) {
         const size_t i = static_cast<size_t>(y) * W + x;
-        if ((d.interior_bits[i / 32] >> (i % 32)) & 1u) continue;
+        // (32 interior texels in a row, done above, skipped at once.)
+        if (i % 32 == 0 && x + 32 <= W && interior[i / 32] == 0xffffffffu) {
+          x += 31;
+          continue;
+        }
+        if ((interior[i / 32] >> (i % 32)) & 1u) continue;
         o[x] = d.classes[i] == MOLDTEX_TEXEL_INSIDE
                    ? mtx_diffuse_evaporate_texel(in, d.classes.data(), x, y, W, H, mix, evaporation)
                    : 0.f;

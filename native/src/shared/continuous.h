@@ -79,6 +79,9 @@ typedef struct mtx_continuous_constants {
   /* Cells per plane of the concentration agents read and of their deposit sums: the
    * texels (width * height), or on the intrinsic domain its lattice's nodes. */
   mtx_u32 plane_cells;
+  /* 1: the deposit sums each agent is given are its thread's own (plain adds; CPU only),
+   * 0: shared by all (atomic adds). */
+  mtx_u32 exclusive_sums;
 } mtx_continuous_constants;
 
 /* The per-agent clocks of the continuous model. */
@@ -417,7 +420,7 @@ MTX_FN void mtx_continuous_agent_finish(MTX_TABLES s, MTX_GLOBAL const float* u,
     mtx_texel_stencil st;
     mtx_texel_stencil_of(s, w, k->width, k->height, 0, &st);
     /* Piece i's whole share: the pieces' shares add up to exactly deposit_units. */
-    if (st.count > 0) mtx_texel_deposit(own, &st, share + (i < extra ? 1 : 0));
+    if (st.count > 0) mtx_texel_deposit(own, &st, share + (i < extra ? 1 : 0), MTX_CAST(int, k->exclusive_sums));
   }
 }
 

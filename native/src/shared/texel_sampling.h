@@ -128,10 +128,27 @@ MTX_FN mtx_u32 mtx_point_cell(MTX_TABLES s, const mtx_walker* w, mtx_u32 width, 
   return mtx_walker_texel(s.corner_uvs, w, width, height);
 }
 
+/* Adds `value` units to sums[index]: a plain add where the sums are the caller's own
+ * (`exclusive`: no other thread writes them meanwhile, as a CPU thread's private plane),
+ * else an atomic one (OpenCL always). Integer adds either way, so the sums do not depend
+ * on the order. */
+MTX_FN void mtx_add_units(MTX_GLOBAL mtx_i32* sums, mtx_u32 index, mtx_i32 value, int exclusive) {
+#ifdef __OPENCL_C_VERSION__
+  (void)exclusive;
+  MTX_ADD_I32(sums, index, value);
+#else
+  if (exclusive)
+    sums[index] += value;
+  else
+    MTX_ADD_I32(sums, index, value);
+#endif
+}
+
 /* Adds `units` (a whole number of fixed-point units) to the stencil's cells in
  * proportion to their weights. The parts add up exactly to `units`: the last counted
- * cell takes the rounding remainder. */
-MTX_FN void mtx_texel_deposit(MTX_GLOBAL mtx_i32* sums, const mtx_texel_stencil* st, mtx_i32 units) {
+ * cell takes the rounding remainder. `exclusive` as mtx_add_units. */
+MTX_FN void mtx_texel_deposit(MTX_GLOBAL mtx_i32* sums, const mtx_texel_stencil* st, mtx_i32 units,
+                              int exclusive) {
   mtx_i32 left = units;
   int last = -1;
   for (int k = 0; k < 4; ++k)
@@ -141,7 +158,7 @@ MTX_FN void mtx_texel_deposit(MTX_GLOBAL mtx_i32* sums, const mtx_texel_stencil*
     mtx_i32 q = k == last ? left : MTX_CAST(mtx_i32, st->weight[k] * MTX_CAST(float, units) + 0.5f);
     q = q > left ? left : q;
     left -= q;
-    if (q != 0) MTX_ADD_I32(sums, st->cell[k], q);
+    if (q != 0) mtx_add_units(sums, st->cell[k], q, exclusive);
   }
 }
 
@@ -151,7 +168,8 @@ MTX_FN void mtx_texel_deposit(MTX_GLOBAL mtx_i32* sums, const mtx_texel_stencil*
  * not depend on the order the nodes are done in. */
 MTX_FN void mtx_lattice_scatter_node(MTX_GLOBAL mtx_i32* node_sums, MTX_GLOBAL mtx_i32* sums,
                                      MTX_GLOBAL const mtx_u32* vertex, MTX_GLOBAL const float* weight,
-                                     mtx_u32 n, mtx_u32 count, mtx_u32 vertices, mtx_u32 planes) {
+                                     mtx_u32 n, mtx_u32 count, mtx_u32 vertices, mtx_u32 planes,
+                                     int exclusive) {
   mtx_texel_stencil st;
   for (int k = 0; k < 3; ++k) {
     st.cell[k] = vertex[3 * MTX_CAST(mtx_u64, n) + k];
@@ -165,7 +183,7 @@ MTX_FN void mtx_lattice_scatter_node(MTX_GLOBAL mtx_i32* node_sums, MTX_GLOBAL m
     const mtx_i32 q = *in;
     if (q == 0) continue;
     *in = 0;
-    mtx_texel_deposit(sums + MTX_CAST(mtx_u64, p) * vertices, &st, q);
+    mtx_texel_deposit(sums + MTX_CAST(mtx_u64, p) * vertices, &st, q, exclusive);
   }
 }
 

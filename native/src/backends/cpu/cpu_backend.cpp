@@ -142,12 +142,20 @@ void CpuBackend::step_continuous(const StepSettings& settings, uint64_t seed, ui
       intrinsic_ ? intrinsic_->agent_tables(surface_tables(*surface_, d), c.has_fields ? node_field_.data() : nullptr)
                  : surface_tables(*surface_, d);
   const AliasTable& alias = maps.spawn_max.empty() ? alias_ : maps.spawn_alias;
-  pool_->parallel_for(agents_.size(), 1024, [&](size_t begin, size_t end) {
-    continuous_update_agents(tables, c, read, field, deposit, alias,
+  // Each thread adds its agents' deposits into sums of its own (PrivateSums), folded
+  // together after.
+  agent_sums_.prepare(size_t(c.plane_cells) * species_count_, pool_->size());
+  c.exclusive_sums = agent_sums_.exclusive() ? 1u : 0u;
+  pool_->parallel_for_threads(agents_.size(), 1024, [&](size_t begin, size_t end, unsigned thread) {
+    continuous_update_agents(tables, c, read, field, agent_sums_.for_thread(deposit, thread), alias,
                              c.bias_on || c.bias_spawn ? settings.bias.data() : nullptr, maps.agent_planes.data(),
                              maps.spawn_max.data(), agents_, begin, end);
   });
-  if (intrinsic_) intrinsic_->lattice.scatter(node_sums_.data(), sums_.data(), c.width, species_count_, *pool_);
+  agent_sums_.fold_into(deposit, *pool_);
+  if (intrinsic_) {
+    vertex_sums_.prepare(size_t(c.width) * species_count_, pool_->size());
+    intrinsic_->lattice.scatter(node_sums_.data(), sums_.data(), c.width, species_count_, vertex_sums_, *pool_);
+  }
   // 2. Per species: the deposits become concentration, then the PDE advances by dt; the
   //    gutter shows what lies across each seam (for Blender only).
   settle_continuous_step(settings, maps, laplacian_for(maps, base, mapped_), mapped_, c.deposit_units,
@@ -249,6 +257,7 @@ size_t CpuBackend::bytes() const {
   if (intrinsic_)
     continuous += intrinsic_->bytes() + vertex_maps_.bytes() +
                   (node_values_.capacity() + node_field_.capacity() + node_sums_.capacity()) * 4;
+  continuous += agent_sums_.bytes() + vertex_sums_.bytes();
   return agents_.bytes() + sort_scratch_.sorted.bytes() +
          (sort_scratch_.key.capacity() + sort_scratch_.start.capacity()) * 4 +
          (pheromone_.capacity() + scratch_.capacity() + field_.capacity()) * sizeof(float) +

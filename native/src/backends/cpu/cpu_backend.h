@@ -8,6 +8,7 @@
 #include "backends/backend.h"
 #include "agents/continuous_rules.h"
 #include "agents/parameter_maps.h"
+#include "backends/cpu/private_sums.h"
 #include "domain/intrinsic_domain.h"
 #include "domain/surface_diffusion.h"
 #include "domain/texel_laplacian.h"
@@ -80,6 +81,9 @@ class CpuBackend final : public Backend {
   // the deposits there (passed on to sums_), the static field there.
   std::vector<float> node_values_, node_field_;
   std::vector<int32_t> node_sums_;
+  // Each thread's own deposit sums: the agents' (sums_ or node_sums_) and, on the
+  // intrinsic domain, the vertices' that the nodes pass theirs on to.
+  PrivateSums agent_sums_, vertex_sums_;
   AliasTable alias_;
   std::vector<float> pde_scratch_;
 };

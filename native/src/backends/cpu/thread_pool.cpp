@@ -13,7 +13,7 @@ unsigned ThreadPool::resolve_thread_count(unsigned requested) {
 
 ThreadPool::ThreadPool(unsigned thread_count) {
   unsigned n = resolve_thread_count(thread_count);
-  for (unsigned i = 1; i < n; ++i) workers_.emplace_back([this] { worker_loop(); });
+  for (unsigned i = 1; i < n; ++i) workers_.emplace_back([this, i] { worker_loop(i); });
 }
 
 ThreadPool::~ThreadPool() {
@@ -25,7 +25,7 @@ ThreadPool::~ThreadPool() {
   for (auto& w : workers_) w.join();
 }
 
-void ThreadPool::run_chunks() {
+void ThreadPool::run_chunks(unsigned thread) {
   for (;;) {
     size_t begin;
     {
@@ -36,7 +36,7 @@ void ThreadPool::run_chunks() {
     }
     size_t end = std::min(count_, begin + chunk_);
     try {
-      (*body_)(begin, end);
+      (*body_)(begin, end, thread);
     } catch (...) {
       std::lock_guard<std::mutex> lock(mutex_);
       if (!error_) error_ = std::current_exception();
@@ -44,7 +44,7 @@ void ThreadPool::run_chunks() {
   }
 }
 
-void ThreadPool::worker_loop() {
+void ThreadPool::worker_loop(unsigned thread) {
   uint64_t seen = 0;
   for (;;) {
     {
@@ -54,7 +54,7 @@ void ThreadPool::worker_loop() {
       seen = generation_;
       ++busy_;
     }
-    run_chunks();
+    run_chunks(thread);
     {
       std::lock_guard<std::mutex> lock(mutex_);
       --busy_;
@@ -65,12 +65,17 @@ void ThreadPool::worker_loop() {
 
 void ThreadPool::parallel_for(size_t count, size_t min_chunk,
                               const std::function<void(size_t, size_t)>& body) {
+  parallel_for_threads(count, min_chunk, [&body](size_t begin, size_t end, unsigned) { body(begin, end); });
+}
+
+void ThreadPool::parallel_for_threads(size_t count, size_t min_chunk,
+                                      const std::function<void(size_t, size_t, unsigned)>& body) {
   if (count == 0) return;
   size_t threads = size();
   // Several chunks per thread balance uneven work (agents crossing many edges).
   size_t chunk = std::max<size_t>(std::max<size_t>(min_chunk, 1), count / (threads * 8) + 1);
   if (threads == 1 || count <= chunk) {
-    body(0, count);
+    body(0, count, 0);
     return;
   }
   {
@@ -83,7 +88,7 @@ void ThreadPool::parallel_for(size_t count, size_t min_chunk,
     ++generation_;
   }
   wake_.notify_all();
-  run_chunks();
+  run_chunks(0);
   std::exception_ptr error;
   {
     std::unique_lock<std::mutex> lock(mutex_);

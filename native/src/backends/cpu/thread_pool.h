@@ -25,17 +25,22 @@ class ThreadPool {
   // first exception thrown by a body is rethrown here.
   void parallel_for(size_t count, size_t min_chunk,
                     const std::function<void(size_t, size_t)>& body);
+  // The same, telling each chunk which thread runs it (0: the calling thread, up to
+  // size() - 1), so a body can write into that thread's own buffers: no two chunks that
+  // run at once share a thread number.
+  void parallel_for_threads(size_t count, size_t min_chunk,
+                            const std::function<void(size_t, size_t, unsigned)>& body);
 
   static unsigned resolve_thread_count(unsigned requested);
 
  private:
-  void worker_loop();
-  void run_chunks();
+  void worker_loop(unsigned thread);
+  void run_chunks(unsigned thread);
 
   std::vector<std::thread> workers_;
   std::mutex mutex_;
   std::condition_variable wake_, done_;
-  const std::function<void(size_t, size_t)>* body_ = nullptr;
+  const std::function<void(size_t, size_t, unsigned)>* body_ = nullptr;
   size_t count_ = 0, chunk_ = 0, next_ = 0;
   unsigned busy_ = 0;
   uint64_t generation_ = 0;

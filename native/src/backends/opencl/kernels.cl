@@ -334,7 +334,7 @@ __kernel void lattice_scatter(__global int* node_sums, __global int* sums, __glo
                               __global const float* weight, const uint count, const uint vertices,
                               const uint planes) {
   const uint n = get_global_id(0);
-  if (n < count) mtx_lattice_scatter_node(node_sums, sums, vertex, weight, n, count, vertices, planes);
+  if (n < count) mtx_lattice_scatter_node(node_sums, sums, vertex, weight, n, count, vertices, planes, 0);
 }
 
 /* Deposit sums of the cells become concentration, every plane: u += sums * amount /
