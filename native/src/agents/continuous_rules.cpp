@@ -95,6 +95,8 @@ ContinuousStepConstants continuous_constants(const StepSettings& settings, const
   ContinuousStepConstants c{};
   c.seed = seed;
   c.step = step;
+  c.turnover_key = mtx_rng_key(seed, MTX_RNG_TURNOVER);
+  c.decide_key = mtx_rng_key(seed, MTX_RNG_DECIDE);
   for (uint32_t s = 0; s < settings.species_count; ++s) {
     for (uint32_t k = 0; k < settings.species_count; ++k)
       c.attraction[MTX_MAX_SPECIES * s + k] = settings.species[s].attraction[k];

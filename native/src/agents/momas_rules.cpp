@@ -16,6 +16,7 @@ MomasStepConstants momas_constants(const StepSettings& settings, const TextureDo
   MomasStepConstants c{};
   c.seed = seed;
   c.step = step;
+  c.steer_key = mtx_rng_key(seed, MTX_RNG_STEER);
   for (uint32_t s = 0; s < settings.species_count; ++s) {
     const moldtex_species_params& sp = settings.species[s];
     const float angle = sp.vision_angle * std::numbers::pi_v<float> / 180.f;

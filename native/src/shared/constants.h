@@ -40,6 +40,7 @@ MTX_BEGIN_NAMESPACE
 typedef struct mtx_momas_constants {
   mtx_u64 seed;
   mtx_u64 step;
+  mtx_u64 steer_key; /* mtx_rng_key(seed, MTX_RNG_STEER) */
   /* Per species. */
   float move_length[MTX_MAX_SPECIES];   /* 3D length of one move */
   float sensor_length[MTX_MAX_SPECIES]; /* 3D distance to the sensors */

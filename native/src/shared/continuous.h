@@ -49,6 +49,7 @@ MTX_BEGIN_NAMESPACE
 typedef struct mtx_continuous_constants {
   mtx_u64 seed;
   mtx_u64 step;
+  mtx_u64 turnover_key, decide_key; /* mtx_rng_key(seed, MTX_RNG_TURNOVER / MTX_RNG_DECIDE) */
   /* attraction[4 * s + k]: weight of species k's concentration in species s's sensing. */
   float attraction[MTX_MAX_SPECIES * MTX_MAX_SPECIES];
   /* Per species plane: 1 / U, so sensing compares concentrations relative to the uniform
@@ -253,7 +254,7 @@ MTX_FN void mtx_continuous_agent_begin(MTX_TABLES s, MTX_GLOBAL const float* ali
   if (exposure_step > 0.0f || sink || life->exposure >= life->threshold) {
     life->exposure += exposure_step;
     if (sink || life->exposure >= life->threshold) {
-      mtx_u64 rng = mtx_rng_init(k->seed, MTX_RNG_TURNOVER, agent, k->step);
+      mtx_u64 rng = mtx_rng_init_keyed(k->turnover_key, agent, k->step);
       mtx_respawn_weighted(s, alias_prob, alias_index, maps, spawn_max, k, w, &rng);
       if (k->bias_spawn) { /* face one of the n bias directions, chosen at random */
         MTX_GLOBAL const float* b = bias + 2 * w->triangle;
@@ -338,7 +339,7 @@ MTX_FN void mtx_continuous_agent_finish(MTX_TABLES s, MTX_GLOBAL const float* u,
    * sensors were traced in the plan; later ones (a step longer than 1 / f_i) trace anew
    * from the turned heading. */
   if (plan->decide) {
-    mtx_u64 rng = mtx_rng_init(k->seed, MTX_RNG_DECIDE, agent, k->step);
+    mtx_u64 rng = mtx_rng_init_keyed(k->decide_key, agent, k->step);
     for (int d = 0; d < MTX_MAX_DECISIONS_PER_STEP && life->clock >= k->decision_period; ++d) {
       life->clock -= k->decision_period;
       mtx_texel_stencil fresh[3];

@@ -541,7 +541,7 @@ MTX_FN void mtx_momas_agent_finish(MTX_TABLES s, MTX_GLOBAL const float* pheromo
   /* Steering: keep going only while the front is strictly strongest, else turn toward
    * the stronger side, or to a random side on a tie (so agents on bare ground wander
    * instead of running straight). The turn is scaled by r ~ U[0,1), the paper's jitter. */
-  mtx_u64 rng = mtx_rng_init(k->seed, MTX_RNG_STEER, agent, k->step);
+  mtx_u64 rng = mtx_rng_init_keyed(k->steer_key, agent, k->step); /* mtx_rng_init(seed, MTX_RNG_STEER, ...) */
   const float r = mtx_rng_float(&rng);
   if (!(front > left && front > right)) {
     float side;

@@ -29,8 +29,16 @@ MTX_FN mtx_u64 mtx_mix64(mtx_u64 x) {
   return x ^ (x >> 31);
 }
 
+/* The part of a state that depends only on (seed, purpose): a step's constants can hold
+ * it, so each agent's draw mixes one time fewer (mtx_rng_init_keyed). */
+MTX_FN mtx_u64 mtx_rng_key(mtx_u64 seed, mtx_u64 purpose) { return mtx_mix64(seed ^ (purpose << 56)); }
+
+MTX_FN mtx_u64 mtx_rng_init_keyed(mtx_u64 key, mtx_u64 stream, mtx_u64 counter) {
+  return mtx_mix64(mtx_mix64(key ^ stream) ^ counter);
+}
+
 MTX_FN mtx_u64 mtx_rng_init(mtx_u64 seed, mtx_u64 purpose, mtx_u64 stream, mtx_u64 counter) {
-  return mtx_mix64(mtx_mix64(mtx_mix64(seed ^ (purpose << 56)) ^ stream) ^ counter);
+  return mtx_rng_init_keyed(mtx_rng_key(seed, purpose), stream, counter);
 }
 
 /* Uniform in [0, 1) with 24 bits, exactly representable as a float. */
