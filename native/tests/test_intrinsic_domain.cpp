@@ -3,10 +3,12 @@
 // the intrinsic faces, and gathered into the UV texture.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 
+#include "backends/cpu/private_sums.h"
 #include "domain/intrinsic_domain.h"
 #include "domain/texel_laplacian.h"
 #include "intrinsic/correspondence.h"
@@ -464,6 +466,39 @@ TEST(IntrinsicSimulation, SameSeedSameTextureForAnyThreadCount) {
   const Result two = Simulate(r);
   ASSERT_EQ(one.shown.back().size(), two.shown.back().size());
   EXPECT_TRUE(std::equal(one.shown.back().begin(), one.shown.back().end(), two.shown.back().begin()));
+  r.threads = 3;  // two threads with sums of their own (PrivateSums), folded into the first's
+  const Result three = Simulate(r);
+  ASSERT_EQ(one.shown.back().size(), three.shown.back().size());
+  EXPECT_TRUE(std::equal(one.shown.back().begin(), one.shown.back().end(), three.shown.back().begin()));
+}
+
+// Each thread adds into its own sums, and the fold gives every add once: the counts of a
+// known scatter come out exact, twice in a row (the fold leaves the threads' planes
+// clear), and a plane too large to copy per thread falls back to the shared one.
+TEST(PrivateSums, FoldsEveryThreadsAddsOnce) {
+  moldtex::ThreadPool pool(3);
+  moldtex::PrivateSums per_thread;
+  constexpr size_t kCells = 1000, kItems = 300000;
+  per_thread.prepare(kCells, pool.size());
+  ASSERT_TRUE(per_thread.exclusive());
+  std::vector<int32_t> shared(kCells, 0);
+  std::atomic<unsigned> highest{0};
+  for (int round = 1; round <= 2; ++round) {
+    pool.parallel_for_threads(kItems, 1000, [&](size_t begin, size_t end, unsigned thread) {
+      unsigned was = highest.load();
+      while (thread > was && !highest.compare_exchange_weak(was, thread)) {
+      }
+      int32_t* into = per_thread.for_thread(shared.data(), thread);
+      for (size_t i = begin; i < end; ++i) into[(i * 7919) % kCells] += 1;
+    });
+    per_thread.fold_into(shared.data(), pool);
+    for (size_t c = 0; c < kCells; ++c) ASSERT_EQ(shared[c], round * int32_t(kItems / kCells)) << c;
+  }
+  EXPECT_LT(highest.load(), pool.size());
+  per_thread.prepare(moldtex::PrivateSums::kMaxBytes / sizeof(int32_t) / 2 + 1, pool.size());
+  EXPECT_FALSE(per_thread.exclusive());
+  EXPECT_EQ(per_thread.for_thread(shared.data(), 2), shared.data());
+  EXPECT_EQ(per_thread.bytes(), 0u);
 }
 
 // The square [0, 4]^2 in 64 x 64 cells, its UVs cut into 16 islands (one per unit
