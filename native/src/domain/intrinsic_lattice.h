@@ -17,8 +17,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "backends/cpu/thread_pool.h"
 #include "backends/cpu/private_sums.h"
+#include "backends/cpu/thread_pool.h"
 #include "intrinsic/correspondence.h"
 #include "surface/surface.h"
 
@@ -38,9 +38,9 @@ struct IntrinsicLattice {
               ThreadPool& pool) const;
   // The nodes' deposit sums passed on to the vertices (added to vertex_sums, planes of
   // vertex_count) and cleared: each node splits its units over its three vertices by
-  // their weights, the parts adding up exactly (mtx_texel_deposit).
-  // Each thread adds into its plane of per_thread (prepared for vertex_count * planes
-  // sums), folded into vertex_sums at the end.
+  // their weights, the parts adding up exactly (mtx_texel_deposit). Each thread adds into
+  // its own plane of per_thread (prepared for vertex_count * planes sums), folded into
+  // vertex_sums at the end.
   void scatter(int32_t* node_sums, int32_t* vertex_sums, size_t vertex_count, uint32_t planes,
                PrivateSums& per_thread, ThreadPool& pool) const;
   // A static field at the nodes from its vertex values: an obstacle at any vertex of a

@@ -1,7 +1,5 @@
 #include "backends/cpu/private_sums.h"
 
-#include <algorithm>
-
 namespace moldtex {
 
 void PrivateSums::prepare(size_t cells, unsigned threads) {

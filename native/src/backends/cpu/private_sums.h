@@ -25,7 +25,8 @@ class PrivateSums {
   int32_t* for_thread(int32_t* shared, unsigned thread) {
     return exclusive_ && thread > 0 ? planes_.data() + (thread - 1) * cells_ : shared;
   }
-  // Adds the other threads' planes into `shared` (cells() sums) and clears them.
+  // Adds the other threads' planes into `shared` (the `cells` sums prepared) and clears
+  // them.
   void fold_into(int32_t* shared, ThreadPool& pool);
   size_t bytes() const { return planes_.capacity() * sizeof(int32_t); }
 
