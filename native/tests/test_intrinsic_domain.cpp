@@ -241,6 +241,7 @@ TEST(IntrinsicDomain, LatticeReadsAndDepositsLikeTheHatsOnAPlane) {
   const int32_t units = 1 << 20;
   std::vector<int32_t> node_sums(nodes, 0), sums(nv, 0);
   moldtex::PrivateSums per_thread;  // the backend's way: each thread its own sums
+  per_thread.prepare(nv, pool.size());
   double worst_read = 0, worst_centroid = 0;
   for (int i = 0; i < 5000; ++i) {
     const uint32_t tri = uint32_t(uniform() * m.triangle_count()) % m.triangle_count();
@@ -263,7 +264,6 @@ TEST(IntrinsicDomain, LatticeReadsAndDepositsLikeTheHatsOnAPlane) {
     // One deposit at a time: through the nodes on to the vertices.
     moldtex::mtx_texel_deposit(node_sums.data(), &st, units, 0);
     std::fill(sums.begin(), sums.end(), 0);
-    per_thread.prepare(nv, pool.size());
     L.scatter(node_sums.data(), sums.data(), nv, 1, per_thread, pool);
     int64_t total = 0;
     Vec3 centroid{0, 0, 0};

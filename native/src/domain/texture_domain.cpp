@@ -244,9 +244,8 @@ void apply_deposits(const TextureDomain& d, float* p, uint8_t* marks, float depo
   // in locals, since a store through the uint8_t marks may alias anything and would
   // otherwise reload them every texel. Every texel's value is stored, unchanged where
   // unmarked: the same result.
-  const uint8_t* classes = d.classes.data();
-  pool.parallel_for(d.texel_count(), 1 << 16, [classes, p, marks, deposit](size_t begin, size_t end) {
-    const uint8_t* const cls = classes;
+  pool.parallel_for(d.texel_count(), 1 << 16, [&](size_t begin, size_t end) {
+    const uint8_t* const cls = d.classes.data();
     float* const value = p;
     uint8_t* const mark = marks;
     const float amount = deposit;
