@@ -19,7 +19,9 @@
 // Blender, e.g. Suzanne with Subdivision 2: issue #15's own case) at 1024^2 with 300 k
 // agents, core defaults otherwise; mesh-intrinsic=FILE: the same mesh on the intrinsic
 // domain (continuous model, core defaults, as tools/bench_suzanne.py --intrinsic).
-// MOLDTEX_AB_AGENTS, if set, overrides any case's agent count (small runs under valgrind).
+// MOLDTEX_AB_AGENTS, if set, overrides any case's agent count (small runs under valgrind);
+// MOLDTEX_AB_SIDE its texture's side (what the texture size alone costs), MOLDTEX_AB_SEED
+// its seed (how much one run's speed depends on its random draw).
 #include <dlfcn.h>
 
 #include <algorithm>
@@ -177,6 +179,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (const char* agents = std::getenv("MOLDTEX_AB_AGENTS")) spec.agents = uint32_t(std::max(1, std::atoi(agents)));
+  if (const char* side = std::getenv("MOLDTEX_AB_SIDE")) spec.side = uint32_t(std::clamp(std::atoi(side), 16, 8192));
   const moldtex_mesh_desc desc = spec.mesh.desc();
   moldtex_sim_params p = mtx::default_params();
   if (spec.jones) {  // as moldtex_bench's JonesParams
@@ -190,7 +193,8 @@ int main(int argc, char** argv) {
   if (spec.texels_per_unit > 0)
     p.length_unit = float(spec.texels_per_unit *
                           std::sqrt(spec.mesh.total_area() / (spec.mesh.total_uv_area() * double(spec.side) * spec.side)));
-  moldtex_sim_config config = mtx::make_config(spec.side, spec.side, spec.agents, 1);
+  const char* seed = std::getenv("MOLDTEX_AB_SEED");
+  moldtex_sim_config config = mtx::make_config(spec.side, spec.side, spec.agents, seed ? std::strtoull(seed, nullptr, 10) : 1);
   if (spec.continuous) config.model = MOLDTEX_MODEL_CONTINUOUS;
   if (argc > 6 && std::string(argv[6]) == "opencl") config.backend = MOLDTEX_BACKEND_OPENCL;
   config.domain = spec.domain;

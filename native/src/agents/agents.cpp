@@ -116,17 +116,71 @@ Agents spawn_agents(const Surface& s, const SpawnSpec& spec, ThreadPool& pool) {
 
 namespace {
 
-// Stable counting sort of the agents by scratch.key (< buckets).
-void sort_by_key(Agents& a, TileSortScratch& scratch, size_t buckets) {
+// Where a stable counting sort by scratch.key (< buckets) sends each agent
+// (scratch.dest), in parallel: the agents cut into one run per thread, each run counts its
+// keys, and agent i of run r with key b goes after every agent of a smaller key and every
+// earlier agent of key b (those of runs before r, then its own run's): the one order of a
+// stable sort, whatever the thread count.
+void sort_destinations(TileSortScratch& scratch, size_t n, size_t buckets, ThreadPool& pool) {
+  const size_t runs = std::max<size_t>(1, std::min<size_t>(pool.size(), n / 65536));
+  const size_t run_length = (n + runs - 1) / runs;
+  const uint32_t* key = scratch.key.data();
+  std::vector<uint32_t>& count = scratch.start;  // runs x buckets, then each run's offsets
+  count.assign(runs * buckets, 0);
+  scratch.dest.resize(n);
+  pool.parallel_for(runs, 1, [&](size_t r0, size_t r1) {
+    for (size_t r = r0; r < r1; ++r) {
+      uint32_t* c = count.data() + r * buckets;
+      for (size_t i = r * run_length, end = std::min(n, i + run_length); i < end; ++i) ++c[key[i]];
+    }
+  });
+  uint32_t next = 0;
+  for (size_t b = 0; b < buckets; ++b)
+    for (size_t r = 0; r < runs; ++r) {
+      const uint32_t k = count[r * buckets + b];
+      count[r * buckets + b] = next;
+      next += k;
+    }
+  pool.parallel_for(runs, 1, [&](size_t r0, size_t r1) {
+    for (size_t r = r0; r < r1; ++r) {
+      uint32_t* offset = count.data() + r * buckets;
+      uint32_t* dest = scratch.dest.data();
+      for (size_t i = r * run_length, end = std::min(n, i + run_length); i < end; ++i) dest[i] = offset[key[i]]++;
+    }
+  });
+}
+
+// Array `from` reordered into `to` by dest (to[dest[i]] = from[i]), in parallel.
+template <class T>
+void scatter_by(const std::vector<uint32_t>& dest, const std::vector<T>& from, std::vector<T>& to,
+                ThreadPool& pool) {
+  to.resize(from.size());
+  const uint32_t* d = dest.data();
+  const T* f = from.data();
+  T* t = to.data();
+  pool.parallel_for(from.size(), 1 << 16, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) t[d[i]] = f[i];
+  });
+}
+
+// Stable counting sort of the agents by scratch.key (< buckets), array by array.
+void sort_by_key(Agents& a, TileSortScratch& scratch, size_t buckets, ThreadPool& pool) {
   const size_t n = a.size();
-  const std::vector<uint32_t>& key = scratch.key;
-  std::vector<uint32_t>& start = scratch.start;
-  start.assign(buckets + 1, 0);
-  for (size_t i = 0; i < n; ++i) ++start[key[i] + 1];
-  for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
+  sort_destinations(scratch, n, buckets, pool);
   Agents& sorted = scratch.sorted;
-  sorted.resize(n);
-  for (size_t i = 0; i < n; ++i) sorted.copy_from(start[key[i]]++, a, i);
+  const std::vector<uint32_t>& dest = scratch.dest;
+  scatter_by(dest, a.triangle, sorted.triangle, pool);
+  scatter_by(dest, a.b1, sorted.b1, pool);
+  scatter_by(dest, a.b2, sorted.b2, pool);
+  scatter_by(dest, a.hx, sorted.hx, pool);
+  scatter_by(dest, a.hy, sorted.hy, pool);
+  scatter_by(dest, a.species, sorted.species, pool);
+  scatter_by(dest, a.hunger, sorted.hunger, pool);
+  scatter_by(dest, a.batch, sorted.batch, pool);
+  scatter_by(dest, a.clock, sorted.clock, pool);
+  scatter_by(dest, a.age, sorted.age, pool);
+  scatter_by(dest, a.exposure, sorted.exposure, pool);
+  scatter_by(dest, a.threshold, sorted.threshold, pool);
   std::swap(a, sorted);  // the old order becomes the next call's scratch
 }
 
@@ -155,7 +209,7 @@ void sort_by_tile(const Surface& s, uint32_t width, uint32_t height, Agents& a,
       key[i] = tile(uv[1], height, tiles_y) * tiles_x + tile(uv[0], width, tiles_x);
     }
   });
-  sort_by_key(a, scratch, static_cast<size_t>(tiles_x) * tiles_y);
+  sort_by_key(a, scratch, static_cast<size_t>(tiles_x) * tiles_y, pool);
 }
 
 void sort_by_triangle(uint32_t triangle_count, Agents& a, TileSortScratch& scratch, ThreadPool& pool) {
@@ -165,7 +219,7 @@ void sort_by_triangle(uint32_t triangle_count, Agents& a, TileSortScratch& scrat
   pool.parallel_for(a.size(), 4096, [&](size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) key[i] = std::min<uint32_t>(a.triangle[i], uint32_t(buckets - 1));
   });
-  sort_by_key(a, scratch, buckets);
+  sort_by_key(a, scratch, buckets, pool);
 }
 
 }  // namespace moldtex

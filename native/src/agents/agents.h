@@ -82,13 +82,14 @@ void for_each_in_batches(size_t begin, size_t end, Stages&&... stages) {
 // What sort_by_tile keeps between calls: the keys and the sorted copy, so a regrouping
 // every few steps allocates (and page-faults) nothing once they have grown.
 struct TileSortScratch {
-  std::vector<uint32_t> key, start;
+  std::vector<uint32_t> key, start, dest;
   Agents sorted;
 };
 
 // Reorders agents by the texture tile they stand in (a stable counting sort), so that
 // neighbouring agents read neighbouring texels and stay in cache. Deterministic: the
-// keys are computed on the pool's threads, each agent's alone, the sort is serial.
+// keys are computed on the pool's threads, each agent's alone, and a stable sort has one
+// result, however its counting and copying are split among the threads.
 void sort_by_tile(const Surface& surface, uint32_t width, uint32_t height, Agents& agents,
                   TileSortScratch& scratch, ThreadPool& pool);
 

@@ -259,7 +259,7 @@ size_t CpuBackend::bytes() const {
                   (node_values_.capacity() + node_field_.capacity() + node_sums_.capacity()) * 4;
   continuous += agent_sums_.bytes() + vertex_sums_.bytes();
   return agents_.bytes() + sort_scratch_.sorted.bytes() +
-         (sort_scratch_.key.capacity() + sort_scratch_.start.capacity()) * 4 +
+         (sort_scratch_.key.capacity() + sort_scratch_.start.capacity() + sort_scratch_.dest.capacity()) * 4 +
          (pheromone_.capacity() + scratch_.capacity() + field_.capacity()) * sizeof(float) +
          marks_.capacity() + continuous;
 }
