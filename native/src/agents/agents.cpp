@@ -122,7 +122,9 @@ namespace {
 // earlier agent of key b (those of runs before r, then its own run's): the one order of a
 // stable sort, whatever the thread count.
 void sort_destinations(TileSortScratch& scratch, size_t n, size_t buckets, ThreadPool& pool) {
-  const size_t runs = std::max<size_t>(1, std::min<size_t>(pool.size(), n / 65536));
+  // Runs of at least 65,536 agents, and their counts together within 4 Mi words (16 MiB),
+  // however many threads and buckets (mesh triangles, on the intrinsic domain) there are.
+  const size_t runs = std::max<size_t>(1, std::min({size_t(pool.size()), n / 65536, (size_t(1) << 22) / std::max<size_t>(buckets, 1)}));
   const size_t run_length = (n + runs - 1) / runs;
   const uint32_t* key = scratch.key.data();
   std::vector<uint32_t>& count = scratch.start;  // runs x buckets, then each run's offsets
@@ -169,18 +171,7 @@ void sort_by_key(Agents& a, TileSortScratch& scratch, size_t buckets, ThreadPool
   sort_destinations(scratch, n, buckets, pool);
   Agents& sorted = scratch.sorted;
   const std::vector<uint32_t>& dest = scratch.dest;
-  scatter_by(dest, a.triangle, sorted.triangle, pool);
-  scatter_by(dest, a.b1, sorted.b1, pool);
-  scatter_by(dest, a.b2, sorted.b2, pool);
-  scatter_by(dest, a.hx, sorted.hx, pool);
-  scatter_by(dest, a.hy, sorted.hy, pool);
-  scatter_by(dest, a.species, sorted.species, pool);
-  scatter_by(dest, a.hunger, sorted.hunger, pool);
-  scatter_by(dest, a.batch, sorted.batch, pool);
-  scatter_by(dest, a.clock, sorted.clock, pool);
-  scatter_by(dest, a.age, sorted.age, pool);
-  scatter_by(dest, a.exposure, sorted.exposure, pool);
-  scatter_by(dest, a.threshold, sorted.threshold, pool);
+  sorted.for_each_array(a, [&](const auto& from, auto& to) { scatter_by(dest, from, to, pool); });
   std::swap(a, sorted);  // the old order becomes the next call's scratch
 }
 

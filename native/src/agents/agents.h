@@ -23,19 +23,25 @@ struct Agents {
   std::vector<float> clock, age, exposure, threshold;
 
   size_t size() const { return triangle.size(); }
+  // f(from's array, this one's) for each of the arrays, in one order: what is done to
+  // every array alike (resizing, reordering) is written once.
+  template <class F>
+  void for_each_array(const Agents& from, F&& f) {
+    f(from.triangle, triangle);
+    f(from.b1, b1);
+    f(from.b2, b2);
+    f(from.hx, hx);
+    f(from.hy, hy);
+    f(from.species, species);
+    f(from.hunger, hunger);
+    f(from.batch, batch);
+    f(from.clock, clock);
+    f(from.age, age);
+    f(from.exposure, exposure);
+    f(from.threshold, threshold);
+  }
   void resize(size_t n) {
-    triangle.resize(n);
-    batch.resize(n);
-    species.resize(n);
-    hunger.resize(n);
-    b1.resize(n);
-    b2.resize(n);
-    hx.resize(n);
-    hy.resize(n);
-    clock.resize(n);
-    age.resize(n);
-    exposure.resize(n);
-    threshold.resize(n);
+    for_each_array(*this, [n](const auto&, auto& v) { v.resize(n); });
   }
   size_t bytes() const { return triangle.capacity() * 4 + (b1.capacity() + b2.capacity() + hx.capacity() + hy.capacity()) * 4 +
                         species.capacity() + hunger.capacity() * 4 + batch.capacity() * 2 +
