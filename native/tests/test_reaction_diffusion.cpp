@@ -354,8 +354,11 @@ TEST(ReactionDiffusion, NoBlowUpAtAnyPreset) {
         std::printf("%s on the %s, dt %g: mean V %.4f, presence %.3f\n", p->name, sphere ? "sphere" : "plane", dt,
                     o.stats.coverage, o.stats.presence);
         // Spots are marginal: at dt 5 (sub-steps of 0.45 s instead of 0.33 s) the disks
-        // die out; bounded and finite is all that is asked there.
-        ExpectSaneField(o, p->name, !(p == &kSpots && dt > 1));
+        // die out, and at dt 1 too for 5 of 12 seeds (2026-12-05: seeds 5, 7, 9, 10, 12
+        // leave V uniform on this plane, the others spots on 8-24% of it; seed 1, used
+        // here, keeps them by luck). Bounded and finite is all that is asked of them; the
+        // add-on's "reaction spots" look uses a steadier F and k (presets/reaction_spots.py).
+        ExpectSaneField(o, p->name, p != &kSpots);
         EXPECT_NEAR(o.stats.time, 3000.0, 1e-6);
         EXPECT_EQ(o.stats.agent_count, 0u);
       }
