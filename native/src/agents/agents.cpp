@@ -171,7 +171,7 @@ void sort_by_key(Agents& a, TileSortScratch& scratch, size_t buckets, ThreadPool
   sort_destinations(scratch, n, buckets, pool);
   Agents& sorted = scratch.sorted;
   const std::vector<uint32_t>& dest = scratch.dest;
-  sorted.for_each_array(a, [&](const auto& from, auto& to) { scatter_by(dest, from, to, pool); });
+  Agents::for_each_array(a, sorted, [&](const auto& from, auto& to) { scatter_by(dest, from, to, pool); });
   std::swap(a, sorted);  // the old order becomes the next call's scratch
 }
 

@@ -23,29 +23,32 @@ struct Agents {
   std::vector<float> clock, age, exposure, threshold;
 
   size_t size() const { return triangle.size(); }
-  // f(from's array, this one's) for each of the arrays, in one order: what is done to
-  // every array alike (resizing, reordering) is written once.
-  template <class F>
-  void for_each_array(const Agents& from, F&& f) {
-    f(from.triangle, triangle);
-    f(from.b1, b1);
-    f(from.b2, b2);
-    f(from.hx, hx);
-    f(from.hy, hy);
-    f(from.species, species);
-    f(from.hunger, hunger);
-    f(from.batch, batch);
-    f(from.clock, clock);
-    f(from.age, age);
-    f(from.exposure, exposure);
-    f(from.threshold, threshold);
+  // f(a's array, b's array) for each of the arrays, in one order (a and b may be the same,
+  // either may be const): what is done to every array alike (resizing, counting,
+  // copying, reordering) is written once.
+  template <class A, class B, class F>
+  static void for_each_array(A& a, B& b, F&& f) {
+    f(a.triangle, b.triangle);
+    f(a.b1, b.b1);
+    f(a.b2, b.b2);
+    f(a.hx, b.hx);
+    f(a.hy, b.hy);
+    f(a.species, b.species);
+    f(a.hunger, b.hunger);
+    f(a.batch, b.batch);
+    f(a.clock, b.clock);
+    f(a.age, b.age);
+    f(a.exposure, b.exposure);
+    f(a.threshold, b.threshold);
   }
   void resize(size_t n) {
-    for_each_array(*this, [n](const auto&, auto& v) { v.resize(n); });
+    for_each_array(*this, *this, [n](auto&, auto& v) { v.resize(n); });
   }
-  size_t bytes() const { return triangle.capacity() * 4 + (b1.capacity() + b2.capacity() + hx.capacity() + hy.capacity()) * 4 +
-                        species.capacity() + hunger.capacity() * 4 + batch.capacity() * 2 +
-                        (clock.capacity() + age.capacity() + exposure.capacity() + threshold.capacity()) * 4; }
+  size_t bytes() const {
+    size_t total = 0;
+    for_each_array(*this, *this, [&total](const auto& v, const auto&) { total += v.capacity() * sizeof(v[0]); });
+    return total;
+  }
 
   Walker load(size_t i) const {
     return Walker{triangle[i], {1.f - b1[i] - b2[i], b1[i], b2[i]}, {hx[i], hy[i]}};
@@ -59,14 +62,7 @@ struct Agents {
   }
   // Everything about agent i of `from` into slot i here.
   void copy_from(size_t i, const Agents& from, size_t j) {
-    store(i, from.load(j));
-    species[i] = from.species[j];
-    hunger[i] = from.hunger[j];
-    batch[i] = from.batch[j];
-    clock[i] = from.clock[j];
-    age[i] = from.age[j];
-    exposure[i] = from.exposure[j];
-    threshold[i] = from.threshold[j];
+    for_each_array(from, *this, [i, j](const auto& source, auto& target) { target[i] = source[j]; });
   }
 };
 
