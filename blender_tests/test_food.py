@@ -12,6 +12,7 @@ from mathutils import Vector
 import helpers as h
 
 STEPS = 150
+AMOUNT = 400000  # food in the finite source (test_finite_food_is_eaten_...)
 CORNER = (0.9, 0.9, 0.0)
 
 
@@ -90,15 +91,18 @@ class FoodTests(unittest.TestCase):
         self.assertGreater(end0, 0.9 * start0)
 
     def test_finite_food_is_eaten_and_settings_survive_reload(self):
-        obj, empty, start, end = self._run(4.0, amount=200000)
+        # The agents eat 195,000-211,000 over STEPS steps (seeds 1, 2, 3 and the test's
+        # 7, 2026-12-05): an amount of twice that is partly eaten whatever the random
+        # draws (200,000, as until then, was eaten up for some of them).
+        obj, empty, start, end = self._run(4.0, amount=AMOUNT)
         from moldtex import live
         status = live.food_status(obj)
         self.assertEqual(len(status), 1)
         name, remaining = status[0]
         self.assertEqual(name, empty.name)
-        print(f"\n  food: {remaining:.0f} of 200000 left after {STEPS} steps")
-        self.assertLess(remaining, 200000.0)
-        self.assertGreater(remaining, 0.0)  # seen 17509 left: partly eaten
+        print(f"\n  food: {remaining:.0f} of {AMOUNT} left after {STEPS} steps")
+        self.assertLess(remaining, float(AMOUNT))
+        self.assertGreater(remaining, 0.0)  # seen 199888 left: partly eaten
         self.assertGreaterEqual(remaining, 0.0)
         self.assertEqual(h.live().get(obj.name).sim.get_food()[0][2], remaining)
         # Another step neither refills nor re-sends it.
@@ -116,11 +120,11 @@ class FoodTests(unittest.TestCase):
         self.assertAlmostEqual(obj.moldtex.food_radius, 0.25, places=5)
         empties = list(obj.moldtex.food_collection.all_objects)
         self.assertEqual(len(empties), 1)
-        self.assertEqual(empties[0]["moldtex_amount"], 200000)
+        self.assertEqual(empties[0]["moldtex_amount"], AMOUNT)
         # A Reset gives the food back.
         h.activate(obj)
         self.assertEqual(bpy.ops.moldtex.reset(), {'FINISHED'})
-        self.assertEqual(live.food_status(obj)[0][1], 200000.0)
+        self.assertEqual(live.food_status(obj)[0][1], float(AMOUNT))
 
 
 if __name__ == "__main__":

@@ -91,14 +91,18 @@ TEST_P(Food, HungryAgentsGatherAtTheSource) {
   // 0.98 / 1.04 -> 0.64 / 0.68 -> 0.60 / 0.63 at steps 0, 50, 150, 300; without hunger
   // 3.98 -> 3.77 .. 4.20. Tolerances: the gathering must be strong (below 30% of the start
   // by step 50, 20% by step 300) and keep going (each later mean no more than 0.05 above
-  // the previous: the standard error of a 4000-agent mean is ~0.01); without hunger a
-  // uniform spread stays uniform (within 15%).
+  // the previous: the standard error of a 4000-agent mean is ~0.01). Without hunger the
+  // agents gather on their own network, wherever it forms: their mean distance from the
+  // source is not an iid mean. Over seeds 1..12 (2026-12-05) it read 0.77-1.18 of the
+  // start at step 300 on the two backends (standard deviation 0.10 of the start; a 15%
+  // band, as until then, failed for 3 of 12 seeds on the CPU). Hence 35%, over three standard
+  // deviations, far from the 0.15-0.25 that gathering at the source reaches.
   EXPECT_LT(fed[1], 0.3 * fed[0]);
   EXPECT_LT(fed[2], fed[1] + 0.05);
   EXPECT_LT(fed[3], fed[2] + 0.05);
   EXPECT_LT(fed[3], 0.2 * fed[0]);
   for (int k = 1; k <= 3; ++k) {
-    EXPECT_NEAR(off[k], off[0], 0.15 * off[0]) << "step index " << k;
+    EXPECT_NEAR(off[k], off[0], 0.35 * off[0]) << "step index " << k;
     EXPECT_LT(fed[k], 0.3 * off[k]) << "step index " << k;
   }
 }
