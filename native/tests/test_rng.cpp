@@ -16,6 +16,7 @@ namespace {
 using moldtex::mtx_rng_float;
 using moldtex::mtx_rng_init;
 using moldtex::mtx_rng_init_keyed;
+using moldtex::mtx_rng_init_step;
 using moldtex::mtx_rng_key;
 
 // Pearson correlation of two equally long samples.
@@ -32,18 +33,20 @@ double Correlation(const std::vector<double>& a, const std::vector<double>& b) {
   return sab / std::sqrt(saa * sbb);
 }
 
-// The steering stream's first draw of 4,096 agents over 257 steps (1.05 M draws): uniform
+// A per-step stream's first draw of 4,096 agents over 257 steps (1.05 M draws): uniform
 // (chi-square over 64 bins: mean 63 and standard deviation 11.2 for random numbers; the
 // bound, 63 + 5 sd = 119, fails a truly random sample about once in 10^6), and unrelated
 // between neighbouring agents and between one step and the next (a correlation's standard
-// deviation is 1 / sqrt(n) = 0.001 here; the bound is 5 of them).
-TEST(RandomStreams, PerStepDrawsAreUniformAndUnrelated) {
+// deviation is 1 / sqrt(n) = 0.001 here; the bound is 5 of them). Both ways a step's state
+// is made: one mix of the packed (agent, step) (MoMaS' steering, mtx_rng_init_step) and
+// two (the continuous model's turnover and decisions, mtx_rng_init_keyed).
+void ExpectUniformAndUnrelated(uint64_t (*init)(uint64_t key, uint64_t stream, uint64_t counter)) {
   const uint64_t key = mtx_rng_key(1, MTX_RNG_STEER);
   constexpr uint32_t kAgents = 4096, kSteps = 257;
   std::vector<double> draw(size_t(kAgents) * kSteps);
   for (uint32_t s = 0; s < kSteps; ++s)
     for (uint32_t a = 0; a < kAgents; ++a) {
-      uint64_t state = mtx_rng_init_keyed(key, a, s);
+      uint64_t state = init(key, a, s);
       draw[size_t(s) * kAgents + a] = mtx_rng_float(&state);
     }
   std::vector<double> bins(64, 0.0);
@@ -67,10 +70,31 @@ TEST(RandomStreams, PerStepDrawsAreUniformAndUnrelated) {
   std::vector<double> swapped;
   for (uint32_t s = 0; s + 1 < kSteps; ++s)
     for (uint32_t a = 0; a + 1 < kAgents; ++a) {
-      uint64_t state = mtx_rng_init_keyed(key, s, a);
+      uint64_t state = init(key, s, a);
       swapped.push_back(mtx_rng_float(&state));
     }
   EXPECT_LT(std::fabs(Correlation(here, swapped)), bound);
+}
+
+TEST(RandomStreams, PerStepDrawsAreUniformAndUnrelated) {
+  ExpectUniformAndUnrelated(mtx_rng_init_step);
+  ExpectUniformAndUnrelated(mtx_rng_init_keyed);
+}
+
+// One mix of the packed (agent, step): the steps' low 32 bits sit below the agent, so
+// agents far apart (2^20) and steps past 2^31 still give states that differ, and the
+// draws of one agent over 100,000 consecutive steps are unrelated from one to the next.
+TEST(RandomStreams, OneMixStatesAreDistinctAndStepsUnrelated) {
+  const uint64_t key = mtx_rng_key(3, MTX_RNG_STEER);
+  EXPECT_NE(mtx_rng_init_step(key, 1u << 20, 5), mtx_rng_init_step(key, 0, 5));
+  EXPECT_NE(mtx_rng_init_step(key, 7, (1ull << 31) + 5), mtx_rng_init_step(key, 7, 5));
+  std::vector<double> a, b;
+  for (uint64_t s = 0; s < 100000; ++s) {
+    uint64_t x = mtx_rng_init_step(key, 12345, s), y = mtx_rng_init_step(key, 12345, s + 1);
+    a.push_back(mtx_rng_float(&x));
+    b.push_back(mtx_rng_float(&y));
+  }
+  EXPECT_LT(std::fabs(Correlation(a, b)), 5 / std::sqrt(100000.0));
 }
 
 // Streams from 2^32 on (the slime brushes number a batch's agents (batch << 32) | i):

@@ -541,7 +541,7 @@ MTX_FN void mtx_momas_agent_finish(MTX_TABLES s, MTX_GLOBAL const float* pheromo
   /* Steering: keep going only while the front is strictly strongest, else turn toward
    * the stronger side, or to a random side on a tie (so agents on bare ground wander
    * instead of running straight). The turn is scaled by r ~ U[0,1), the paper's jitter. */
-  mtx_u64 rng = mtx_rng_init_keyed(k->steer_key, agent, k->step); /* mtx_rng_init(seed, MTX_RNG_STEER, ...) */
+  mtx_u64 rng = mtx_rng_init_step(k->steer_key, agent, k->step); /* key: mtx_rng_key(seed, MTX_RNG_STEER) */
   const float r = mtx_rng_float(&rng);
   if (!(front > left && front > right)) {
     float side;
@@ -554,7 +554,7 @@ MTX_FN void mtx_momas_agent_finish(MTX_TABLES s, MTX_GLOBAL const float* pheromo
     /* Surface units: mean r = 1/2 as MoMaS, the spread around it time-step independent. */
     const float amount = k->surface_mode ? 0.5f + (r - 0.5f) * k->turn_jitter : r;
     const float turn = side * amount * k->max_turn[species];
-    w->heading = mtx_unit(mtx_rotate(w->heading, cos(turn), sin(turn)));
+    w->heading = mtx_renormalised(mtx_rotate(w->heading, cos(turn), sin(turn)));
   }
   if (MTX_FOOD && k->hunger_step > 0.0f) {
     *hunger = mtx_min(1.0f, *hunger + k->hunger_step);

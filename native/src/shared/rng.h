@@ -37,6 +37,15 @@ MTX_FN mtx_u64 mtx_rng_init_keyed(mtx_u64 key, mtx_u64 stream, mtx_u64 counter) 
   return mtx_mix64(mtx_mix64(key ^ stream) ^ counter);
 }
 
+/* A per-step state in one mix: the stream (an agent, below 2^32) in the high word and the
+ * step's low 32 bits in the low word, so distinct (stream, step) give distinct states for
+ * 2^32 steps (over two years at 60 steps a second); the key makes them a function of the
+ * seed and purpose too. RandomStreams (test_rng.cpp) checks the draws' uniformity and
+ * independence across agents and steps. */
+MTX_FN mtx_u64 mtx_rng_init_step(mtx_u64 key, mtx_u64 stream, mtx_u64 step) {
+  return mtx_mix64(key ^ ((stream << 32) | (step & 0xffffffffUL)));
+}
+
 MTX_FN mtx_u64 mtx_rng_init(mtx_u64 seed, mtx_u64 purpose, mtx_u64 stream, mtx_u64 counter) {
   return mtx_rng_init_keyed(mtx_rng_key(seed, purpose), stream, counter);
 }
