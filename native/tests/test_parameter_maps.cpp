@@ -309,10 +309,13 @@ TEST(ParameterMaps, ReadStimulusDrawsTheNetworkIntoItsShape) {
       "coverage around %.3f vs %.3f\n",
       coverage(stim, on), coverage(plain, on), Mean(g2, stim, on), Mean(g2, plain, on), coverage(stim, far),
       coverage(plain, far));
-  // The H is traced: most of it above U (measured 82%; the strokes' ends and joints are
-  // rounded off by the trails' width), where without the stimulus trails cover it only
-  // as much as they cross it by chance (measured 40%).
-  EXPECT_GT(coverage(stim, on), 0.75);
+  // The H is traced: most of it above U (the strokes' ends and joints are rounded off by
+  // the trails' width), where without the stimulus trails cover it only as much as they
+  // cross it by chance. Measured on seeds 11, 12 and on the same seeds shifted by 1000,
+  // 2000 and 3000 (MOLDTEX_TEST_SEED_OFFSET, 2026-12-05): 0.84 / 0.72 / 0.85 / 0.82 with
+  // the stimulus, 0.39 / 0.25 / 0.28 / 0.28 without. 0.75, as until then, held by luck;
+  // 0.65 lies below every pair measured and far above the chance crossings.
+  EXPECT_GT(coverage(stim, on), 0.65);
   EXPECT_LT(coverage(plain, on), 0.6);
   EXPECT_GT(Mean(g2, stim, on), 1.5 * Mean(g2, plain, on));
   EXPECT_NEAR(coverage(stim, far) / coverage(plain, far), 1.0, 0.25);
