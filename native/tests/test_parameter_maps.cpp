@@ -569,7 +569,11 @@ TEST(ParameterMaps, BadMapsAreRefusedWithAMessage) {
 
 // The OpenCL backend reads the same maps: under move-rate, lifetime/spawn, write,
 // diffusion and decay maps, its pattern has the CPU's mean and gradient length within 5% (the backends agree
-// to about 1% without maps, test_continuous).
+// to about 1% without maps, test_continuous). The two backends' runs of one seed part
+// ways within a few steps (their sums round differently), so each is one draw of the
+// pattern: the means of 4 seeds are compared. One seed, as until 2026-12-05, held by luck:
+// with the seeds shifted by 3000 (MOLDTEX_TEST_SEED_OFFSET) its gradient lengths
+// differed by 9%.
 TEST(ParameterMaps, OpenClAgreesWithTheCpu) {
   moldtex_sim_config probe = make_config(8, 8, 1, 1);
   std::string why;
@@ -584,14 +588,18 @@ TEST(ParameterMaps, OpenClAgreesWithTheCpu) {
       {MOLDTEX_MAP_WRITE_STIMULUS, [](double x, double) { return x > 1.6 ? 0.5f : 0.f; }},
       {MOLDTEX_MAP_DIFFUSION_RATE, [](double, double y) { return float(0.5 + y); }},
       {MOLDTEX_MAP_DECAY_RATE, [](double x, double y) { return std::hypot(x - 0.5, y - 1.5) < 0.3 ? 3.f : 1.f; }}};
-  const std::vector<double> cpu = Simulate(10000, 23, turnover_look(), maps, 2.0, Backend::Cpu);
-  const std::vector<double> gpu = Simulate(10000, 23, turnover_look(), maps, 2.0, Backend::OpenCl);
   const TexelGeometry& g = Geometry();
   auto all = [](uint32_t, uint32_t) { return true; };
-  std::printf("  mean %.4f vs %.4f, gradient length %.4f vs %.4f\n", Mean(g, cpu, all), Mean(g, gpu, all),
-              GradientLength(g, cpu), GradientLength(g, gpu));
-  EXPECT_NEAR(Mean(g, gpu, all) / Mean(g, cpu, all), 1.0, 0.05);
-  EXPECT_NEAR(GradientLength(g, gpu) / GradientLength(g, cpu), 1.0, 0.05);
+  double mean[2] = {0, 0}, length[2] = {0, 0};
+  for (uint64_t seed : {23, 24, 25, 26})
+    for (int b = 0; b < 2; ++b) {
+      const std::vector<double> f = Simulate(10000, seed, turnover_look(), maps, 2.0, b ? Backend::OpenCl : Backend::Cpu);
+      mean[b] += Mean(g, f, all) / 4;
+      length[b] += GradientLength(g, f) / 4;
+    }
+  std::printf("  mean %.4f vs %.4f, gradient length %.4f vs %.4f\n", mean[0], mean[1], length[0], length[1]);
+  EXPECT_NEAR(mean[1] / mean[0], 1.0, 0.05);
+  EXPECT_NEAR(length[1] / length[0], 1.0, 0.05);
 }
 
 }  // namespace
