@@ -477,7 +477,7 @@ moldtex_sim_config make_config(uint32_t width, uint32_t height, uint32_t agents,
   c.agent_count = agents;
   // MOLDTEX_TEST_SEED_OFFSET (by hand, never in CI) shifts every seed a test asks for,
   // so a statistical test can be run on seeds it was not written for: one that then
-  // fails held by luck (README, "Tests").
+  // fails held by luck (README, "Tests on other seeds").
   static const uint64_t offset = [] {
     const char* v = std::getenv("MOLDTEX_TEST_SEED_OFFSET");
     return v ? std::strtoull(v, nullptr, 10) : 0ull;
