@@ -337,8 +337,9 @@ TEST(ParameterMaps, MoveRateMapGivesEachHalfItsOwnScale) {
   const TexelGeometry& g = Geometry();
   auto left = [&](uint32_t x, uint32_t) { return PlaneX(x) < 0.85; };
   auto right = [&](uint32_t x, uint32_t) { return PlaneX(x) > 1.15; };
+  constexpr uint64_t kFirstSeed = 13, kSeeds = 8;
   double slow = 0, quick = 0, mapped_left = 0, mapped_right = 0;
-  for (uint64_t seed = 13; seed <= 20; ++seed) {
+  for (uint64_t seed = kFirstSeed; seed < kFirstSeed + kSeeds; ++seed) {
     const std::vector<double> slow_run = Simulate(10000, seed, turnover_look(), {}, 3.0);
     const std::vector<double> fast_run = Simulate(10000, seed, fast, {}, 3.0);
     const std::vector<double> mapped = Simulate(
@@ -349,8 +350,8 @@ TEST(ParameterMaps, MoveRateMapGivesEachHalfItsOwnScale) {
     mapped_right += GradientLength(g, mapped, right);
   }
   const double predicted = quick / slow, measured = mapped_right / mapped_left;
-  std::printf("  gradient length over 8 seeds: slow %.4f, fast %.4f (ratio %.3f); mapped left %.4f, right %.4f (ratio %.3f)\n",
-              slow / 8, quick / 8, predicted, mapped_left / 8, mapped_right / 8, measured);
+  std::printf("  gradient length over %d seeds: slow %.4f, fast %.4f (ratio %.3f); mapped left %.4f, right %.4f (ratio %.3f)\n",
+              int(kSeeds), slow / kSeeds, quick / kSeeds, predicted, mapped_left / kSeeds, mapped_right / kSeeds, measured);
   EXPECT_GT(std::fabs(predicted - 1.0), 0.08) << "the move rate must change the scale for this test to mean anything";
   EXPECT_EQ(predicted > 1.0, measured > 1.0);
   EXPECT_NEAR(measured, predicted, 0.05);
@@ -590,12 +591,13 @@ TEST(ParameterMaps, OpenClAgreesWithTheCpu) {
       {MOLDTEX_MAP_DECAY_RATE, [](double x, double y) { return std::hypot(x - 0.5, y - 1.5) < 0.3 ? 3.f : 1.f; }}};
   const TexelGeometry& g = Geometry();
   auto all = [](uint32_t, uint32_t) { return true; };
+  constexpr uint64_t kFirstSeed = 23, kSeeds = 4;
   double mean[2] = {0, 0}, length[2] = {0, 0};
-  for (uint64_t seed : {23, 24, 25, 26})
+  for (uint64_t seed = kFirstSeed; seed < kFirstSeed + kSeeds; ++seed)
     for (int b = 0; b < 2; ++b) {
       const std::vector<double> f = Simulate(10000, seed, turnover_look(), maps, 2.0, b ? Backend::OpenCl : Backend::Cpu);
-      mean[b] += Mean(g, f, all) / 4;
-      length[b] += GradientLength(g, f) / 4;
+      mean[b] += Mean(g, f, all) / kSeeds;
+      length[b] += GradientLength(g, f) / kSeeds;
     }
   std::printf("  mean %.4f vs %.4f, gradient length %.4f vs %.4f\n", mean[0], mean[1], length[0], length[1]);
   EXPECT_NEAR(mean[1] / mean[0], 1.0, 0.05);

@@ -77,7 +77,11 @@ void ExpectUniformAndUnrelated(uint64_t (*init)(uint64_t key, uint64_t stream, u
 }
 
 TEST(RandomStreams, PerStepDrawsAreUniformAndUnrelated) {
-  ExpectUniformAndUnrelated(mtx_rng_init_step);
+  {
+    SCOPED_TRACE("one mix (mtx_rng_init_step)");
+    ExpectUniformAndUnrelated(mtx_rng_init_step);
+  }
+  SCOPED_TRACE("two mixes (mtx_rng_init_keyed)");
   ExpectUniformAndUnrelated(mtx_rng_init_keyed);
 }
 
