@@ -2,6 +2,7 @@
 grows on a torus with the coverage its look needs, and sets the colour ramp; the menu
 lists shipped and own presets; saving and removing an own preset works."""
 
+import math
 import os
 import types
 import unittest
@@ -90,12 +91,41 @@ class ShippedPresetTests(unittest.TestCase):
             self.assertLess(coverage, high, f"{name}: too much pheromone")
         print("  preset coverage:", ", ".join(f"{k} {v:.3f}" for k, v in results.items()))
 
-    def test_agent_count_scales_with_resolution(self):
+    def test_agent_count_follows_the_pattern_unit(self):
+        # marble counts 60 000 agents on 512 x 512 pattern units. Units: Surface fixes the
+        # pattern unit on the model, so the count must not change with the resolution
+        # (4x agents at 1024² grew a denser network: presets.agents_per_preset_agent) but
+        # with the unit's size; Units: Texels keeps MoMaS' agents per texel.
         obj = h.add_primitive("torus")
+        settings = obj.moldtex
+        marble = presets_module().find("marble")
+
+        def applied(**values):
+            for name, value in values.items():
+                setattr(settings, name, value)
+            self.assertEqual(execute_preset(marble), {'FINISHED'})
+            return settings.agent_count
+
+        for resolution in ("128", "512", "1024"):
+            self.assertEqual(applied(pattern_units='SURFACE', resolution=resolution), 60000)
+        self.assertEqual(applied(pattern_scale=2.0), 15000)  # cells twice as long
+        self.assertEqual(applied(pattern_scale=0.5), 240000)
+        # Scale: Length at the unit Scale: Object 1 gives (√area / 512): the same count.
+        from moldtex import live
+        area = live.surface_area(obj)
+        self.assertGreater(area, 0.0)
+        count = applied(pattern_scale=1.0, pattern_scale_mode='LENGTH',
+                        pattern_length=math.sqrt(area) / 512)
+        self.assertAlmostEqual(count / 60000, 1.0, delta=1e-3)
+        self.assertEqual(applied(pattern_length=2 * math.sqrt(area) / 512), 15000)
+        settings.pattern_scale_mode = 'OBJECT'
         for resolution, expected in (("128", 3750), ("512", 60000), ("1024", 240000)):
-            obj.moldtex.resolution = resolution
-            self.assertEqual(execute_preset(presets_module().find("marble")), {'FINISHED'})
-            self.assertEqual(obj.moldtex.agent_count, expected)
+            self.assertEqual(applied(pattern_units='TEXELS', resolution=resolution), expected)
+        # A saved look stores the count it was made with in the same units: applied again
+        # at another resolution (texel units), it gives that resolution's count.
+        settings.agent_count = 100000  # at 1024²: 25 000 on 512² texels
+        text = presets_module().preset_text(obj)
+        self.assertIn("s.agent_count = s.scaled_agent_count(25000)", text)
 
     def test_preset_before_the_material_still_sets_the_ramp(self):
         obj = h.add_primitive("torus")

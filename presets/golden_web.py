@@ -15,7 +15,7 @@ s.evaporation_rate = 0.5
 s.diffusion_rate = 2.0
 s.deposit = 1.0
 s.substeps = 2
-s.agent_count = s.scaled_agent_count(80000)  # agents on 512 x 512 texels
+s.agent_count = s.scaled_agent_count(80000)  # agents on 512 x 512 pattern units
 s.apply_ramp([
     (0.00, (0.000, 0.000, 0.000, 1.0)),  # black
     (0.45, (0.004, 0.002, 0.000, 1.0)),

@@ -15,7 +15,7 @@ s.evaporation_rate = 0.3
 s.diffusion_rate = 20.0
 s.deposit = 1.0
 s.substeps = 3
-s.agent_count = s.scaled_agent_count(150000)  # agents on 512 x 512 texels
+s.agent_count = s.scaled_agent_count(150000)  # agents on 512 x 512 pattern units
 s.apply_ramp([
     (0.00, (0.015, 0.012, 0.012, 1.0)),  # dark rock
     (0.30, (0.040, 0.020, 0.015, 1.0)),

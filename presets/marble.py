@@ -15,7 +15,7 @@ s.evaporation_rate = 0.25
 s.diffusion_rate = 30.0
 s.deposit = 1.0
 s.substeps = 2
-s.agent_count = s.scaled_agent_count(60000)  # agents on 512 x 512 texels
+s.agent_count = s.scaled_agent_count(60000)  # agents on 512 x 512 pattern units
 s.apply_ramp([
     (0.00, (0.82, 0.80, 0.76, 1.0)),  # off-white stone
     (0.45, (0.80, 0.78, 0.74, 1.0)),

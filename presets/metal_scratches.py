@@ -15,7 +15,7 @@ s.evaporation_rate = 0.8
 s.diffusion_rate = 0.5
 s.deposit = 1.0
 s.substeps = 3
-s.agent_count = s.scaled_agent_count(4000)  # agents on 512 x 512 texels
+s.agent_count = s.scaled_agent_count(4000)  # agents on 512 x 512 pattern units
 s.apply_ramp([
     (0.00, (0.060, 0.062, 0.068, 1.0)),  # dark brushed metal
     (0.60, (0.090, 0.092, 0.100, 1.0)),

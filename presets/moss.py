@@ -14,7 +14,7 @@ s.evaporation_rate = 1.0
 s.diffusion_rate = 6.0
 s.deposit = 1.0
 s.substeps = 1
-s.agent_count = s.scaled_agent_count(200000)  # agents on 512 x 512 texels
+s.agent_count = s.scaled_agent_count(200000)  # agents on 512 x 512 pattern units
 s.apply_ramp([
     (0.00, (0.050, 0.030, 0.018, 1.0)),  # dark bark brown
     (0.12, (0.060, 0.050, 0.020, 1.0)),

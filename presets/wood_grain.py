@@ -17,7 +17,7 @@ s.evaporation_rate = 0.4
 s.diffusion_rate = 8.0
 s.deposit = 1.0
 s.substeps = 2
-s.agent_count = s.scaled_agent_count(100000)  # agents on 512 x 512 texels
+s.agent_count = s.scaled_agent_count(100000)  # agents on 512 x 512 pattern units
 s.apply_ramp([
     (0.00, (0.200, 0.095, 0.035, 1.0)),  # dark brown
     (0.14, (0.380, 0.200, 0.080, 1.0)),  # light band

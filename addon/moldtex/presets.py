@@ -9,7 +9,7 @@ change as context.object:
     s = obj.moldtex
     s.movement_speed = 1.0
     ...
-    s.agent_count = s.scaled_agent_count(60000)  # 60 000 agents on 512 x 512 texels
+    s.agent_count = s.scaled_agent_count(60000)  # 60 000 agents on 512 x 512 units
     s.apply_ramp([(0.0, (0.9, 0.9, 0.85, 1.0)), (1.0, (0.3, 0.3, 0.32, 1.0))])
 
 A look for the continuous model sets s.model = 'CONTINUOUS' and the parameters of
@@ -50,11 +50,12 @@ import os
 import bpy
 from bl_operators.presets import AddPresetBase
 
-from . import engine, material
+from . import engine, live, material
 
 SUBDIR = "moldtex"
 MENU_IDNAME = "MOLDTEX_MT_presets"
-REFERENCE_RESOLUTION = 512  # agent counts in presets are for 512 x 512 texels
+REFERENCE_RESOLUTION = 512  # agent counts in presets are for 512 x 512 pattern units
+AGENT_COUNT_COMMENT = "agents on 512 x 512 pattern units"
 MAX_AGENTS = 67108864
 
 # Settings a preset sets (besides the model, the agent count and the ramp): MoMaS'...
@@ -156,9 +157,35 @@ def menu_label(obj):
     return name or "Presets"
 
 
-def scaled_agent_count(agents_at_512, resolution):
-    """The agent count with the density of `agents_at_512` agents on 512² texels."""
-    count = round(float(agents_at_512) * (int(resolution) / REFERENCE_RESOLUTION) ** 2)
+def agents_per_preset_agent(settings, area=None):
+    """How many agents `settings` (a MoMaS look) needs for each agent a preset counts:
+    a preset's count is for REFERENCE_RESOLUTION² pattern units over the object, which
+    Units: Texels makes texels of a 512² texture and Units: Surface √(area) / 512 × 1
+    (Pattern Scale 1). So in texel units the count follows the resolution (4× agents per
+    doubling, the same agents per texel), and in surface units it does not: there the
+    pattern unit, not the texel, is fixed on the model, and 4× agents at 1024² grew a
+    denser network (marble on a torus, 300 steps, 2 seeds: dark share 0.08 at 1024² with
+    240 000 agents against 0.12-0.14 at 512² and 1024² with 60 000). It follows the
+    pattern unit instead: Pattern Scale 2 makes cells twice as long, so a quarter of the
+    agents keeps as many per cell. area: the surface's area (mesh units²), needed for
+    Scale: Length only (live.surface_area when None; 1 when unknown)."""
+    if getattr(settings, "pattern_units", 'SURFACE') != 'SURFACE':
+        return (int(settings.resolution) / REFERENCE_RESOLUTION) ** 2
+    if getattr(settings, "pattern_scale_mode", 'OBJECT') != 'LENGTH':
+        return 1.0 / float(settings.pattern_scale) ** 2
+    obj = settings.id_data
+    if area is None and obj is not None:
+        area = live.surface_area(obj)
+    unit = live.pattern_unit(settings, area)
+    if not area or area <= 0.0 or unit <= 0.0:
+        return 1.0
+    return area / (REFERENCE_RESOLUTION * unit) ** 2
+
+
+def scaled_agent_count(agents_at_512, factor):
+    """`agents_at_512` agents of a preset times `factor` (agents_per_preset_agent),
+    bounded to the core's limits."""
+    count = round(float(agents_at_512) * float(factor))
     return max(1, min(MAX_AGENTS, int(count)))
 
 
@@ -209,10 +236,9 @@ def preset_text(obj, title=""):
         # These models' looks do not depend on the resolution.
         lines.append(f"s.agent_count = {int(settings.agent_count)}")
     else:
-        resolution = int(enum_value(settings, "resolution"))
-        at_512 = round(settings.agent_count * (REFERENCE_RESOLUTION / resolution) ** 2)
+        at_512 = round(settings.agent_count / agents_per_preset_agent(settings))
         lines.append(f"s.agent_count = s.scaled_agent_count({max(1, at_512)})  "
-                     f"# agents on {REFERENCE_RESOLUTION} x {REFERENCE_RESOLUTION} texels")
+                     f"# {AGENT_COUNT_COMMENT}")
     lines.append(f"c.keep_u = {bool(cont.keep_u)!r}")
     stops, interpolation = current_ramp(obj)
     if stops:

@@ -966,9 +966,10 @@ class MoldtexSettings(bpy.types.PropertyGroup):
     # import of this add-on (its module name differs between installs) ----
     def scaled_agent_count(self, agents_at_512):
         """Agent count giving the density `agents_at_512` agents have on 512 × 512
-        texels, at this object's resolution."""
+        pattern units: per texel of this resolution in Units: Texels, per pattern unit
+        (whatever the resolution) in Units: Surface (presets.agents_per_preset_agent)."""
         from . import presets
-        return presets.scaled_agent_count(agents_at_512, int(self.resolution))
+        return presets.scaled_agent_count(agents_at_512, presets.agents_per_preset_agent(self))
 
     def apply_ramp(self, stops, interpolation='LINEAR'):
         """Sets the Moldtex colour ramp: stops = [(position, (r, g, b, a)), ...]."""
