@@ -5,6 +5,17 @@
 
 namespace moldtex {
 
+bool momas_decides(float time_step, uint64_t step) {
+  const double ticks = 60.0 * double(time_step);  // MoMaS ticks per step, under 1
+  // A whole number m of steps per tick (1/120, 1/240 s...): every m-th step, from the
+  // first, however the time step rounds (0.5 in a float is 0.49999999).
+  const double m = std::round(1.0 / ticks);
+  if (std::fabs(m * ticks - 1.0) < 1e-5) return step % uint64_t(m) == 0;
+  // Otherwise the steps during which a tick falls: [step, step + 1) * ticks holds a
+  // whole number.
+  return std::ceil(double(step) * ticks) < double(step + 1) * ticks;
+}
+
 MomasStepConstants momas_constants(const StepSettings& settings, const TextureDomain& d,
                                    uint64_t seed, uint64_t step) {
   const moldtex_sim_params& p = settings.params;
@@ -13,6 +24,10 @@ MomasStepConstants momas_constants(const StepSettings& settings, const TextureDo
   const bool surface_units = p.length_unit > 0.f;
   const float texel = surface_units ? p.length_unit : static_cast<float>(d.texel_length);
   const float ticks = surface_units ? 60.f * p.time_step : 1.f;
+  // Surface units, time step under 1/60 s: agents sense and turn once per 1/60 s, on the
+  // steps where MoMaS' tick falls, and move straight on between (momas_decides).
+  const bool clocked = surface_units && ticks < 1.f;
+  const float decision_interval = clocked ? 1.f / 60.f : p.time_step;
   MomasStepConstants c{};
   c.seed = seed;
   c.step = step;
@@ -24,7 +39,7 @@ MomasStepConstants momas_constants(const StepSettings& settings, const TextureDo
     c.sensor_length[s] = sp.vision_distance * MTX_VISION_UNIT_TEXELS * texel;
     c.sensor_cos[s] = std::cos(angle);
     c.sensor_sin[s] = std::sin(angle);
-    c.max_turn[s] = sp.turn_speed * std::numbers::pi_v<float> * p.time_step;
+    c.max_turn[s] = sp.turn_speed * std::numbers::pi_v<float> * decision_interval;
     for (uint32_t k = 0; k < settings.species_count; ++k)
       c.attraction[MTX_MAX_SPECIES * s + k] = sp.attraction[k];
   }
@@ -38,7 +53,8 @@ MomasStepConstants momas_constants(const StepSettings& settings, const TextureDo
   c.sensor_size = p.sensor_size;
   c.length_unit = surface_units ? p.length_unit : 0.f;
   c.surface_mode = surface_units ? 1u : 0u;
-  c.turn_jitter = surface_units ? std::sqrt((1.f / 60.f) / p.time_step) : 1.f;
+  c.turn_jitter = surface_units ? std::sqrt((1.f / 60.f) / decision_interval) : 1.f;
+  c.coast = clocked && !momas_decides(p.time_step, step) ? 1u : 0u;
   c.food_count = c.hunger_step > 0.f ? static_cast<uint32_t>(settings.food.size() / 4) : 0u;
   return c;
 }

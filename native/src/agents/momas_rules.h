@@ -38,6 +38,12 @@ struct StepSettings {
   std::shared_ptr<const ParameterMaps> maps;
 };
 
+// Surface units at a time step under 1/60 s: whether agents sense and turn at step
+// `step` (MoMaS' rule is a turn per 1/60 s tick; deciding every shorter step and scaling
+// the turn made the pattern depend on the time step: 17% shorter cells at 1/240 than at
+// 1/120). True on the steps during which a tick of a 60 Hz clock falls.
+bool momas_decides(float time_step, uint64_t step);
+
 MomasStepConstants momas_constants(const StepSettings& settings, const TextureDomain& d,
                                    uint64_t seed, uint64_t step);
 

@@ -61,10 +61,15 @@ typedef struct mtx_momas_constants {
    * 0 = MoMaS' texel units. */
   float length_unit;
   mtx_u32 surface_mode;
-  /* Surface units: the turn's random part r - 1/2 is scaled by sqrt((1/60 s) / time_step)
-   * so the heading's random walk has the same variance per simulated second at any
-   * time step (1 at 1/60 s: MoMaS' turn exactly). */
+  /* Surface units above 1/60 s: the turn's random part r - 1/2 is scaled by
+   * sqrt((1/60 s) / time_step), so the heading's random walk has the variance per
+   * simulated second it has at 1/60 s. 1 at 1/60 s and under (MoMaS' turn exactly: there
+   * agents turn once per 1/60 s tick, `coast`). */
   float turn_jitter;
+  /* 1 where agents only move this step, without sensing or turning (surface units at a
+   * time step under 1/60 s: agents decide on MoMaS' own 60 Hz tick, momas_decides in
+   * agents/momas_rules); 0, as zeroed constants have it, where they decide. */
+  mtx_u32 coast;
 } mtx_momas_constants;
 
 MTX_END_NAMESPACE

@@ -272,6 +272,15 @@ MTX_FN void mtx_momas_probe(MTX_TABLES s, const mtx_walker* w, mtx_u32 species,
   float x, y; /* the agent's point in texels */
   p->here = mtx_walker_texel_at(s.corner_uvs, w, k->width, k->height, &x, &y);
   p->clearance = mtx_edge_clearance(s.frames, w);
+  if (k->coast) { /* a step without sensing (mtx_momas_constants.coast) */
+    for (int i = 0; i < 3; ++i) {
+      p->triangle[i] = w->triangle;
+      p->texel[i] = p->here;
+      p->x[i] = x;
+      p->y[i] = y;
+    }
+    return;
+  }
   if (mtx_walk_stays_inside(p->clearance, length)) {
     /* The usual case: all three traces end inside the agent's triangle, where texel
      * coordinates are an affine map of the frame's: each end is the agent's point plus
@@ -531,12 +540,15 @@ MTX_FN void mtx_momas_agent_finish(MTX_TABLES s, MTX_GLOBAL const float* pheromo
   /* One texel each (MoMaS' own sensor, the common case) is read here directly: the
    * general reading is a call each. */
   const int one_texel = k->sensor_size == 0u && !k->surface_mode;
-  const float left = one_texel ? mtx_sensed_value(pheromone, field, probes->texel[0], species, k)
-                               : mtx_sense(s, pheromone, field, probes, 0, species, k);
-  const float front = one_texel ? mtx_sensed_value(pheromone, field, probes->texel[1], species, k)
-                                : mtx_sense(s, pheromone, field, probes, 1, species, k);
-  const float right = one_texel ? mtx_sensed_value(pheromone, field, probes->texel[2], species, k)
-                                : mtx_sense(s, pheromone, field, probes, 2, species, k);
+  float left = 0.0f, front = 1.0f, right = 0.0f; /* no sensing this step: straight on */
+  if (!k->coast) {
+    left = one_texel ? mtx_sensed_value(pheromone, field, probes->texel[0], species, k)
+                     : mtx_sense(s, pheromone, field, probes, 0, species, k);
+    front = one_texel ? mtx_sensed_value(pheromone, field, probes->texel[1], species, k)
+                      : mtx_sense(s, pheromone, field, probes, 1, species, k);
+    right = one_texel ? mtx_sensed_value(pheromone, field, probes->texel[2], species, k)
+                      : mtx_sense(s, pheromone, field, probes, 2, species, k);
+  }
 
   /* Steering: keep going only while the front is strictly strongest, else turn toward
    * the stronger side, or to a random side on a tie (so agents on bare ground wander
