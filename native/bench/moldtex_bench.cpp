@@ -191,6 +191,16 @@ void BM_PlaneSurface(benchmark::State& state, moldtex_backend backend, const cha
   RunSteps(state, GetCase(key, mtx::make_quad(), 1024, 1024, 1000000, backend, 2.0));
 }
 
+// The plane's surface-units case at a time step of 1/240 s: agents sense and turn on
+// every 4th step (MoMaS' 60 Hz tick) and only move on the others.
+void BM_PlaneSurfaceShortStep(benchmark::State& state) {
+  moldtex_sim_params p = mtx::default_params();
+  p.thread_count = 0;  // all cores
+  p.time_step = 1.f / 240.f;
+  RunSteps(state, GetCase("plane-surface-short-step", mtx::make_quad(), 1024, 1024, 1000000, MOLDTEX_BACKEND_CPU,
+                          2.0, false, MOLDTEX_INTEGRATOR_AUTO, MOLDTEX_DOMAIN_TEXTURE, &p));
+}
+
 // The plane's surface-units case at twice the resolution with the same length unit (4
 // texels per unit), as when an artist raises the texture size: footprints of 4-5 texels
 // a side instead of 2-3.
@@ -494,6 +504,7 @@ BENCHMARK_CAPTURE(BM_PlaneSurface, cpu, MOLDTEX_BACKEND_CPU, "plane-surface-cpu"
     ->Name("PlaneSurfaceCpu/1024x1024/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_PlaneSurface, opencl, MOLDTEX_BACKEND_OPENCL, "plane-surface-opencl")
     ->Name("PlaneSurfaceOpenCL/1024x1024/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PlaneSurfaceShortStep)->Name("PlaneSurfaceCpu/1024x1024/1M/dt240")->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PlaneSurfaceSharp)->Name("PlaneSurfaceCpu/2048x2048/1M/sharp")->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_SphereSurface, cpu, MOLDTEX_BACKEND_CPU, "sphere-surface-cpu")
     ->Name("SphereSurfaceCpu/2048x2048/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
