@@ -744,8 +744,8 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         description="Time Step: simulated seconds per step (Δt; 1/60 s reproduces the papers). In "
                     "surface units and in the continuous model the result depends on "
                     "simulated time, not on the step count: a smaller step is finer in "
-                    "time, not slower in motion (MoMaS agents still turn 60 times a "
-                    "second; above 1/60 s the look drifts). Continuous model: keep it well below the "
+                    "time, not slower in motion (MoMaS agents turn 60 times a simulated "
+                    "second at any step). Continuous model: keep it well below the "
                     "turn decision period, the mean lifetime and the activation time",
         update=_push_params)
     sensor_size: IntProperty(

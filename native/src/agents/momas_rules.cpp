@@ -24,10 +24,14 @@ MomasStepConstants momas_constants(const StepSettings& settings, const TextureDo
   const bool surface_units = p.length_unit > 0.f;
   const float texel = surface_units ? p.length_unit : static_cast<float>(d.texel_length);
   const float ticks = surface_units ? 60.f * p.time_step : 1.f;
-  // Surface units, time step under 1/60 s: agents sense and turn once per 1/60 s, on the
-  // steps where MoMaS' tick falls, and move straight on between (momas_decides).
+  // Surface units: agents sense and turn once per 1/60 s, MoMaS' tick. Under 1/60 s on
+  // the steps where a tick falls, moving straight on between (momas_decides); over it,
+  // as many times a step as ticks fall in it (the nearest whole number), each decision
+  // followed by its share of the move. Only where a step does not hold a whole number of
+  // ticks is the turn scaled to the time between decisions.
   const bool clocked = surface_units && ticks < 1.f;
-  const float decision_interval = clocked ? 1.f / 60.f : p.time_step;
+  const uint32_t decisions = surface_units && ticks > 1.f ? static_cast<uint32_t>(std::lround(ticks)) : 1u;
+  const float decision_interval = clocked ? 1.f / 60.f : p.time_step / static_cast<float>(decisions);
   MomasStepConstants c{};
   c.seed = seed;
   c.step = step;
@@ -55,6 +59,7 @@ MomasStepConstants momas_constants(const StepSettings& settings, const TextureDo
   c.surface_mode = surface_units ? 1u : 0u;
   c.turn_jitter = surface_units ? std::sqrt((1.f / 60.f) / decision_interval) : 1.f;
   c.coast = clocked && !momas_decides(p.time_step, step) ? 1u : 0u;
+  c.decisions = decisions;
   c.food_count = c.hunger_step > 0.f ? static_cast<uint32_t>(settings.food.size() / 4) : 0u;
   return c;
 }

@@ -70,6 +70,9 @@ typedef struct mtx_momas_constants {
    * time step under 1/60 s: agents decide on MoMaS' own 60 Hz tick, momas_decides in
    * agents/momas_rules); 0, as zeroed constants have it, where they decide. */
   mtx_u32 coast;
+  /* Decisions (sense, turn, move a share of the step) per step: 0 or 1 is one; a step
+   * over 1/60 s in surface units makes one per MoMaS tick (momas_constants). */
+  mtx_u32 decisions;
 } mtx_momas_constants;
 
 MTX_END_NAMESPACE

@@ -529,14 +529,15 @@ MTX_FN void mtx_food_steer(MTX_TABLES s, mtx_walker* w, float* hunger,
   if (h.x * h.x + h.y * h.y > 0.0f) w->heading = mtx_unit(h);
 }
 
-/* The rest of one step of walker w (agent number `agent`, of species `species`), given
- * its probes (mtx_momas_probe). `pheromone` holds species_count planes of width * height
- * texels, `marks` as many byte planes; `field` is the static field plane (read only when
- * k->has_fields); `hunger` is the agent's hunger, changed only while k->hunger_step > 0. */
-MTX_FN void mtx_momas_agent_finish(MTX_TABLES s, MTX_GLOBAL const float* pheromone,
-                                   MTX_GLOBAL const float* field, MTX_GLOBAL mtx_u8* marks,
-                                   mtx_walker* w, float* hunger, mtx_u32 species, mtx_u64 agent,
-                                   const mtx_momas_constants* k, const mtx_momas_probes* probes) {
+/* One decision of walker w (of species `species`) and the move after it, given its
+ * probes (mtx_momas_probe): sense, turn, then move `move_length` in k->substeps pieces,
+ * marking deposits. `rng` is the step's random state (mtx_momas_agent_finish); `first`:
+ * the step's first decision, where hunger grows once a step. */
+MTX_FN void mtx_momas_decision(MTX_TABLES s, MTX_GLOBAL const float* pheromone,
+                               MTX_GLOBAL const float* field, MTX_GLOBAL mtx_u8* marks,
+                               mtx_walker* w, float* hunger, mtx_u32 species,
+                               const mtx_momas_constants* k, const mtx_momas_probes* probes,
+                               mtx_u64* rng, float move_length, int first) {
   /* One texel each (MoMaS' own sensor, the common case) is read here directly: the
    * general reading is a call each. */
   const int one_texel = k->sensor_size == 0u && !k->surface_mode;
@@ -553,8 +554,7 @@ MTX_FN void mtx_momas_agent_finish(MTX_TABLES s, MTX_GLOBAL const float* pheromo
   /* Steering: keep going only while the front is strictly strongest, else turn toward
    * the stronger side, or to a random side on a tie (so agents on bare ground wander
    * instead of running straight). The turn is scaled by r ~ U[0,1), the paper's jitter. */
-  mtx_u64 rng = mtx_rng_init_step(k->steer_key, agent, k->step); /* key: mtx_rng_key(seed, MTX_RNG_STEER) */
-  const float r = mtx_rng_float(&rng);
+  const float r = mtx_rng_float(rng);
   if (!(front > left && front > right)) {
     float side;
     if (left > right)
@@ -562,13 +562,13 @@ MTX_FN void mtx_momas_agent_finish(MTX_TABLES s, MTX_GLOBAL const float* pheromo
     else if (right > left)
       side = -1.0f;
     else
-      side = mtx_rng_float(&rng) < 0.5f ? 1.0f : -1.0f;
+      side = mtx_rng_float(rng) < 0.5f ? 1.0f : -1.0f;
     /* Surface units: mean r = 1/2 as MoMaS, the spread around it time-step independent. */
     const float amount = k->surface_mode ? 0.5f + (r - 0.5f) * k->turn_jitter : r;
     const float turn = side * amount * k->max_turn[species];
     w->heading = mtx_renormalised(mtx_rotate(w->heading, cos(turn), sin(turn)));
   }
-  if (MTX_FOOD && k->hunger_step > 0.0f) {
+  if (MTX_FOOD && first && k->hunger_step > 0.0f) {
     *hunger = mtx_min(1.0f, *hunger + k->hunger_step);
     if (k->food_count > 0) mtx_food_steer(s, w, hunger, k);
   }
@@ -580,18 +580,18 @@ MTX_FN void mtx_momas_agent_finish(MTX_TABLES s, MTX_GLOBAL const float* pheromo
    * scatters (the cosine law, drawing on its steering numbers): with a mirror bounce a
    * trail along the wall kept every agent that drifted against it, and open boundaries
    * held 1.8-1.9x the interior's pheromone. */
-  const float sub_length = k->move_length[species] / MTX_CAST(float, k->substeps);
+  const float sub_length = move_length / MTX_CAST(float, k->substeps);
   MTX_GLOBAL mtx_u8* own_marks = marks + species * mtx_texel_count(k);
   mtx_u32 texel = probes->here;
   /* Usually the whole move stays inside the agent's triangle: no edge tests then. */
-  const int inside = mtx_walk_stays_inside(probes->clearance, k->move_length[species]);
+  const int inside = mtx_walk_stays_inside(probes->clearance, move_length);
   for (mtx_u32 i = 0; i < k->substeps; ++i) {
     const mtx_walker before = *w;
     const mtx_u32 before_texel = texel;
     if (inside)
       mtx_walk_inside_known(s.frames, w, sub_length);
     else
-      mtx_walk_until(s.frames, s.adjacency, w, sub_length, 0, 0, MTX_BOUNDARY_SCATTER, &rng);
+      mtx_walk_until(s.frames, s.adjacency, w, sub_length, 0, 0, MTX_BOUNDARY_SCATTER, rng);
     float x = 0.0f, y = 0.0f; /* surface units: the point in texels, for its footprint */
     texel = k->surface_mode ? mtx_walker_texel_at(s.corner_uvs, w, k->width, k->height, &x, &y)
                             : mtx_walker_texel(s.corner_uvs, w, k->width, k->height);
@@ -611,6 +611,27 @@ MTX_FN void mtx_momas_agent_finish(MTX_TABLES s, MTX_GLOBAL const float* pheromo
     /* Marked whatever its class: applying the marks keeps those of island texels only
      * (apply_deposits), a pass in texel order instead of a scattered read here. */
     MTX_MARK(own_marks, texel);
+  }
+}
+
+/* The rest of one step of walker w (agent number `agent`, of species `species`), given
+ * its probes (mtx_momas_probe). `pheromone` holds species_count planes of width * height
+ * texels, `marks` as many byte planes; `field` is the static field plane (read only when
+ * k->has_fields); `hunger` is the agent's hunger, changed only while k->hunger_step > 0.
+ * Usually one decision; k->decisions of them (a step over 1/60 s in surface units: one
+ * per MoMaS tick), each after probes taken where the last move ended. */
+MTX_FN void mtx_momas_agent_finish(MTX_TABLES s, MTX_GLOBAL const float* pheromone,
+                                   MTX_GLOBAL const float* field, MTX_GLOBAL mtx_u8* marks,
+                                   mtx_walker* w, float* hunger, mtx_u32 species, mtx_u64 agent,
+                                   const mtx_momas_constants* k, const mtx_momas_probes* probes) {
+  mtx_u64 rng = mtx_rng_init_step(k->steer_key, agent, k->step); /* key: mtx_rng_key(seed, MTX_RNG_STEER) */
+  const mtx_u32 decisions = k->decisions > 1u ? k->decisions : 1u;
+  const float move_length = k->move_length[species] / MTX_CAST(float, decisions);
+  mtx_momas_decision(s, pheromone, field, marks, w, hunger, species, k, probes, &rng, move_length, 1);
+  for (mtx_u32 i = 1; i < decisions; ++i) {
+    mtx_momas_probes again;
+    mtx_momas_probe(s, w, species, k, &again);
+    mtx_momas_decision(s, pheromone, field, marks, w, hunger, species, k, &again, &rng, move_length, 0);
   }
 }
 
