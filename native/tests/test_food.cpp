@@ -155,6 +155,38 @@ bool SameBits(const Snapshot& a, const Snapshot& b) {
          std::memcmp(a.food.data(), b.food.data(), a.food.size() * sizeof(a.food[0])) == 0;
 }
 
+// Eating follows simulated time in surface units: an agent at a source eats one unit per
+// decision, and agents decide once per MoMaS tick (60 a simulated second) at any time
+// step: every 2nd step at 1/120 s, twice a step at 1/30 s. With a radius that holds the
+// whole plane every agent is at the source all the time, so one simulated second eats
+// exactly agents x 60 units at 1/60, 1/120 and 1/30 s (integer counts, exact in a
+// float below 2^24). Texel units keep MoMaS' one decision per step: 1/120 s eats per
+// step, twice as much per second (the known answer the count must tell apart).
+TEST_P(Food, SurfaceUnitsEatPerSecondAtAnyTimeStep) {
+  const Mesh m = Plane();
+  auto s = create_surface(m);
+  ASSERT_TRUE(s) << LastError();
+  constexpr uint32_t kEaters = 1000;
+  constexpr float kStart = 1.0e6f;
+  moldtex_sim_config c = make_config(kTex, kTex, kEaters, 5);
+  MTX_PIN_BACKEND(c);
+  auto eaten = [&](float steps_per_second, bool surface) -> double {
+    moldtex_sim_params p = Hungry(1.f);
+    p.food_radius = 100.f;  // the whole plane
+    p.time_step = 1.f / steps_per_second;
+    if (surface) p.length_unit = 8.f / kTex;  // one texel
+    auto sim = create_sim(s.get(), c, p);
+    EXPECT_TRUE(sim) << LastError();
+    if (!sim) return -1.0;
+    const moldtex_food_source f = Source(kStart);
+    EXPECT_EQ(moldtex_sim_set_food(sim.get(), &f, 1), MOLDTEX_OK) << LastError();
+    EXPECT_EQ(moldtex_sim_step(sim.get(), uint32_t(steps_per_second)), MOLDTEX_OK) << LastError();
+    return double(kStart) - double(Amount(sim.get()));
+  };
+  for (float rate : {60.f, 120.f, 30.f}) EXPECT_EQ(eaten(rate, true), 60.0 * kEaters) << "1/" << rate << " s";
+  EXPECT_EQ(eaten(120.f, false), 120.0 * kEaters) << "texel units, 1/120 s";
+}
+
 TEST_P(Food, HungerOffIsBitIdenticalToNoFood) {
   // Header: hunger_rate 0 (the default) turns food off; results equal a simulation
   // without food bit for bit, on each backend.

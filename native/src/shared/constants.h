@@ -61,10 +61,11 @@ typedef struct mtx_momas_constants {
    * 0 = MoMaS' texel units. */
   float length_unit;
   mtx_u32 surface_mode;
-  /* Surface units above 1/60 s: the turn's random part r - 1/2 is scaled by
-   * sqrt((1/60 s) / time_step), so the heading's random walk has the variance per
-   * simulated second it has at 1/60 s. 1 at 1/60 s and under (MoMaS' turn exactly: there
-   * agents turn once per 1/60 s tick, `coast`). */
+  /* Surface units: the turn's random part r - 1/2 is scaled by sqrt((1/60 s) / the time
+   * between decisions), so the heading's random walk has the variance per simulated
+   * second it has at 1/60 s. 1 (MoMaS' turn exactly) wherever agents decide once per
+   * 1/60 s tick (`coast`, `decisions`); else only where a step holds no whole number of
+   * ticks. */
   float turn_jitter;
   /* 1 where agents only move this step, without sensing or turning (surface units at a
    * time step under 1/60 s: agents decide on MoMaS' own 60 Hz tick, momas_decides in

@@ -532,7 +532,7 @@ MTX_FN void mtx_food_steer(MTX_TABLES s, mtx_walker* w, float* hunger,
 /* One decision of walker w (of species `species`) and the move after it, given its
  * probes (mtx_momas_probe): sense, turn, then move `move_length` in k->substeps pieces,
  * marking deposits. `rng` is the step's random state (mtx_momas_agent_finish); `first`:
- * the step's first decision, where hunger grows once a step. */
+ * the step's first decision, where hunger grows. */
 MTX_FN void mtx_momas_decision(MTX_TABLES s, MTX_GLOBAL const float* pheromone,
                                MTX_GLOBAL const float* field, MTX_GLOBAL mtx_u8* marks,
                                mtx_walker* w, float* hunger, mtx_u32 species,
@@ -568,9 +568,12 @@ MTX_FN void mtx_momas_decision(MTX_TABLES s, MTX_GLOBAL const float* pheromone,
     const float turn = side * amount * k->max_turn[species];
     w->heading = mtx_renormalised(mtx_rotate(w->heading, cos(turn), sin(turn)));
   }
-  if (MTX_FOOD && first && k->hunger_step > 0.0f) {
-    *hunger = mtx_min(1.0f, *hunger + k->hunger_step);
-    if (k->food_count > 0) mtx_food_steer(s, w, hunger, k);
+  /* Hunger grows once a step (hunger_step is per step); eating and the pull toward food
+   * come with each decision, as the turn does: per MoMaS tick in surface units, so an
+   * agent at a source eats 60 units a simulated second at any time step. */
+  if (MTX_FOOD && k->hunger_step > 0.0f) {
+    if (first) *hunger = mtx_min(1.0f, *hunger + k->hunger_step);
+    if (k->food_count > 0 && !k->coast) mtx_food_steer(s, w, hunger, k);
   }
 
   /* Move in equal substeps, leaving a deposit after each: a line-integrated trail whose
