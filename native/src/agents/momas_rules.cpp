@@ -39,7 +39,7 @@ MomasStepConstants momas_constants(const StepSettings& settings, const TextureDo
   for (uint32_t s = 0; s < settings.species_count; ++s) {
     const moldtex_species_params& sp = settings.species[s];
     const float angle = sp.vision_angle * std::numbers::pi_v<float> / 180.f;
-    c.move_length[s] = sp.movement_speed * texel * ticks;
+    c.move_length[s] = sp.movement_speed * texel * ticks / static_cast<float>(decisions);
     c.sensor_length[s] = sp.vision_distance * MTX_VISION_UNIT_TEXELS * texel;
     c.sensor_cos[s] = std::cos(angle);
     c.sensor_sin[s] = std::sin(angle);

@@ -42,7 +42,7 @@ typedef struct mtx_momas_constants {
   mtx_u64 step;
   mtx_u64 steer_key; /* mtx_rng_key(seed, MTX_RNG_STEER) */
   /* Per species. */
-  float move_length[MTX_MAX_SPECIES];   /* 3D length of one move */
+  float move_length[MTX_MAX_SPECIES];   /* 3D length of one decision's move */
   float sensor_length[MTX_MAX_SPECIES]; /* 3D distance to the sensors */
   float sensor_cos[MTX_MAX_SPECIES], sensor_sin[MTX_MAX_SPECIES];
   float max_turn[MTX_MAX_SPECIES];      /* radians */

@@ -530,14 +530,14 @@ MTX_FN void mtx_food_steer(MTX_TABLES s, mtx_walker* w, float* hunger,
 }
 
 /* One decision of walker w (of species `species`) and the move after it, given its
- * probes (mtx_momas_probe): sense, turn, then move `move_length` in k->substeps pieces,
+ * probes (mtx_momas_probe): sense, turn, then move k->move_length in k->substeps pieces,
  * marking deposits. `rng` is the step's random state (mtx_momas_agent_finish); `first`:
  * the step's first decision, where hunger grows. */
 MTX_FN void mtx_momas_decision(MTX_TABLES s, MTX_GLOBAL const float* pheromone,
                                MTX_GLOBAL const float* field, MTX_GLOBAL mtx_u8* marks,
                                mtx_walker* w, float* hunger, mtx_u32 species,
                                const mtx_momas_constants* k, const mtx_momas_probes* probes,
-                               mtx_u64* rng, float move_length, int first) {
+                               mtx_u64* rng, int first) {
   /* One texel each (MoMaS' own sensor, the common case) is read here directly: the
    * general reading is a call each. */
   const int one_texel = k->sensor_size == 0u && !k->surface_mode;
@@ -583,6 +583,7 @@ MTX_FN void mtx_momas_decision(MTX_TABLES s, MTX_GLOBAL const float* pheromone,
    * scatters (the cosine law, drawing on its steering numbers): with a mirror bounce a
    * trail along the wall kept every agent that drifted against it, and open boundaries
    * held 1.8-1.9x the interior's pheromone. */
+  const float move_length = k->move_length[species];
   const float sub_length = move_length / MTX_CAST(float, k->substeps);
   MTX_GLOBAL mtx_u8* own_marks = marks + species * mtx_texel_count(k);
   mtx_u32 texel = probes->here;
@@ -629,12 +630,11 @@ MTX_FN void mtx_momas_agent_finish(MTX_TABLES s, MTX_GLOBAL const float* pheromo
                                    const mtx_momas_constants* k, const mtx_momas_probes* probes) {
   mtx_u64 rng = mtx_rng_init_step(k->steer_key, agent, k->step); /* key: mtx_rng_key(seed, MTX_RNG_STEER) */
   const mtx_u32 decisions = k->decisions > 1u ? k->decisions : 1u;
-  const float move_length = k->move_length[species] / MTX_CAST(float, decisions);
-  mtx_momas_decision(s, pheromone, field, marks, w, hunger, species, k, probes, &rng, move_length, 1);
+  mtx_momas_decision(s, pheromone, field, marks, w, hunger, species, k, probes, &rng, 1);
   for (mtx_u32 i = 1; i < decisions; ++i) {
     mtx_momas_probes again;
     mtx_momas_probe(s, w, species, k, &again);
-    mtx_momas_decision(s, pheromone, field, marks, w, hunger, species, k, &again, &rng, move_length, 0);
+    mtx_momas_decision(s, pheromone, field, marks, w, hunger, species, k, &again, &rng, 0);
   }
 }
 
