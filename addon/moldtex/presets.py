@@ -9,7 +9,7 @@ change as context.object:
     s = obj.moldtex
     s.movement_speed = 1.0
     ...
-    s.agent_count = s.scaled_agent_count(60000)  # 60 000 agents on 512 x 512 units
+    s.agent_count = s.scaled_agent_count(60000)  # agents on 512 x 512 pattern units
     s.apply_ramp([(0.0, (0.9, 0.9, 0.85, 1.0)), (1.0, (0.3, 0.3, 0.32, 1.0))])
 
 A look for the continuous model sets s.model = 'CONTINUOUS' and the parameters of
