@@ -9,7 +9,7 @@
 //   moldtex_ab LIB_A LIB_B [CASE] [ROUNDS] [THREADS] [BACKEND]
 //
 // CASE: plane-jones, plane-jones-small (256^2, 64 k agents), plane-surface (default), plane-surface-small (256^2, 64 k agents),
-// plane-surface-sharp, sphere, sphere-surface,
+// plane-surface-sharp, sphere, sphere-jones (the sphere in plane-jones' geometry), sphere-surface,
 // fine-sphere, plane-continuous, sphere-intrinsic (the continuous model on the intrinsic
 // domain: a UV sphere 128 x 64 at 512^2, 300 k agents); ROUNDS (default 30) pairs of
 // steps after 10 warm-up steps each; THREADS (default 0: all cores). Prints the median
@@ -135,6 +135,10 @@ bool MakeCase(const std::string& name, CaseSpec* c) {
   } else if (name == "sphere") {
     c->mesh = mtx::make_uv_sphere(64, 32, 1.0);
     c->side = 2048;
+  } else if (name == "sphere-jones") {  // moldtex_bench's SphereJonesCpu
+    c->mesh = mtx::make_uv_sphere(64, 32, 1.0);
+    c->side = 2048;
+    c->jones = true;
   } else if (name == "sphere-surface") {
     c->mesh = mtx::make_uv_sphere(64, 32, 1.0);
     c->side = 2048;

@@ -233,6 +233,15 @@ void BM_PlaneJones(benchmark::State& state) {
                           MOLDTEX_INTEGRATOR_AUTO, MOLDTEX_DOMAIN_TEXTURE, &p));
 }
 
+// Issue 15's surface case (b) in the same geometry as the flat figure above: the UV
+// sphere 64 x 32 at 2048^2, 1M agents, all cores, Jones' sensors, step and turn. Its ratio
+// to PlaneJonesCpu is what the surface costs, the model held the same.
+void BM_SphereJones(benchmark::State& state) {
+  const moldtex_sim_params p = JonesParams(0);
+  RunSteps(state, GetCase("sphere-jones", mtx::make_uv_sphere(64, 32, 1.0), 2048, 2048, 1000000, MOLDTEX_BACKEND_CPU,
+                          0.0, false, MOLDTEX_INTEGRATOR_AUTO, MOLDTEX_DOMAIN_TEXTURE, &p));
+}
+
 // Scaling (issue 15): mesh (0 plane, 1 UV sphere 64 x 32), texture side, thousands of
 // agents, threads; the default MoMaS parameters (texel units) as PlaneCpu / SphereCpu.
 void BM_Scaling(benchmark::State& state) {
@@ -484,6 +493,7 @@ BENCHMARK(BM_AddAgents)->Name("AddAgents/1M+2000")->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 
 BENCHMARK(BM_PlaneJones)->Name("PlaneJonesCpu/1024x1024/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SphereJones)->Name("SphereJonesCpu/2048x2048/1M")->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Scaling)->Name("Scaling")->ArgNames({"sphere", "side", "kagents", "threads"})
     ->Args({0, 1024, 1000, 1})->Args({0, 1024, 1000, 2})
     ->Args({0, 1024, 256, 2})->Args({0, 1024, 4000, 2})

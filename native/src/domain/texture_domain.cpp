@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <mutex>
+#include <vector>
 
 #include "domain/seam_neighbours.h"
 #include "shared/field.h"
@@ -237,6 +240,41 @@ TextureDomain build_texture_domain(const Surface& s, uint32_t width, uint32_t he
   return d;
 }
 
+namespace {
+
+// The texel passes run as wide as the CPU allows: GCC builds these loops for AVX2 and for
+// plain x86-64 and picks one at load time. The same operations in the same order either
+// way (no fused multiply-add: AVX2 does not bring it), so the same bits on any machine.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#define MTX_WIDE_LOOP __attribute__((target_clones("avx2", "default")))
+#else
+#define MTX_WIDE_LOOP
+#endif
+
+// Row y's island interior (x = 1 .. W - 2) from rows y - 1, y, y + 1: the blur's sum over
+// 16 in the same order as mtx_diffuse_evaporate_texel adds it (bit-identical), every
+// weight counted (texels at island borders are redone by the caller).
+MTX_WIDE_LOOP void blur_interior_row(const float* r0, const float* r1, const float* r2, float* o, int W, float mix,
+                                     float evaporation) {
+  for (int x = 1; x + 1 < W; ++x) {
+    float sum = 0.f;
+    sum += r0[x - 1];
+    sum += 2.f * r0[x];
+    sum += r0[x + 1];
+    sum += 2.f * r1[x - 1];
+    sum += 4.f * r1[x];
+    sum += 2.f * r1[x + 1];
+    sum += r2[x - 1];
+    sum += 2.f * r2[x];
+    sum += r2[x + 1];
+    const float p = r1[x];
+    const float v = p + mix * (sum / 16.f - p) - evaporation;
+    o[x] = v < 0.f ? 0.f : (v > 1.f ? 1.f : v);
+  }
+}
+
+}  // namespace
+
 void apply_deposits(const TextureDomain& d, float* p, uint8_t* marks, float deposit,
                     ThreadPool& pool) {
   // Branch-free, so the compiler vectorises it: marks fall where agents happen to be, so
@@ -276,23 +314,7 @@ void diffuse_and_evaporate(const TextureDomain& d, const float* in, float* out, 
         // adds it (bit-identical), as one branch-free loop the compiler vectorises. Texels
         // at island borders are redone below.
         const float* r0 = in + static_cast<size_t>(y - 1) * W;
-        const float* r1 = r0 + W;
-        const float* r2 = r1 + W;
-        for (int x = 1; x + 1 < W; ++x) {
-          float sum = 0.f;
-          sum += r0[x - 1];
-          sum += 2.f * r0[x];
-          sum += r0[x + 1];
-          sum += 2.f * r1[x - 1];
-          sum += 4.f * r1[x];
-          sum += 2.f * r1[x + 1];
-          sum += r2[x - 1];
-          sum += 2.f * r2[x];
-          sum += r2[x + 1];
-          const float p = r1[x];
-          const float v = p + mix * (sum / 16.f - p) - evaporation;
-          o[x] = v < 0.f ? 0.f : (v > 1.f ? 1.f : v);
-        }
+        blur_interior_row(r0, r0 + W, r0 + 2 * W, o, W, mix, evaporation);
       }
       const uint32_t* interior = d.interior_bits.data();
       for (int x = 0; x < W; ++x) {
@@ -309,6 +331,103 @@ void diffuse_and_evaporate(const TextureDomain& d, const float* in, float* out, 
       }
     }
   });
+}
+
+namespace {
+
+// The blur of one texel at an island border, as mtx_diffuse_evaporate_texel computes it
+// (the same operations in the same order), from three rows of values (row y - 1, y, y + 1;
+// null beyond the texture) instead of one plane.
+float diffuse_evaporate_from_rows(const float* const rows[3], const uint8_t* classes, int x, int y, int W,
+                                  float mix, float evaporation) {
+  float sum = 0.f, weight = 0.f;
+  for (int dy = -1; dy <= 1; ++dy) {
+    const float* row = rows[dy + 1];
+    if (!row) continue;
+    const uint8_t* cls = classes + static_cast<size_t>(y + dy) * W;
+    const float wy = dy == 0 ? 2.f : 1.f;
+    for (int dx = -1; dx <= 1; ++dx) {
+      const int nx = x + dx;
+      if (nx < 0 || nx >= W) continue;
+      const float w = wy * (dx == 0 ? 2.f : 1.f);
+      sum += w * row[nx];
+      weight += cls[nx] != MTX_TEXEL_OUTSIDE ? w : 0.f;
+    }
+  }
+  const float p = rows[1][x];
+  const float v = p + mix * (sum / weight - p) - evaporation;
+  return v < 0.f ? 0.f : (v > 1.f ? 1.f : v);
+}
+
+// Row y of the plane as apply_deposits leaves it, into `row`; clears the row's marks if
+// `clear` (no other chunk reads them).
+MTX_WIDE_LOOP void deposited_row(const float* p, uint8_t* marks, const uint8_t* classes, float deposit, int y, int W,
+                   bool clear, float* row) {
+  const size_t at = static_cast<size_t>(y) * W;
+  const float* const value = p + at;
+  uint8_t* const mark = marks + at;
+  const uint8_t* const cls = classes + at;
+  const float amount = deposit;
+  for (int x = 0; x < W; ++x) {
+    const bool hit = (mark[x] != 0) & (cls[x] == MTX_TEXEL_INSIDE);
+    const float v = value[x];
+    row[x] = hit ? std::max(v, amount) : v;
+  }
+  if (clear) std::memset(mark, 0, static_cast<size_t>(W));
+}
+
+}  // namespace
+
+void deposit_diffuse_evaporate(const TextureDomain& d, float* p, uint8_t* marks, float deposit, float* out,
+                               float mix, float evaporation, ThreadPool& pool) {
+  const int W = static_cast<int>(d.width), H = static_cast<int>(d.height);
+  const uint8_t* classes = d.classes.data();
+  // Gutter texels hold their sources' deposited values (a gutter texel is no island
+  // texel, so its own value is what the blur then reads).
+  pool.parallel_for(d.gutter_texel.size(), 1 << 14, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      const uint32_t s = d.gutter_source[i];
+      const bool hit = (marks[s] != 0) & (classes[s] == MTX_TEXEL_INSIDE);
+      p[d.gutter_texel[i]] = hit ? std::max(p[s], deposit) : p[s];
+    }
+  });
+  // Rows whose marks another chunk reads (each chunk's first and last) are cleared after.
+  std::mutex shared_rows_mutex;
+  std::vector<int> shared_rows;
+  pool.parallel_for(H, 4, [&](size_t begin_row, size_t end_row) {
+    const int begin = static_cast<int>(begin_row), end = static_cast<int>(end_row);
+    // Three deposited rows, y - 1, y and y + 1, in a ring.
+    std::vector<float> ring(3 * static_cast<size_t>(W));
+    auto slot = [&](int row) { return ring.data() + static_cast<size_t>((row + 3) % 3) * W; };
+    auto fill = [&](int row) {
+      deposited_row(p, marks, classes, deposit, row, W, row > begin && row < end - 1, slot(row));
+    };
+    if (begin > 0) fill(begin - 1);
+    fill(begin);
+    const uint32_t* interior = d.interior_bits.data();
+    for (int y = begin; y < end; ++y) {
+      if (y + 1 < H) fill(y + 1);
+      const float* const rows[3] = {y > 0 ? slot(y - 1) : nullptr, slot(y), y + 1 < H ? slot(y + 1) : nullptr};
+      float* o = out + static_cast<size_t>(y) * W;
+      if (y >= 1 && y + 1 < H) {
+        blur_interior_row(rows[0], rows[1], rows[2], o, W, mix, evaporation);
+      }
+      for (int x = 0; x < W; ++x) {
+        const size_t i = static_cast<size_t>(y) * W + x;
+        if (i % 32 == 0 && x + 32 <= W && interior[i / 32] == 0xffffffffu) {
+          x += 31;
+          continue;
+        }
+        if ((interior[i / 32] >> (i % 32)) & 1u) continue;
+        o[x] = classes[i] == MOLDTEX_TEXEL_INSIDE ? diffuse_evaporate_from_rows(rows, classes, x, y, W, mix, evaporation)
+                                                  : 0.f;
+      }
+    }
+    std::lock_guard<std::mutex> lock(shared_rows_mutex);
+    shared_rows.push_back(begin);
+    if (end - 1 > begin) shared_rows.push_back(end - 1);
+  });
+  for (int row : shared_rows) std::memset(marks + static_cast<size_t>(row) * W, 0, static_cast<size_t>(W));
 }
 
 FieldMetrics measure(const TextureDomain& d, const float* p) {

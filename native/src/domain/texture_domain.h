@@ -69,6 +69,13 @@ void fill_gutter(const TextureDomain& d, float* pheromone, ThreadPool& pool);
 // The blur only weighs island and gutter texels, so borders neither darken nor leak.
 void diffuse_and_evaporate(const TextureDomain& d, const float* in, float* out, float mix,
                            float evaporation, ThreadPool& pool);
+// The three in one pass over the plane, with the same result bit for bit:
+// apply_deposits(p, marks, deposit); fill_gutter(p); diffuse_and_evaporate(p, out); except
+// that p itself keeps its values (only its gutter texels are refilled, from their deposited
+// sources). Each texel's deposited value is computed where the blur reads it, so the plane
+// is read once and written never, instead of read twice and written once. Clears the marks.
+void deposit_diffuse_evaporate(const TextureDomain& d, float* p, uint8_t* marks, float deposit, float* out,
+                               float mix, float evaporation, ThreadPool& pool);
 
 struct FieldMetrics {
   double coverage = 0, presence = 0;

@@ -84,7 +84,8 @@ void CpuBackend::step(const StepSettings& settings, uint64_t seed, uint64_t step
     momas_update_agents(tables, c, pheromone_.data(), field, marks_.data(), agents_, begin, end);
   });
   // 2. Per species: deposit, make the gutter hold the texels across each seam, then blur
-  //    (which then mixes across seams) and evaporate.
+  //    (which then mixes across seams) and evaporate; in texel units in one pass
+  //    (deposit_diffuse_evaporate).
   const size_t texels = d.texel_count();
   const float mix = std::min(1.f, p.diffusion_rate * p.time_step);
   const bool surface_units = p.length_unit > 0.f;
@@ -92,15 +93,14 @@ void CpuBackend::step(const StepSettings& settings, uint64_t seed, uint64_t step
     plan_ = plan_surface_diffusion(d, p.diffusion_rate * p.time_step, p.length_unit);
   for (uint32_t k = 0; k < species_count_; ++k) {
     float* plane = pheromone_.data() + k * texels;
-    apply_deposits(d, plane, marks_.data() + k * texels, settings.species[k].deposit, *pool_);
     if (surface_units) {
+      apply_deposits(d, plane, marks_.data() + k * texels, settings.species[k].deposit, *pool_);
       surface_diffuse(d, plan_, plane, scratch_.data() + k * texels, fine_scratch_,
                       p.evaporation_rate * p.time_step, *pool_);
       continue;
     }
-    fill_gutter(d, plane, *pool_);
-    diffuse_and_evaporate(d, plane, scratch_.data() + k * texels, mix,
-                          p.evaporation_rate * p.time_step, *pool_);
+    deposit_diffuse_evaporate(d, plane, marks_.data() + k * texels, settings.species[k].deposit,
+                              scratch_.data() + k * texels, mix, p.evaporation_rate * p.time_step, *pool_);
   }
   pheromone_.swap(scratch_);
   for (uint32_t k = 0; k < species_count_; ++k) fill_gutter(d, pheromone_.data() + k * texels, *pool_);
