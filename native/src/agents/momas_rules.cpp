@@ -87,7 +87,18 @@ void momas_update_agents(const mtx_surface_tables& tables, const MomasStepConsta
         w[j] = agents.load(i);
         const uint32_t species = agents.species[i];
         mtx_momas_probe(tables, &w[j], species, &c, &probes[j]);
-        for (int k = 0; k < 3; ++k) __builtin_prefetch(pheromone + species * plane + probes[j].texel[k]);
+        const float* own = pheromone + species * plane;
+        for (int k = 0; k < 3; ++k) __builtin_prefetch(own + probes[j].texel[k]);
+        // Surface units read a footprint around each probe texel: the rows above and
+        // below, and whether the block there is all one island.
+        if (c.surface_mode && !c.coast)
+          for (int k = 0; k < 3; ++k) {
+            const uint32_t t = probes[j].texel[k];
+            __builtin_prefetch(own + (t >= c.width ? t - c.width : t));
+            __builtin_prefetch(own + (t + c.width < plane ? t + c.width : t));
+            __builtin_prefetch(tables.interior_reach + t);
+            __builtin_prefetch(tables.texel_island + t);
+          }
         // Where it moves and marks: the mark's byte (texel units) or, in surface units,
         // the class there first.
         if (c.surface_mode)
