@@ -30,6 +30,9 @@ struct DiffusionPlan {
   std::vector<uint32_t> fine_texel, fine_neighbour, fine_extra;
   std::vector<float> fine_coef;
   uint32_t max_extra = 0;
+  // The fine texels come most extra passes first, so those that take extra pass p are
+  // the first fine_active[p - 1] of them (p = 1 .. max_extra): a pass visits only those.
+  std::vector<uint32_t> fine_active;
   bool matches(float m, float u) const { return m == mix && u == unit; }
 };
 

@@ -500,8 +500,9 @@ void OpenClBackend::surface_diffusion(const moldtex_sim_params& p) {
     s.run(s.seam_kernel, seams);
     std::swap(s.pheromone, s.scratch);
   }
-  const cl_uint fine = static_cast<cl_uint>(plan_.fine_texel.size());
   for (cl_uint pass = 1; pass <= plan_.max_extra; ++pass) {
+    // The fine texels that take this pass lead the list (DiffusionPlan::fine_active).
+    const cl_uint fine = plan_.fine_active[pass - 1];
     s.args(s.fine_kernel, s.pheromone, s.fine_scratch, s.fine_texel, s.fine_neighbour, s.fine_coef,
            s.fine_extra, pass, fine, texels, planes);
     s.run(s.fine_kernel, fine);
