@@ -252,7 +252,7 @@ namespace {
 #endif
 
 // Row y's island interior (x = 1 .. W - 2) from rows y - 1, y, y + 1: the blur's sum over
-// 16 in the same order as mtx_diffuse_evaporate_texel adds it (bit-identical), every
+// 16 in the same order as mtx_diffuse_evaporate_rows adds it (bit-identical), every
 // weight counted (texels at island borders are redone by the caller).
 MTX_WIDE_LOOP void blur_interior_row(const float* r0, const float* r1, const float* r2, float* o, int W, float mix,
                                      float evaporation) {
@@ -273,24 +273,42 @@ MTX_WIDE_LOOP void blur_interior_row(const float* r0, const float* r1, const flo
   }
 }
 
+// A texel's value once its mark is applied: max(value, deposit) where marked on an
+// island texel (agents mark whatever texel they stand on). Without branches, so loops
+// over it vectorise: marks fall where agents happen to be, and a branch on each would be
+// mispredicted about as often as not.
+inline float deposited(uint8_t mark, uint8_t cls, float value, float deposit) {
+  const bool hit = (mark != 0) & (cls == MTX_TEXEL_INSIDE);
+  return hit ? std::max(value, deposit) : value;
+}
+
+// Row y of the plane as apply_deposits leaves it, into `row`; clears the row's marks if
+// `clear` (no other chunk reads them).
+MTX_WIDE_LOOP void deposited_row(const float* p, uint8_t* marks, const uint8_t* classes, float deposit, int y,
+                                 int W, bool clear, float* row) {
+  const size_t at = static_cast<size_t>(y) * W;
+  const float* const value = p + at;
+  uint8_t* const mark = marks + at;
+  const uint8_t* const cls = classes + at;
+  const float amount = deposit;
+  for (int x = 0; x < W; ++x) row[x] = deposited(mark[x], cls[x], value[x], amount);
+  if (clear) std::memset(mark, 0, static_cast<size_t>(W));
+}
+
 }  // namespace
 
 void apply_deposits(const TextureDomain& d, float* p, uint8_t* marks, float deposit,
                     ThreadPool& pool) {
-  // Branch-free, so the compiler vectorises it: marks fall where agents happen to be, so
-  // a branch on each would be mispredicted about as often as not; and with the pointers
-  // in locals, since a store through the uint8_t marks may alias anything and would
-  // otherwise reload them every texel. Every texel's value is stored, unchanged where
-  // unmarked: the same result.
+  // With the pointers in locals, since a store through the uint8_t marks may alias
+  // anything and would otherwise reload them every texel. Every texel's value is stored,
+  // unchanged where unmarked: the same result.
   pool.parallel_for(d.texel_count(), 1 << 16, [&](size_t begin, size_t end) {
     const uint8_t* const cls = d.classes.data();
     float* const value = p;
     uint8_t* const mark = marks;
     const float amount = deposit;
     for (size_t i = begin; i < end; ++i) {
-      const bool hit = (mark[i] != 0) & (cls[i] == MTX_TEXEL_INSIDE);
-      const float v = value[i];
-      value[i] = hit ? std::max(v, amount) : v;
+      value[i] = deposited(mark[i], cls[i], value[i], amount);
       mark[i] = 0;
     }
   });
@@ -302,82 +320,6 @@ void fill_gutter(const TextureDomain& d, float* p, ThreadPool& pool) {
   });
 }
 
-void diffuse_and_evaporate(const TextureDomain& d, const float* in, float* out, float mix,
-                           float evaporation, ThreadPool& pool) {
-  const int W = static_cast<int>(d.width), H = static_cast<int>(d.height);
-  pool.parallel_for(H, 4, [&](size_t begin, size_t end) {
-    for (int y = static_cast<int>(begin); y < static_cast<int>(end); ++y) {
-      float* o = out + static_cast<size_t>(y) * W;
-      if (y >= 1 && y + 1 < H) {
-        // Inside an island (the texel's 3x3 block all cells of one island) every weight
-        // counts: the blur's sum over 16, in the same order as mtx_diffuse_evaporate_texel
-        // adds it (bit-identical), as one branch-free loop the compiler vectorises. Texels
-        // at island borders are redone below.
-        const float* r0 = in + static_cast<size_t>(y - 1) * W;
-        blur_interior_row(r0, r0 + W, r0 + 2 * W, o, W, mix, evaporation);
-      }
-      const uint32_t* interior = d.interior_bits.data();
-      for (int x = 0; x < W; ++x) {
-        const size_t i = static_cast<size_t>(y) * W + x;
-        // (32 interior texels in a row, done above, skipped at once.)
-        if (i % 32 == 0 && x + 32 <= W && interior[i / 32] == 0xffffffffu) {
-          x += 31;
-          continue;
-        }
-        if ((interior[i / 32] >> (i % 32)) & 1u) continue;
-        o[x] = d.classes[i] == MOLDTEX_TEXEL_INSIDE
-                   ? mtx_diffuse_evaporate_texel(in, d.classes.data(), x, y, W, H, mix, evaporation)
-                   : 0.f;
-      }
-    }
-  });
-}
-
-namespace {
-
-// The blur of one texel at an island border, as mtx_diffuse_evaporate_texel computes it
-// (the same operations in the same order), from three rows of values (row y - 1, y, y + 1;
-// null beyond the texture) instead of one plane.
-float diffuse_evaporate_from_rows(const float* const rows[3], const uint8_t* classes, int x, int y, int W,
-                                  float mix, float evaporation) {
-  float sum = 0.f, weight = 0.f;
-  for (int dy = -1; dy <= 1; ++dy) {
-    const float* row = rows[dy + 1];
-    if (!row) continue;
-    const uint8_t* cls = classes + static_cast<size_t>(y + dy) * W;
-    const float wy = dy == 0 ? 2.f : 1.f;
-    for (int dx = -1; dx <= 1; ++dx) {
-      const int nx = x + dx;
-      if (nx < 0 || nx >= W) continue;
-      const float w = wy * (dx == 0 ? 2.f : 1.f);
-      sum += w * row[nx];
-      weight += cls[nx] != MTX_TEXEL_OUTSIDE ? w : 0.f;
-    }
-  }
-  const float p = rows[1][x];
-  const float v = p + mix * (sum / weight - p) - evaporation;
-  return v < 0.f ? 0.f : (v > 1.f ? 1.f : v);
-}
-
-// Row y of the plane as apply_deposits leaves it, into `row`; clears the row's marks if
-// `clear` (no other chunk reads them).
-MTX_WIDE_LOOP void deposited_row(const float* p, uint8_t* marks, const uint8_t* classes, float deposit, int y, int W,
-                   bool clear, float* row) {
-  const size_t at = static_cast<size_t>(y) * W;
-  const float* const value = p + at;
-  uint8_t* const mark = marks + at;
-  const uint8_t* const cls = classes + at;
-  const float amount = deposit;
-  for (int x = 0; x < W; ++x) {
-    const bool hit = (mark[x] != 0) & (cls[x] == MTX_TEXEL_INSIDE);
-    const float v = value[x];
-    row[x] = hit ? std::max(v, amount) : v;
-  }
-  if (clear) std::memset(mark, 0, static_cast<size_t>(W));
-}
-
-}  // namespace
-
 void deposit_diffuse_evaporate(const TextureDomain& d, float* p, uint8_t* marks, float deposit, float* out,
                                float mix, float evaporation, ThreadPool& pool) {
   const int W = static_cast<int>(d.width), H = static_cast<int>(d.height);
@@ -387,8 +329,7 @@ void deposit_diffuse_evaporate(const TextureDomain& d, float* p, uint8_t* marks,
   pool.parallel_for(d.gutter_texel.size(), 1 << 14, [&](size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) {
       const uint32_t s = d.gutter_source[i];
-      const bool hit = (marks[s] != 0) & (classes[s] == MTX_TEXEL_INSIDE);
-      p[d.gutter_texel[i]] = hit ? std::max(p[s], deposit) : p[s];
+      p[d.gutter_texel[i]] = deposited(marks[s], classes[s], p[s], deposit);
     }
   });
   // Rows whose marks another chunk reads (each chunk's first and last) are cleared after.
@@ -410,8 +351,11 @@ void deposit_diffuse_evaporate(const TextureDomain& d, float* p, uint8_t* marks,
       const float* const rows[3] = {y > 0 ? slot(y - 1) : nullptr, slot(y), y + 1 < H ? slot(y + 1) : nullptr};
       float* o = out + static_cast<size_t>(y) * W;
       if (y >= 1 && y + 1 < H) {
+        // Inside an island (the texel's 3x3 block all cells of one island) every weight
+        // counts: one branch-free loop the compiler vectorises.
         blur_interior_row(rows[0], rows[1], rows[2], o, W, mix, evaporation);
       }
+      // Texels at island borders (32 interior texels in a row, done above, skipped at once).
       for (int x = 0; x < W; ++x) {
         const size_t i = static_cast<size_t>(y) * W + x;
         if (i % 32 == 0 && x + 32 <= W && interior[i / 32] == 0xffffffffu) {
@@ -419,8 +363,11 @@ void deposit_diffuse_evaporate(const TextureDomain& d, float* p, uint8_t* marks,
           continue;
         }
         if ((interior[i / 32] >> (i % 32)) & 1u) continue;
-        o[x] = classes[i] == MOLDTEX_TEXEL_INSIDE ? diffuse_evaporate_from_rows(rows, classes, x, y, W, mix, evaporation)
-                                                  : 0.f;
+        const uint8_t* c1 = classes + static_cast<size_t>(y) * W;
+        o[x] = classes[i] == MOLDTEX_TEXEL_INSIDE
+                   ? mtx_diffuse_evaporate_rows(rows[0], rows[1], rows[2], rows[0] ? c1 - W : nullptr, c1,
+                                                rows[2] ? c1 + W : nullptr, x, W, mix, evaporation)
+                   : 0.f;
       }
     }
     std::lock_guard<std::mutex> lock(shared_rows_mutex);

@@ -65,15 +65,14 @@ void apply_deposits(const TextureDomain& d, float* pheromone, uint8_t* marks, fl
                     ThreadPool& pool);
 // Copies every gutter texel from its source.
 void fill_gutter(const TextureDomain& d, float* pheromone, ThreadPool& pool);
-// out = clamp(p + mix * (blur3x3(p) - p) - evaporation, 0, 1) on island texels, 0 elsewhere.
-// The blur only weighs island and gutter texels, so borders neither darken nor leak.
-void diffuse_and_evaporate(const TextureDomain& d, const float* in, float* out, float mix,
-                           float evaporation, ThreadPool& pool);
-// The three in one pass over the plane, with the same result bit for bit:
-// apply_deposits(p, marks, deposit); fill_gutter(p); diffuse_and_evaporate(p, out); except
-// that p itself keeps its values (only its gutter texels are refilled, from their deposited
-// sources). Each texel's deposited value is computed where the blur reads it, so the plane
-// is read once and written never, instead of read twice and written once. Clears the marks.
+// Deposit, gutter and blur in one pass over the plane, bit for bit as these one after
+// another: p = max(p, deposit) on marked island texels; every gutter texel copies its
+// source; out = clamp(p + mix * (blur3x3(p) - p) - evaporation, 0, 1) on island texels,
+// 0 elsewhere (the blur weighs only island and gutter texels, so borders neither darken
+// nor leak; mtx_diffuse_evaporate_rows). p itself keeps its values but for its gutter
+// texels, which take their deposited sources': each texel's deposited value is
+// computed where the blur reads it, so the plane is read once and never written
+// (OpenCL runs the three as kernels). Clears the marks.
 void deposit_diffuse_evaporate(const TextureDomain& d, float* p, uint8_t* marks, float deposit, float* out,
                                float mix, float evaporation, ThreadPool& pool);
 

@@ -9,29 +9,46 @@
 
 MTX_BEGIN_NAMESPACE
 
-/* New value of island texel (x, y): p + mix * (blur3x3(p) - p) - evaporation, clamped
- * to [0, 1]. The 3x3 Gaussian (1 2 1 outer product) weighs only island and gutter
- * texels, so island borders neither darken nor leak; outside texels hold 0. */
-MTX_FN float mtx_diffuse_evaporate_texel(MTX_GLOBAL const float* in,
-                                          MTX_GLOBAL const mtx_u8* classes, int x, int y,
-                                          int width, int height, float mix, float evaporation) {
+/* New value of island texel x of a row: p + mix * (blur3x3(p) - p) - evaporation,
+ * clamped to [0, 1], from the row (r1), the rows above and below (r0, r2; null beyond the
+ * texture) and their classes (c0, c1, c2). The 3x3 Gaussian (1 2 1 outer product) weighs
+ * only island and gutter texels, so island borders neither darken nor leak; outside
+ * texels hold 0. Rows, not a plane, so that a caller may hold them anywhere (the CPU's
+ * deposited rows). */
+MTX_FN float mtx_diffuse_evaporate_rows(MTX_GLOBAL const float* r0, MTX_GLOBAL const float* r1,
+                                        MTX_GLOBAL const float* r2, MTX_GLOBAL const mtx_u8* c0,
+                                        MTX_GLOBAL const mtx_u8* c1, MTX_GLOBAL const mtx_u8* c2, int x,
+                                        int width, float mix, float evaporation) {
   float sum = 0.0f, weight = 0.0f;
   for (int dy = -1; dy <= 1; ++dy) {
-    const int ny = y + dy;
-    if (ny < 0 || ny >= height) continue;
+    MTX_GLOBAL const float* row = dy < 0 ? r0 : (dy == 0 ? r1 : r2);
+    MTX_GLOBAL const mtx_u8* cls = dy < 0 ? c0 : (dy == 0 ? c1 : c2);
+    if (row == 0) continue;
     const float wy = dy == 0 ? 2.0f : 1.0f;
     for (int dx = -1; dx <= 1; ++dx) {
       const int nx = x + dx;
       if (nx < 0 || nx >= width) continue;
-      const mtx_u32 ni = MTX_CAST(mtx_u32, ny) * MTX_CAST(mtx_u32, width) + MTX_CAST(mtx_u32, nx);
       const float w = wy * (dx == 0 ? 2.0f : 1.0f);
-      sum += w * in[ni];
-      weight += classes[ni] != MTX_TEXEL_OUTSIDE ? w : 0.0f;
+      sum += w * row[nx];
+      weight += cls[nx] != MTX_TEXEL_OUTSIDE ? w : 0.0f;
     }
   }
-  const float p = in[MTX_CAST(mtx_u32, y) * MTX_CAST(mtx_u32, width) + MTX_CAST(mtx_u32, x)];
+  const float p = r1[x];
   const float v = p + mix * (sum / weight - p) - evaporation;
   return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v);
+}
+
+/* The same for texel (x, y) of a plane `in` of width x height texels. */
+MTX_FN float mtx_diffuse_evaporate_texel(MTX_GLOBAL const float* in,
+                                          MTX_GLOBAL const mtx_u8* classes, int x, int y,
+                                          int width, int height, float mix, float evaporation) {
+  const mtx_u32 row = MTX_CAST(mtx_u32, y) * MTX_CAST(mtx_u32, width);
+  const mtx_u32 w = MTX_CAST(mtx_u32, width);
+  MTX_GLOBAL const float* r0 = y > 0 ? in + (row - w) : 0;
+  MTX_GLOBAL const float* r2 = y + 1 < height ? in + (row + w) : 0;
+  MTX_GLOBAL const mtx_u8* c0 = y > 0 ? classes + (row - w) : 0;
+  MTX_GLOBAL const mtx_u8* c2 = y + 1 < height ? classes + (row + w) : 0;
+  return mtx_diffuse_evaporate_rows(r0, in + row, r2, c0, classes + row, c2, x, width, mix, evaporation);
 }
 
 /* Surface diffusion (moldtex_sim_params.length_unit > 0), one explicit pass on island
