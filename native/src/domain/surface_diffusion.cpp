@@ -1,9 +1,11 @@
 #include "domain/surface_diffusion.h"
 
 #include <algorithm>
-#include <vector>
 #include <cmath>
 #include <cstring>
+#include <numeric>
+#include <type_traits>
+#include <vector>
 
 #include "domain/seam_neighbours.h"
 #include "shared/field.h"
@@ -85,23 +87,22 @@ DiffusionPlan plan_surface_diffusion(const TextureDomain& d, float mix, float un
   // Most extra passes first (stable, so the order is the texels' among equals): each
   // extra pass then runs over a prefix of the list. Each pass reads the field as the
   // last one left it and writes all its texels after, so the order changes no result.
-  const size_t fine = plan.fine_texel.size();
-  std::vector<uint32_t> order(fine);
-  for (size_t j = 0; j < fine; ++j) order[j] = static_cast<uint32_t>(j);
+  std::vector<uint32_t> order(plan.fine_texel.size());
+  std::iota(order.begin(), order.end(), 0u);
   std::stable_sort(order.begin(), order.end(),
                    [&](uint32_t a, uint32_t b) { return plan.fine_extra[a] > plan.fine_extra[b]; });
-  DiffusionPlan sorted;
-  for (uint32_t j : order) {
-    sorted.fine_texel.push_back(plan.fine_texel[j]);
-    for (int k = 0; k < 4; ++k) sorted.fine_neighbour.push_back(plan.fine_neighbour[4 * j + k]);
-    sorted.fine_coef.push_back(plan.fine_coef[2 * j]);
-    sorted.fine_coef.push_back(plan.fine_coef[2 * j + 1]);
-    sorted.fine_extra.push_back(plan.fine_extra[j]);
-  }
-  plan.fine_texel = std::move(sorted.fine_texel);
-  plan.fine_neighbour = std::move(sorted.fine_neighbour);
-  plan.fine_coef = std::move(sorted.fine_coef);
-  plan.fine_extra = std::move(sorted.fine_extra);
+  // Each list in that order (`stride` entries per texel).
+  auto reordered = [&](const auto& list, size_t stride) {
+    std::remove_cvref_t<decltype(list)> out;
+    out.reserve(list.size());
+    for (uint32_t j : order)
+      for (size_t k = 0; k < stride; ++k) out.push_back(list[stride * j + k]);
+    return out;
+  };
+  plan.fine_texel = reordered(plan.fine_texel, 1);
+  plan.fine_neighbour = reordered(plan.fine_neighbour, 4);
+  plan.fine_coef = reordered(plan.fine_coef, 2);
+  plan.fine_extra = reordered(plan.fine_extra, 1);
   plan.fine_active.assign(plan.max_extra, 0u);
   for (uint32_t extra : plan.fine_extra)
     for (uint32_t p = 1; p <= extra; ++p) ++plan.fine_active[p - 1];

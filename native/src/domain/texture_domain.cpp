@@ -356,6 +356,7 @@ void deposit_diffuse_evaporate(const TextureDomain& d, float* p, uint8_t* marks,
         blur_interior_row(rows[0], rows[1], rows[2], o, W, mix, evaporation);
       }
       // Texels at island borders (32 interior texels in a row, done above, skipped at once).
+      const uint8_t* c1 = classes + static_cast<size_t>(y) * W;
       for (int x = 0; x < W; ++x) {
         const size_t i = static_cast<size_t>(y) * W + x;
         if (i % 32 == 0 && x + 32 <= W && interior[i / 32] == 0xffffffffu) {
@@ -363,8 +364,7 @@ void deposit_diffuse_evaporate(const TextureDomain& d, float* p, uint8_t* marks,
           continue;
         }
         if ((interior[i / 32] >> (i % 32)) & 1u) continue;
-        const uint8_t* c1 = classes + static_cast<size_t>(y) * W;
-        o[x] = classes[i] == MOLDTEX_TEXEL_INSIDE
+        o[x] = c1[x] == MOLDTEX_TEXEL_INSIDE
                    ? mtx_diffuse_evaporate_rows(rows[0], rows[1], rows[2], rows[0] ? c1 - W : nullptr, c1,
                                                 rows[2] ? c1 + W : nullptr, x, W, mix, evaporation)
                    : 0.f;
