@@ -59,6 +59,7 @@ struct RdRun {
   uint32_t threads = 0;
   Backend backend = Backend::Cpu;
   uint32_t domain = MOLDTEX_DOMAIN_TEXTURE;
+  float intrinsic_bound = 0.f;  // (0: from the texture)
   moldtex_reaction_params p{};
   std::vector<std::pair<uint32_t, std::vector<float>>> maps;  // (moldtex_map, values)
 };
@@ -74,6 +75,7 @@ SimPtr MakeSim(moldtex_surface s, const RdRun& r) {
   moldtex_sim_config c = make_config(r.width, r.height, 0, r.seed);
   c.model = MOLDTEX_MODEL_GRAY_SCOTT;
   c.domain = r.domain;
+  c.intrinsic_bound = r.intrinsic_bound;
   std::string why;
   if (!PinBackend(r.backend, c, &why)) return nullptr;
   moldtex_sim_params mp = default_params();
@@ -454,6 +456,57 @@ TEST(ReactionDiffusion, SlimeBrushSeedsAndErasesAndUndoes) {
   EXPECT_EQ(get_stats(sim.get()).presence, 0.0);
   EXPECT_EQ(get_stats(sim.get()).agent_count, 0u);
   std::printf("seeded %d texels; V > 0.1 on %.3f of the plane after 400 s\n", inside, grown);
+}
+
+// On the intrinsic domain a dab paints the texture and each vertex moves by its texel's
+// change. A vertex can hold less than its texel shows (its neighbours higher): a
+// half-strength erase then asked more of it than it held, and it went negative, so the
+// checkpoint saved next would not load (the fuzz target found it, 2026-12-05). After
+// half-strength erase and seed dabs across a grown pattern, every vertex value stays in
+// the model's range (U in [0, 1], V in [0, 4]) and a checkpoint round trip loads.
+TEST(ReactionDiffusion, BrushOnTheIntrinsicDomainKeepsVertexValuesInRange) {
+  RdRun r = LabyrinthRun(Plane(), 64, 64, 1.5 / 64, 1);
+  r.domain = MOLDTEX_DOMAIN_INTRINSIC;
+  r.intrinsic_bound = 0.5f;  // the plane's own 289 vertices: texels far from any vertex
+  auto s = create_surface(*r.mesh);
+  ASSERT_TRUE(s) << LastError();
+  auto sim = MakeSim(s.get(), r);
+  ASSERT_TRUE(sim) << LastError();
+  ASSERT_EQ(moldtex_sim_step(sim.get(), 300), MOLDTEX_OK) << LastError();
+  moldtex_domain_info info;
+  moldtex_domain_info_init(&info);
+  ASSERT_EQ(moldtex_sim_get_domain_info(sim.get(), &info), MOLDTEX_OK) << LastError();
+  const uint32_t n = info.cell_count;
+  std::vector<float> values(2 * size_t(n));
+  const uint32_t triangles = r.mesh->triangle_count();
+  for (uint32_t dab = 0; dab < 12; ++dab) {
+    moldtex_brush b;
+    moldtex_brush_init(&b);
+    b.center.triangle = (dab * 97) % triangles;
+    b.radius = 0.15f;
+    b.strength = 0.5f;
+    b.falloff = 0.5f;
+    uint32_t changed = 0;
+    if (dab % 3 == 2) {
+      ASSERT_EQ(moldtex_sim_add_agents(sim.get(), &b, 1, 1 + dab), MOLDTEX_OK) << LastError();
+    } else {
+      ASSERT_EQ(moldtex_sim_erase_agents(sim.get(), &b, 1 + dab, &changed), MOLDTEX_OK) << LastError();
+    }
+    ASSERT_EQ(moldtex_sim_read_intrinsic_vertices(sim.get(), nullptr, values.data(), n), MOLDTEX_OK) << LastError();
+    for (uint32_t v = 0; v < n; ++v) {
+      ASSERT_GE(values[v], 0.f) << "V at vertex " << v << " after dab " << dab;
+      ASSERT_LE(values[v], 4.f) << "V at vertex " << v << " after dab " << dab;
+      ASSERT_GE(values[n + v], 0.f) << "U at vertex " << v << " after dab " << dab;
+      ASSERT_LE(values[n + v], 1.f) << "U at vertex " << v << " after dab " << dab;
+    }
+    if (dab % 4 == 3) {
+      ASSERT_EQ(moldtex_sim_step(sim.get(), 5), MOLDTEX_OK) << LastError();
+    }
+  }
+  const std::string path = ::testing::TempDir() + "/moldtex_rd_intrinsic_brush.bin";
+  ASSERT_EQ(moldtex_sim_save_checkpoint(sim.get(), path.c_str()), MOLDTEX_OK) << LastError();
+  EXPECT_EQ(moldtex_sim_load_checkpoint(sim.get(), path.c_str()), MOLDTEX_OK) << LastError();
+  std::remove(path.c_str());
 }
 
 // Parameter maps in Gray-Scott (moldtex_sim_set_map FEED, KILL, DIFFUSION_RATE).

@@ -351,14 +351,21 @@ std::vector<float> IntrinsicDomain::values_from_state(const SimState& state, uin
   std::vector<float> next(nv * planes, 0.f);
   if (state.cells.size() == next.size()) {
     // Untouched, the planes are exactly what the values show, and the state comes back
-    // bit for bit; a texel changed since moves the vertex under it by as much.
+    // bit for bit; a texel changed since moves the vertex under it by as much, but no
+    // further than the texel's new value: a vertex below what its texel showed (its
+    // neighbours higher) and then dabbed down would otherwise go negative. Between its
+    // old value and the painted one, it stays in any range both lie in.
     next = state.cells;
     std::vector<float> shown(texels * planes);
     show(state.cells.data(), shown.data(), planes, texture, pool);
     for (uint32_t k = 0; k < planes; ++k)
       for (size_t v = 0; v < nv; ++v) {
         const size_t i = k * texels + vertex_texel[v];
-        if (state.pheromone[i] != shown[i]) next[k * nv + v] += state.pheromone[i] - shown[i];
+        const float painted = state.pheromone[i];
+        if (painted == shown[i]) continue;
+        float& value = next[k * nv + v];
+        const float moved = value + (painted - shown[i]);
+        value = std::clamp(moved, std::min(value, painted), std::max(value, painted));
       }
   } else {
     for (uint32_t k = 0; k < planes; ++k)
