@@ -388,8 +388,11 @@ MTX_FN void mtx_continuous_agent_finish(MTX_TABLES s, MTX_GLOBAL const float* u,
    * would enter an obstacle from free ground is undone and the agent turns back. */
   MTX_GLOBAL const float* tpu = s.texels_per_unit + 2 * w->triangle;
   const float texels_moved = move_length * mtx_max(tpu[0], tpu[1]);
-  int pieces = MTX_CAST(int, ceil(texels_moved / k->max_piece));
-  pieces = pieces < 1 ? 1 : (pieces > MTX_MAX_DEPOSIT_PIECES ? MTX_MAX_DEPOSIT_PIECES : pieces);
+  /* Capped while still a float: a sliver's texels per unit can be huge (a triangle with
+   * next to no area under a big UV patch), past what an int holds. */
+  const float wanted = ceil(texels_moved / k->max_piece);
+  const int pieces = wanted >= MTX_CAST(float, MTX_MAX_DEPOSIT_PIECES) ? MTX_MAX_DEPOSIT_PIECES
+                     : (wanted >= 1.0f ? MTX_CAST(int, wanted) : 1);
   const float piece = move_length / MTX_CAST(float, pieces);
   const float piece_time = k->dt / MTX_CAST(float, pieces);
   /* Piece i covers ages born + [i, i + 1) dt / pieces: it deposits when its middle is
