@@ -100,6 +100,17 @@ void check_pheromone(moldtex_sim sim, uint32_t width, uint32_t height) {
   for (float v : rgba)
     if (!(v >= 0.f && (continuous ? std::isfinite(v) : v <= 1.f)))
       bug(continuous ? "a concentration that is negative or not finite" : "a pheromone value outside [0, 1]");
+  // The intrinsic domain's own vertex values, which the texture only shows interpolated
+  // (and which a checkpoint saves): finite and >= 0 too.
+  if (c.domain != MOLDTEX_DOMAIN_INTRINSIC) return;
+  moldtex_domain_info d;
+  moldtex_domain_info_init(&d);
+  if (check(moldtex_sim_get_domain_info(sim, &d)) != MOLDTEX_OK) bug("get_domain_info failed");
+  std::vector<float> values(size_t(d.cell_count) * 4);  // (up to 4 planes)
+  if (check(moldtex_sim_read_intrinsic_vertices(sim, nullptr, values.data(), d.cell_count)) != MOLDTEX_OK)
+    bug("read_intrinsic_vertices failed");
+  for (float v : values)
+    if (!(v >= 0.f && std::isfinite(v))) bug("an intrinsic vertex value that is negative or not finite");
 }
 
 enum Op : uint8_t {
@@ -266,19 +277,21 @@ void fuzz_mesh(Bytes& in) {
       case kAddAgents: {
         const moldtex_brush b = brush(in);
         const uint32_t count = in.u16() % 64, batch = in.u16() % 4;
-        if (sim) check(moldtex_sim_add_agents(sim, &b, count, batch));
+        if (sim && check(moldtex_sim_add_agents(sim, &b, count, batch)) == MOLDTEX_OK)
+          check_pheromone(sim, width, height);
         break;
       }
       case kEraseAgents: {
         const moldtex_brush b = brush(in);
         const uint32_t batch = in.u16() % 4;
         uint32_t removed = 0;
-        if (sim) check(moldtex_sim_erase_agents(sim, &b, batch, &removed));
+        if (sim && check(moldtex_sim_erase_agents(sim, &b, batch, &removed)) == MOLDTEX_OK)
+          check_pheromone(sim, width, height);  // (Gray-Scott: the dab paints)
         break;
       }
       case kUndo: {
         const uint32_t batch = in.u16() % 4;
-        if (sim) check(moldtex_sim_undo_agents(sim, batch));
+        if (sim && check(moldtex_sim_undo_agents(sim, batch)) == MOLDTEX_OK) check_pheromone(sim, width, height);
         break;
       }
       case kSetFood: {
