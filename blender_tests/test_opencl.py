@@ -93,6 +93,32 @@ class DeviceListTests(unittest.TestCase):
         self.assertIn("OpenCL unavailable", text)
         self.assertIn("libOpenCL.so.1", text)
 
+    def test_reason_with_a_driver_code_fits_the_sidebar(self):
+        # A machine without an OpenCL driver (most artists' laptops) shows the ICD
+        # loader's code, one long word of capitals: wrapped by character count its
+        # piece "_PLATFORM_NOT_FOUND_K" drew 142 px in a line of 138 (2026-12-05).
+        import types
+        import panel_fit
+        if not panel_fit.fonts_work():
+            self.skipTest("blf has no font in background mode here (Blender 3.4): "
+                          "gui_panel.py checks this under Xvfb")
+        engine = h.engine()
+        obj = h.add_primitive("torus")
+        h.configure(obj, agents=2000)
+        saved = engine._opencl_cache
+        why = ("The OpenCL runtime found no platform (CL_PLATFORM_NOT_FOUND_KHR, no OpenCL "
+               "driver is installed (-1001)): install an OpenCL driver, e.g. Debian's "
+               "pocl-opencl-icd for the CPU")
+        context = types.SimpleNamespace(active_object=obj, scene=bpy.context.scene)
+        try:
+            engine._opencl_cache = ([], why)
+            backend_identifiers(obj)
+            self.assertIn("CL_PLATFORM_NOT_", labels(draw_all(self, obj)))
+            self.assertEqual(panel_fit.labels_cut(context), [])
+        finally:
+            engine._opencl_cache = saved
+            backend_identifiers(obj)
+
 
 class OpenCLRunTests(unittest.TestCase):
     def setUp(self):

@@ -7,8 +7,6 @@ dots) with the short labels of LABELS, which fit the label column at the sidebar
 default width (blender_tests/panel_fit.py checks it); the long names start each
 property's tooltip (its description)."""
 
-import textwrap
-
 import bpy
 
 from . import bake, brush, engine, live, material, presets
@@ -102,8 +100,37 @@ def _split(layout):
 WIDTH = 21
 
 
+def _char_width(ch):
+    """A character's width in WIDTH's units: capitals and m, w are drawn wider than
+    the lower-case letters a line's count is measured in."""
+    return 1.3 if ch.isupper() or ch in "mw" else 1.0
+
+
+def _wrap(text, width=WIDTH):
+    """Lines of at most `width` units (_char_width), broken between words; a word
+    longer than a line (a driver's CL_PLATFORM_NOT_FOUND_KHR) in pieces. Counting
+    characters alone cut such capitals at the sidebar's edge."""
+    lines, line, used = [], "", 0.0
+    for word in text.split():
+        size = sum(_char_width(ch) for ch in word)
+        if line and used + 1.0 + size <= width:
+            line, used = f"{line} {word}", used + 1.0 + size
+            continue
+        if line:
+            lines.append(line)
+        line, used = "", 0.0
+        for ch in word:  # (most words fit whole)
+            if line and used + _char_width(ch) > width:
+                lines.append(line)
+                line, used = "", 0.0
+            line, used = line + ch, used + _char_width(ch)
+    if line:
+        lines.append(line)
+    return lines
+
+
 def _wrapped(layout, text, icon='NONE', width=WIDTH):
-    lines = textwrap.wrap(text, width, break_on_hyphens=False) or [""]
+    lines = _wrap(text, width) or [""]
     column = layout.column(align=True)
     for index, line in enumerate(lines):
         column.label(text=line, icon=icon if index == 0 else 'BLANK1')
