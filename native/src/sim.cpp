@@ -671,33 +671,33 @@ uint32_t Simulation::erase_agents(const moldtex_brush& brush, uint32_t batch) {
   validate_brush(*surface_, brush);
   check_batch(batch);
   if (gray_scott()) return paint_reaction_dab(brush, batch, true);
-  Agents agents;
-  backend_->export_agents(agents);
+  // The agents read where the backend keeps them (the CPU's), or a copy (a device's): a
+  // dab over a million agents then copies only the ones it erases.
+  Agents exported;
+  const Agents* live = backend_->agents_in_place();
+  if (!live) {
+    backend_->export_agents(exported);
+    live = &exported;
+  }
   BrushBatch& record = batches_[batch];
   const std::vector<uint8_t> remove =
-      erase_mask(*surface_, brush, agents, domain_->width, domain_->height, config_.seed,
+      erase_mask(*surface_, brush, *live, domain_->width, domain_->height, config_.seed,
                  static_cast<uint16_t>(batch), record.erase_dabs++);
-  Agents kept, erased;
   size_t removed = 0;
   for (uint8_t r : remove) removed += r;
   if (removed == 0) return 0;
-  kept.resize(agents.size() - removed);
-  erased.resize(removed);
-  for (size_t i = 0, k = 0, e = 0; i < agents.size(); ++i) {
-    if (remove[i])
-      erased.copy_from(e++, agents, i);
-    else
-      kept.copy_from(k++, agents, i);
-  }
   const size_t stashed = record.erased.size();
-  append_agents(record.erased, erased);
+  record.erased.resize(stashed + removed);
+  for (size_t i = 0, e = stashed; i < live->size(); ++i)
+    if (remove[i]) record.erased.copy_from(e++, *live, i);
   try {
-    backend_->import_agents(kept);
+    backend_->remove_agents(remove, live == &exported ? &exported : nullptr);
   } catch (...) {
     record.erased.resize(stashed);  // the agents are still live
     throw;
   }
-  count_agents(kept);
+  const Agents* after = backend_->agents_in_place();
+  count_agents(after ? *after : exported);
   return static_cast<uint32_t>(removed);
 }
 

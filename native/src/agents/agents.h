@@ -64,6 +64,18 @@ struct Agents {
   void copy_from(size_t i, const Agents& from, size_t j) {
     for_each_array(from, *this, [i, j](const auto& source, auto& target) { target[i] = source[j]; });
   }
+  // Drops the agents whose entry of `drop` (one per agent) is not 0; the rest keep their
+  // order. In place, one array at a time.
+  void remove_marked(const std::vector<uint8_t>& drop) {
+    size_t first = 0;  // (agents before the first dropped one stay where they are)
+    while (first < drop.size() && !drop[first]) ++first;
+    for_each_array(*this, *this, [&drop, first](auto&, auto& v) {
+      size_t kept = std::min(first, v.size());
+      for (size_t i = kept; i < v.size(); ++i)
+        if (!drop[i]) v[kept++] = v[i];
+      v.resize(kept);
+    });
+  }
 };
 
 // Agents begin .. end in batches of `Batch`, a step split in stages: the first stage(i, j)

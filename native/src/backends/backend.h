@@ -55,6 +55,21 @@ class Backend {
   // vertices: species planes of vertex_count); empty on the texture domain.
   virtual std::vector<float> read_cells() const { return {}; }
   virtual void import_agents(const Agents& agents) = 0;
+  // The agents where the backend keeps them, to read without a copy (the CPU's own
+  // arrays), or null (a device's: export them).
+  virtual const Agents* agents_in_place() const { return nullptr; }
+  // Drops the agents whose entry of `drop` (one per agent) is not 0, the others in their
+  // order (the erase brush). `exported`: the agents as export_agents gave them (changed
+  // here), or null.
+  virtual void remove_agents(const std::vector<uint8_t>& drop, Agents* exported) {
+    Agents own;
+    if (!exported) {
+      export_agents(own);
+      exported = &own;
+    }
+    exported->remove_marked(drop);
+    import_agents(*exported);
+  }
 };
 
 }  // namespace moldtex

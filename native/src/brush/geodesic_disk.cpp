@@ -218,6 +218,7 @@ void sample_disk(const Surface& s, const moldtex_surface_point& center, float br
 void DiskDistance::begin(float step) {
   tolerance_ = 0.02f * step;
   centres_.clear();
+  reached_.assign(surface_.triangle_count(), 0);
   last_triangle_ = UINT32_MAX;
   last_list_ = nullptr;
 }
@@ -228,6 +229,7 @@ void DiskDistance::visit(uint32_t, const Walker& w, float distance, bool) {
   if (w.triangle != last_triangle_) {
     last_list_ = &centres_[w.triangle];
     last_triangle_ = w.triangle;
+    reached_[w.triangle] = 1;
   }
   std::vector<Vec2>& list = *last_list_;
   for (const Vec2& q : list)
@@ -236,6 +238,7 @@ void DiskDistance::visit(uint32_t, const Walker& w, float distance, bool) {
 }
 
 float DiskDistance::distance(uint32_t triangle, const float bary[3]) const {
+  if (triangle >= reached_.size() || !reached_[triangle]) return std::numeric_limits<float>::infinity();
   auto it = centres_.find(triangle);
   if (it == centres_.end()) return std::numeric_limits<float>::infinity();
   const Vec2 p = frame_point(surface_.frames[triangle], bary);

@@ -73,6 +73,8 @@ class DiskDistance final : public DiskVisitor {
   const Surface& surface_;
   float tolerance_ = 0;
   std::unordered_map<uint32_t, std::vector<Vec2>> centres_;
+  std::vector<uint8_t> reached_;          // per triangle: has centres (no hash lookup for
+                                          // the many points of a mesh the disk misses)
   uint32_t last_triangle_ = UINT32_MAX;   // consecutive visits mostly share a triangle
   std::vector<Vec2>* last_list_ = nullptr;  // (unordered_map values never move)
 };
