@@ -687,10 +687,10 @@ uint32_t Simulation::erase_agents(const moldtex_brush& brush, uint32_t batch) {
   for (uint8_t r : remove) removed += r;
   if (removed == 0) return 0;
   const size_t stashed = record.erased.size();
-  record.erased.resize(stashed + removed);
-  for (size_t i = 0, e = stashed; i < live->size(); ++i)
-    if (remove[i]) record.erased.copy_from(e++, *live, i);
   try {
+    record.erased.resize(stashed + removed);
+    for (size_t i = 0, e = stashed; i < live->size(); ++i)
+      if (remove[i]) record.erased.copy_from(e++, *live, i);
     backend_->remove_agents(remove, live == &exported ? &exported : nullptr);
   } catch (...) {
     record.erased.resize(stashed);  // the agents are still live
