@@ -378,18 +378,26 @@ void BM_RayCast(benchmark::State& state) {
   state.counters["hit_fraction"] = double(hits) / double(std::max<int64_t>(1, state.iterations()));
 }
 
-void BM_AddAgents(benchmark::State& state) {
+// The slime brushes' case: 1 M agents on the UV sphere at 2048^2 (CPU), and a brush on
+// a triangle of its equator; null (the benchmark skipped) if the simulation failed.
+Case* BrushCase(benchmark::State& state, moldtex_brush* brush) {
   Case* c = GetCase("sphere-cpu", mtx::make_uv_sphere(64, 32, 1.0), 2048, 2048, 1000000,
                     MOLDTEX_BACKEND_CPU);
   if (!c->sim) {
     state.SkipWithError(c->error.c_str());
     for (auto _ : state) {
     }
-    return;
+    return nullptr;
   }
+  moldtex_brush_init(brush);
+  brush->center = {2000, {0.3f, 0.3f, 0.4f}};
+  return c;
+}
+
+void BM_AddAgents(benchmark::State& state) {
   moldtex_brush brush;
-  moldtex_brush_init(&brush);
-  brush.center = {2000, {0.3f, 0.3f, 0.4f}};
+  Case* c = BrushCase(state, &brush);
+  if (!c) return;
   brush.radius = 0.1f;
   for (auto _ : state) {
     if (moldtex_sim_add_agents(c->sim.get(), &brush, 2000, 1) != MOLDTEX_OK) {
@@ -408,17 +416,9 @@ void BM_AddAgents(benchmark::State& state) {
 // arrays). The dab finds each agent's geodesic distance to the centre
 // (brush/geodesic_disk.h, DiskDistance) for its soft edge.
 void BM_EraseAgents(benchmark::State& state) {
-  Case* c = GetCase("sphere-cpu", mtx::make_uv_sphere(64, 32, 1.0), 2048, 2048, 1000000,
-                    MOLDTEX_BACKEND_CPU);
-  if (!c->sim) {
-    state.SkipWithError(c->error.c_str());
-    for (auto _ : state) {
-    }
-    return;
-  }
   moldtex_brush brush;
-  moldtex_brush_init(&brush);
-  brush.center = {2000, {0.3f, 0.3f, 0.4f}};
+  Case* c = BrushCase(state, &brush);
+  if (!c) return;
   brush.radius = float(state.range(0)) * 3.14159265f / 1024.f;
   brush.falloff = 0.5f;
   brush.strength = 0.5f;
