@@ -691,13 +691,12 @@ uint32_t Simulation::erase_agents(const moldtex_brush& brush, uint32_t batch) {
     record.erased.resize(stashed + removed);
     for (size_t i = 0, e = stashed; i < live->size(); ++i)
       if (remove[i]) record.erased.copy_from(e++, *live, i);
-    backend_->remove_agents(remove, live == &exported ? &exported : nullptr);
+    backend_->remove_agents(remove, exported);
   } catch (...) {
     record.erased.resize(stashed);  // the agents are still live
     throw;
   }
-  const Agents* after = backend_->agents_in_place();
-  count_agents(after ? *after : exported);
+  count_agents(*live);  // (the backend's own or the copy, dropped from either way)
   return static_cast<uint32_t>(removed);
 }
 

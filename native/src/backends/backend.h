@@ -59,16 +59,11 @@ class Backend {
   // arrays), or null (a device's: export them).
   virtual const Agents* agents_in_place() const { return nullptr; }
   // Drops the agents whose entry of `drop` (one per agent) is not 0, the others in their
-  // order (the erase brush). `exported`: the agents as export_agents gave them (changed
-  // here), or null.
-  virtual void remove_agents(const std::vector<uint8_t>& drop, Agents* exported) {
-    Agents own;
-    if (!exported) {
-      export_agents(own);
-      exported = &own;
-    }
-    exported->remove_marked(drop);
-    import_agents(*exported);
+  // order (the erase brush). `exported`: the agents as export_agents gave them, dropped
+  // from too; unused by a backend whose agents_in_place is not null.
+  virtual void remove_agents(const std::vector<uint8_t>& drop, Agents& exported) {
+    exported.remove_marked(drop);
+    import_agents(exported);
   }
 };
 
