@@ -19,6 +19,7 @@ constexpr float kAcrossRays = 0.5f; // spacing between rays at the rim, in texel
 constexpr float kMaxStepsPerRadius = 1024.f;
 constexpr int kEventCapacity = 64;
 constexpr size_t kMaxCentresPerTriangle = 64;
+constexpr uint32_t kWidthMemo = 64;   // texel widths remembered per sampling pass
 constexpr int kStuckCrossings = 32;    // edge crossings in one step (of <= a texel or r / 1024)
 // Edge crossings a dab may walk (its sampling passes; the pilot a quarter more): ~0.3 s. Sane dabs cross a few edges per
 // sample and stay far below (<= 4.3 million samples); only slivers narrower than a step
@@ -48,8 +49,18 @@ double sample_pass(const Surface& s, const Walker& start, float radius, uint32_t
                    uint32_t height, float step, float rim_spacing, DiskVisitor* visitor,
                    int64_t& budget) {
   double narrowest = texel_width(s, start.triangle, width, height);
+  // Each triangle's texel width, remembered: a ray meets the same few triangles again
+  // and again (on a sliver, two of them at every step).
+  struct Met {
+    uint32_t triangle = UINT32_MAX;
+    double width = 0;
+  };
+  Met memo[kWidthMemo];
   auto meet = [&](uint32_t t) {
-    if (!s.degenerate[t]) narrowest = std::min(narrowest, texel_width(s, t, width, height));
+    if (s.degenerate[t]) return;
+    Met& m = memo[t % kWidthMemo];
+    if (m.triangle != t) m = {t, texel_width(s, t, width, height)};
+    narrowest = std::min(narrowest, m.width);
   };
   if (!(step > 0.f)) return narrowest;  // no progress possible (radii >= 1e-30 never get here)
   const float two_pi = 2.f * std::numbers::pi_v<float>;
@@ -232,9 +243,10 @@ void DiskDistance::visit(uint32_t, const Walker& w, float distance, bool) {
     reached_[w.triangle] = 1;
   }
   std::vector<Vec2>& list = *last_list_;
+  if (list.size() >= kMaxCentresPerTriangle) return;  // full: nothing more is recorded
   for (const Vec2& q : list)
     if (std::fabs(q.x - c.x) <= tolerance_ && std::fabs(q.y - c.y) <= tolerance_) return;
-  if (list.size() < kMaxCentresPerTriangle) list.push_back(c);
+  list.push_back(c);
 }
 
 float DiskDistance::distance(uint32_t triangle, const float bary[3]) const {
