@@ -217,7 +217,9 @@ MTX_FN float mtx_sense_footprint_at(MTX_TABLES s, MTX_GLOBAL const float* pherom
    * walker's island, no test per texel (a load each, most of the reading's time). */
   const int whole = mtx_box_within_island(s, texel, box.x0, box.x1, box.y0, box.y1, box.island, k);
   float sum = here, count = 1.0f;
-  if (whole && MTX_SPECIES_COUNT(k) == 1u && !(MTX_FIELDS && k->has_fields)) {
+  /* (Bitwise: where the kernel's build fixes the species count and fields, a constant as
+   * an operand of && draws a compiler warning.) */
+  if (whole & (MTX_SPECIES_COUNT(k) == 1u) & !(MTX_FIELDS && k->has_fields)) {
     /* The usual reading, one species and no fields: the same sum in the same order
      * without the general reading's per-texel branches. */
     const float a = k->attraction[MTX_MAX_SPECIES * species];
