@@ -22,6 +22,7 @@
 //   PaintDab/<radius in texels>   one moldtex_surface_paint dab into an RGBA image
 //   RayCast                       moldtex_surface_ray_cast of rays through the sphere
 //   AddAgents/1M+2000             one slime dab (2000 agents) on a 1M-agent CPU sim, undone
+//   UndoAgents/add|erase          the undo of such a dab, or of an erase dab of 128 texels
 //
 // Intrinsic Delaunay triangulation (issue 11), one core, bound = sqrt(area / a) with
 // a = area / bound^2 = 16000 or 160000 (Chew's refinement gives ~0.65 a vertices: ~10k
@@ -436,6 +437,30 @@ void BM_EraseAgents(benchmark::State& state) {
   state.counters["removed"] = removed;
 }
 
+// The undo of one stroke (not timed: the stroke itself, a 2000-agent add dab or a
+// 128-texel erase dab at strength 0.5): the stroke's agents leave and the ones it erased
+// come back.
+void BM_UndoAgents(benchmark::State& state) {
+  moldtex_brush brush;
+  Case* c = BrushCase(state, &brush);
+  if (!c) return;
+  const bool erase = state.range(0) == 1;
+  brush.radius = erase ? 128 * 3.14159265f / 1024.f : 0.1f;
+  brush.strength = 0.5f;
+  uint32_t removed = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    const moldtex_status status = erase ? moldtex_sim_erase_agents(c->sim.get(), &brush, 1, &removed)
+                                        : moldtex_sim_add_agents(c->sim.get(), &brush, 2000, 1);
+    if (status != MOLDTEX_OK) {
+      state.SkipWithError(moldtex_last_error());
+      break;
+    }
+    state.ResumeTiming();
+    moldtex_sim_undo_agents(c->sim.get(), 1);
+  }
+}
+
 mtx::Mesh IntrinsicMesh(int which) {
   switch (which) {
     case 0: return mtx::make_uv_sphere(64, 32, 1.0);
@@ -525,6 +550,8 @@ BENCHMARK(BM_PaintDab)->Name("PaintDab")->Arg(8)->Arg(32)->Arg(128)
 BENCHMARK(BM_RayCast)->Name("RayCast")->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_EraseAgents)->Name("EraseAgents/1M")->Arg(32)->Arg(128)->Arg(512)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AddAgents)->Name("AddAgents/1M+2000")->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_UndoAgents)->Name("UndoAgents")->ArgName("erase")->Arg(0)->Arg(1)->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 
 BENCHMARK(BM_PlaneJones)->Name("PlaneJonesCpu/1024x1024/1M")->UseRealTime()->Unit(benchmark::kMillisecond);

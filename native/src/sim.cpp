@@ -567,6 +567,13 @@ void Simulation::count_agents(const Agents& live) {
   update_u_metric();
 }
 
+void Simulation::add_species_counts(const Agents& changed, int sign) {
+  const std::vector<double> counts = agents_per_species(changed, settings_.species_count);
+  species_agents_.resize(settings_.species_count, 0.0);
+  for (uint32_t k = 0; k < settings_.species_count; ++k) species_agents_[k] += sign * counts[k];
+  update_u_metric();
+}
+
 void Simulation::update_u_metric() {
   settings_.u_metric.assign(settings_.species_count, 0.0);
   if (!continuous()) return;
@@ -614,13 +621,6 @@ void check_batch(uint32_t batch) {
              std::to_string(batch));
 }
 
-// Appends `from` to `to`.
-void append_agents(Agents& to, const Agents& from) {
-  const size_t n = to.size();
-  to.resize(n + from.size());
-  for (size_t i = 0; i < from.size(); ++i) to.copy_from(n + i, from, i);
-}
-
 }  // namespace
 
 uint32_t Simulation::paint_reaction_dab(const moldtex_brush& brush, uint32_t batch, bool erase) {
@@ -650,21 +650,19 @@ void Simulation::add_agents(const moldtex_brush& brush, uint32_t count, uint32_t
                                       " would pass the limit of " + std::to_string(kMaxAgents) + " agents");
   if (count == 0) return;
   BrushBatch& record = batches_[batch];
-  Agents agents;
-  backend_->export_agents(agents);
   ThreadPool pool(settings_.params.thread_count);
-  const size_t first = agents.size();
-  append_agents(agents, place_disk_agents(*surface_, brush, count, config_.seed,
-                                          static_cast<uint16_t>(batch), record.added, pool));
+  Agents added =
+      place_disk_agents(*surface_, brush, count, config_.seed, static_cast<uint16_t>(batch), record.added, pool);
   // Brush agents start as agents in the steady state too; agent k of a batch depends
   // only on (seed, batch, k).
-  for (size_t i = first; i < agents.size(); ++i)
+  for (size_t i = 0; i < added.size(); ++i)
     start_agent_life(settings_.continuous,
-                     mtx_rng_init(config_.seed, MTX_RNG_TURNOVER, (uint64_t(batch) << 32) | (record.added + i - first), 0),
-                     agents, i);
-  backend_->import_agents(agents);
+                     mtx_rng_init(config_.seed, MTX_RNG_TURNOVER, (uint64_t(batch) << 32) | (record.added + i), 0),
+                     added, i);
+  // After the live agents, without copying them where the backend keeps them in place.
+  backend_->append_agents(added);
   record.added += count;
-  count_agents(agents);
+  add_species_counts(added, +1);
 }
 
 uint32_t Simulation::erase_agents(const moldtex_brush& brush, uint32_t batch) {
@@ -713,23 +711,35 @@ void Simulation::undo_agents(uint32_t batch) {
     batches_.erase(it);
     return;
   }
-  Agents agents;
-  backend_->export_agents(agents);
+  // The stroke's agents leave and the ones it erased come back after the rest, without
+  // copying the rest where the backend keeps them in place (the CPU's).
+  Agents exported;
+  const Agents* live = backend_->agents_in_place();
+  if (!live) {
+    backend_->export_agents(exported);
+    live = &exported;
+  }
+  std::vector<uint8_t> drop(live->size(), 0);
   size_t keep = 0;
-  for (uint16_t b : agents.batch) keep += b != batch;
+  for (size_t i = 0; i < drop.size(); ++i) {
+    drop[i] = live->batch[i] == batch;
+    keep += !drop[i];
+  }
   const size_t restore = it == batches_.end() ? 0 : it->second.erased.size();
   if (keep + restore > kMaxAgents)
     fail(MOLDTEX_ERROR_TOO_LARGE, "Undoing this stroke would pass the limit of " + std::to_string(kMaxAgents) +
                                       " agents");
-  if (keep != agents.size() || restore > 0) {
-    Agents next;
-    next.resize(keep + restore);
-    size_t k = 0;
-    for (size_t i = 0; i < agents.size(); ++i)
-      if (agents.batch[i] != batch) next.copy_from(k++, agents, i);
-    for (size_t i = 0; i < restore; ++i) next.copy_from(k++, it->second.erased, i);
-    backend_->import_agents(next);
-    count_agents(next);
+  if (keep != live->size() || restore > 0) {
+    if (!backend_->agents_in_place()) {  // a device: one import of the whole result
+      exported.remove_marked(drop);
+      if (restore > 0) exported.append(it->second.erased);
+      backend_->import_agents(exported);
+    } else {
+      if (restore > 0) backend_->append_agents(it->second.erased);  // (first: it may throw)
+      drop.resize(live->size(), 0);  // the restored agents stay
+      backend_->remove_agents(drop, exported);
+    }
+    count_agents(*live);
   }
   if (it != batches_.end()) batches_.erase(it);
 }

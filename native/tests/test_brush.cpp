@@ -465,6 +465,74 @@ TEST_P(Slime, UndoOfAnAddRemovesThemAndRedoingGivesTheSameAgents) {
   EXPECT_EQ(Multiset(sim.get(), 1150), with_stroke);
 }
 
+TEST_P(Slime, EraseAndUndoKeepTheAgentsInTheirOrder) {
+  // An agent's random streams are keyed by its place in the list, so the brushes must
+  // keep that order: after an erase dab the survivors in their old order; after its undo
+  // the survivors, then the erased agents in their old order (the CPU edits its arrays in
+  // place, OpenCL exports and imports: both must give this).
+  const Mesh m = Plane();
+  auto s = create_surface(m);
+  moldtex_sim_config c = make_config(kTex, kTex, kAgents, 13);
+  MTX_PIN_BACKEND(c);
+  auto sim = create_sim(s.get(), c, default_params());
+  ASSERT_TRUE(sim) << LastError();
+  ASSERT_EQ(moldtex_sim_step(sim.get(), 2), MOLDTEX_OK);
+  auto same = [](const moldtex_surface_point& a, const moldtex_surface_point& b) {
+    return a.triangle == b.triangle && std::memcmp(a.bary, b.bary, sizeof(a.bary)) == 0;
+  };
+  const auto before = read_agents(sim.get(), kAgents);
+  const Vec3 centre{0.5, 0.5, 0};
+  const double r = 1.0;
+  const moldtex_brush b = Brush(locate(m, centre), float(r));  // strength 1, hard edge
+  uint32_t removed = 0;
+  ASSERT_EQ(moldtex_sim_erase_agents(sim.get(), &b, 9, &removed), MOLDTEX_OK) << LastError();
+  ASSERT_GT(removed, 100u);
+  const auto after = read_agents(sim.get(), kAgents - removed);
+  // Each survivor is the next agent of `before` that the disk did not take.
+  std::vector<moldtex_surface_point> erased;
+  size_t k = 0;
+  for (const auto& a : before) {
+    if (k < after.size() && same(a, after[k]))
+      ++k;
+    else
+      erased.push_back(a);
+  }
+  ASSERT_EQ(k, after.size()) << "the survivors are not in their old order";
+  ASSERT_EQ(erased.size(), removed);
+  for (const auto& a : erased) EXPECT_LE(norm(sub(evaluate_position(s.get(), a), centre)), r * (1 + 1e-4));
+  ASSERT_EQ(moldtex_sim_undo_agents(sim.get(), 9), MOLDTEX_OK) << LastError();
+  const auto undone = read_agents(sim.get(), kAgents);
+  for (size_t i = 0; i < after.size(); ++i) ASSERT_TRUE(same(undone[i], after[i])) << "agent " << i;
+  for (size_t i = 0; i < erased.size(); ++i) ASSERT_TRUE(same(undone[after.size() + i], erased[i])) << "erased " << i;
+}
+
+TEST_P(Slime, BrushesKeepTheContinuousModelsUMetricTrue) {
+  // U (Eq. 5) is proportional to the live agents of species 0: it must follow every add,
+  // erase and undo exactly (counts are integers), and come back to its first value.
+  auto s = create_surface(Plane());
+  moldtex_sim_config c = make_config(kTex, kTex, kAgents, 17);
+  c.model = MOLDTEX_MODEL_CONTINUOUS;
+  MTX_PIN_BACKEND(c);
+  auto sim = create_sim(s.get(), c, default_params());
+  ASSERT_TRUE(sim) << LastError();
+  const double u0 = get_stats(sim.get()).u_metric;
+  ASSERT_GT(u0, 0.0);
+  auto u_per_agent = [&] { return get_stats(sim.get()).u_metric / Count(sim.get()) / (u0 / kAgents); };
+  moldtex_brush b = Brush(locate(Plane(), {-1, 1, 0}), 1.f);
+  ASSERT_EQ(moldtex_sim_add_agents(sim.get(), &b, 1500, 2), MOLDTEX_OK) << LastError();
+  EXPECT_EQ(Count(sim.get()), kAgents + 1500);
+  EXPECT_NEAR(u_per_agent(), 1.0, 1e-12);
+  b.center = locate(Plane(), {-0.5, 1, 0});
+  uint32_t removed = 0;
+  ASSERT_EQ(moldtex_sim_erase_agents(sim.get(), &b, 3, &removed), MOLDTEX_OK) << LastError();
+  ASSERT_GT(removed, 0u);
+  EXPECT_NEAR(u_per_agent(), 1.0, 1e-12);
+  ASSERT_EQ(moldtex_sim_undo_agents(sim.get(), 3), MOLDTEX_OK);
+  ASSERT_EQ(moldtex_sim_undo_agents(sim.get(), 2), MOLDTEX_OK);
+  EXPECT_EQ(Count(sim.get()), kAgents);
+  EXPECT_EQ(get_stats(sim.get()).u_metric, u0);
+}
+
 TEST_P(Slime, ResetDropsBrushAgentsAndStashesAndSteppingWorks) {
   // After adds and an erase the simulation steps (agents stay valid, pheromone grows,
   // the count is unchanged by stepping); reset returns to config.agent_count, and an

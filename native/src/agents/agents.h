@@ -64,6 +64,24 @@ struct Agents {
   void copy_from(size_t i, const Agents& from, size_t j) {
     for_each_array(from, *this, [i, j](const auto& source, auto& target) { target[i] = source[j]; });
   }
+  // Appends the agents of `from` after these (0 where an array of `from` is short, as
+  // batch tags may be). An array that must grow takes an eighth more room than it
+  // needs, so a stroke of small dabs moves the agents seldom (not the doubling of a
+  // vector, a lot of memory for millions of agents). If an array cannot grow, every
+  // array is left as it was.
+  void append(const Agents& from) {
+    const size_t n = size(), m = from.size();
+    try {
+      for_each_array(from, *this, [n, m](const auto& source, auto& target) {
+        if (target.capacity() < n + m) target.reserve(n + std::max(m, n / 8));
+        target.resize(n + m);
+        std::copy_n(source.begin(), std::min(source.size(), m), target.begin() + n);
+      });
+    } catch (...) {
+      resize(n);
+      throw;
+    }
+  }
   // Drops the agents whose entry of `drop` (one per agent) is not 0; the rest keep their
   // order. In place, one array at a time.
   void remove_marked(const std::vector<uint8_t>& drop) {

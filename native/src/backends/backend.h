@@ -65,6 +65,14 @@ class Backend {
     exported.remove_marked(drop);
     import_agents(exported);
   }
+  // Adds `extra` after the agents (the add brush; an undone erase). Unchanged if it
+  // throws.
+  virtual void append_agents(const Agents& extra) {
+    Agents all;
+    export_agents(all);
+    all.append(extra);
+    import_agents(all);
+  }
 };
 
 }  // namespace moldtex

@@ -49,6 +49,7 @@ class CpuBackend final : public Backend {
   void import_agents(const Agents& agents) override;
   const Agents* agents_in_place() const override { return &agents_; }
   void remove_agents(const std::vector<uint8_t>& drop, Agents&) override { agents_.remove_marked(drop); }
+  void append_agents(const Agents& extra) override { agents_.append(extra); }
   std::vector<float> read_cells() const override { return intrinsic_ ? pheromone_ : std::vector<float>{}; }
 
  private:
