@@ -49,7 +49,8 @@ class Backend {
   virtual void export_state(SimState& state) const = 0;
   virtual void import_state(const SimState& state) = 0;
   // Only the agents (with species, hunger and batch tags); the pheromone stays. The
-  // slime brushes edit agents this way: export, edit on the host, import.
+  // slime brushes edit a device's agents this way (export, edit on the host, import);
+  // the CPU's in place (agents_in_place, remove_agents, append_agents).
   virtual void export_agents(Agents& agents) const = 0;
   // The values per cell where the domain's cells are not texels (the intrinsic domain's
   // vertices: species planes of vertex_count); empty on the texture domain.
