@@ -506,6 +506,45 @@ TEST_P(Slime, EraseAndUndoKeepTheAgentsInTheirOrder) {
   for (size_t i = 0; i < erased.size(); ++i) ASSERT_TRUE(same(undone[after.size() + i], erased[i])) << "erased " << i;
 }
 
+TEST_P(Slime, AStrokeOfDabsGivesTheCpusAgentsAndTheyAllStep) {
+  // Five dabs of 100 agents: a device writes only the new agents where its buffers have
+  // room (after the first dab grows them by a quarter) and grows them again on the
+  // third. The agents must be the CPU's bit for bit, and every added agent must then
+  // step (a count the kernels did not see would leave the last ones standing).
+  const Mesh m = Plane();
+  auto s = create_surface(m);
+  moldtex_sim_config c = make_config(kTex, kTex, 1000, 21);
+  MTX_PIN_BACKEND(c);
+  auto sim = create_sim(s.get(), c, default_params());
+  ASSERT_TRUE(sim) << LastError();
+  moldtex_sim_config cpu_config = make_config(kTex, kTex, 1000, 21);
+  cpu_config.backend = MOLDTEX_BACKEND_CPU;
+  auto cpu = create_sim(s.get(), cpu_config, default_params());
+  ASSERT_TRUE(cpu) << LastError();
+  moldtex_brush b = Brush(locate(m, {0, 0, 0}), 0.7f);
+  for (int dab = 0; dab < 5; ++dab) {
+    b.center = locate(m, {-1.0 + 0.4 * dab, 0.5, 0});
+    ASSERT_EQ(moldtex_sim_add_agents(sim.get(), &b, 100, 5), MOLDTEX_OK) << LastError();
+    ASSERT_EQ(moldtex_sim_add_agents(cpu.get(), &b, 100, 5), MOLDTEX_OK) << LastError();
+  }
+  ASSERT_EQ(Count(sim.get()), 1500u);
+  const auto added = read_agents(sim.get(), 1500);
+  const auto expected = read_agents(cpu.get(), 1500);
+  for (size_t i = 0; i < added.size(); ++i) {
+    ASSERT_EQ(added[i].triangle, expected[i].triangle) << "agent " << i;
+    ASSERT_EQ(std::memcmp(added[i].bary, expected[i].bary, sizeof(added[i].bary)), 0) << "agent " << i;
+  }
+  ASSERT_EQ(moldtex_sim_step(sim.get(), 3), MOLDTEX_OK) << LastError();
+  const auto moved = read_agents(sim.get(), 1500);
+  int still = 0;
+  for (size_t i = 1000; i < 1500; ++i) {
+    ASSERT_TRUE(ValidPoint(moved[i], m.triangle_count()));
+    still += moved[i].triangle == added[i].triangle &&
+             std::memcmp(moved[i].bary, added[i].bary, sizeof(added[i].bary)) == 0;
+  }
+  EXPECT_EQ(still, 0) << "added agents that did not move in 3 steps";
+}
+
 TEST_P(Slime, BrushesKeepTheContinuousModelsUMetricTrue) {
   // U (Eq. 5) is proportional to the live agents of species 0: it must follow every add,
   // erase and undo exactly (counts are integers), and come back to its first value.

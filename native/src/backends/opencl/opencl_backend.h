@@ -43,6 +43,7 @@ class OpenClBackend final : public Backend {
   void import_state(const SimState& state) override;
   void export_agents(Agents& agents) const override;
   void import_agents(const Agents& agents) override;
+  void append_agents(const Agents& extra) override;
   std::vector<float> read_cells() const override;
 
  private:
