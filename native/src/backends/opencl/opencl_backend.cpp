@@ -353,42 +353,26 @@ void OpenClBackend::reserve_agents(size_t count) {
 }
 
 void OpenClBackend::import_agents(const Agents& a) {
-  State& s = *state_;
   reserve_agents(a.size());
+  try {
+    upload_agents(a, 0);
+  } catch (...) {  // the buffers hold neither the old agents nor the new: none then
+    agent_count_ = 0;
+    batch_.clear();
+    throw;
+  }
   agent_count_ = static_cast<uint32_t>(a.size());
   batch_ = a.batch;
   batch_.resize(a.size(), 0);
-  auto write = [&](cl_mem m, const void* data, size_t element = 4) {
-    if (agent_count_ == 0) return;  // a zero-sized write is invalid
-    check(s.r.clEnqueueWriteBuffer(s.queue, m, CL_TRUE, 0, agent_count_ * element, data, 0, nullptr, nullptr),
-          "uploading the agents");
-  };
-  write(s.triangle, a.triangle.data());
-  write(s.b1, a.b1.data());
-  write(s.b2, a.b2.data());
-  write(s.hx, a.hx.data());
-  write(s.hy, a.hy.data());
-  write(s.species, a.species.data(), 1);
-  write(s.hunger, a.hunger.data());
-  std::vector<cl_float4> lives(agent_count_);
-  for (size_t i = 0; i < lives.size(); ++i) {
-    lives[i].s[0] = i < a.clock.size() ? a.clock[i] : 0.f;
-    lives[i].s[1] = i < a.age.size() ? a.age[i] : 0.f;
-    lives[i].s[2] = i < a.exposure.size() ? a.exposure[i] : 0.f;
-    lives[i].s[3] = i < a.threshold.size() ? a.threshold[i] : 0.f;
-  }
-  write(s.lives, lives.data(), sizeof(cl_float4));
 }
 
-void OpenClBackend::append_agents(const Agents& a) {
-  const size_t n = agent_count_, m = a.size();
-  if (m == 0) return;
-  // Buffers too small: new ones, filled by one import (reserve_agents leaves room for the
-  // rest of a stroke). Otherwise only the new agents travel, written after the others.
-  if (n + m > agent_capacity_ || !state_->triangle) return Backend::append_agents(a);
+void OpenClBackend::upload_agents(const Agents& a, size_t first) {
   State& s = *state_;
+  const size_t m = a.size();
+  if (m == 0) return;  // a zero-sized write is invalid
   auto write = [&](cl_mem buffer, const void* data, size_t element = 4) {
-    check(s.r.clEnqueueWriteBuffer(s.queue, buffer, CL_TRUE, n * element, m * element, data, 0, nullptr, nullptr),
+    check(s.r.clEnqueueWriteBuffer(s.queue, buffer, CL_TRUE, first * element, m * element, data, 0, nullptr,
+                                   nullptr),
           "uploading the agents");
   };
   write(s.triangle, a.triangle.data());
@@ -406,7 +390,16 @@ void OpenClBackend::append_agents(const Agents& a) {
     lives[i].s[3] = i < a.threshold.size() ? a.threshold[i] : 0.f;
   }
   write(s.lives, lives.data(), sizeof(cl_float4));
-  // (Until here a failure leaves the agents as they were: the count had not grown.)
+}
+
+void OpenClBackend::append_agents(const Agents& a) {
+  const size_t n = agent_count_, m = a.size();
+  if (m == 0) return;
+  // Buffers too small: new ones, filled by one import (reserve_agents leaves room for the
+  // rest of a stroke). Otherwise only the new agents travel, written after the others;
+  // until the count grows, a failure leaves the agents as they were.
+  if (n + m > agent_capacity_ || !state_->triangle) return Backend::append_agents(a);
+  upload_agents(a, n);
   batch_.resize(n + m, 0);
   std::copy_n(a.batch.begin(), std::min(a.batch.size(), m), batch_.begin() + n);
   agent_count_ = static_cast<uint32_t>(n + m);

@@ -49,6 +49,8 @@ class OpenClBackend final : public Backend {
  private:
   // Makes the agent buffers hold at least `count` agents (reallocating, contents lost).
   void reserve_agents(size_t count);
+  // Writes the agents of `a` into the buffers from agent `first` on (room reserved).
+  void upload_agents(const Agents& a, size_t first);
   // The agent kernel specialised for food with hunger on/off and fields on/off (and this
   // simulation's species count), built on first use.
   cl_kernel agent_kernel(bool food, bool fields);
