@@ -22,7 +22,7 @@
 //   PaintDab/<radius in texels>   one moldtex_surface_paint dab into an RGBA image
 //   RayCast                       moldtex_surface_ray_cast of rays through the sphere
 //   AddAgents/1M+2000             one slime dab (2000 agents) on a 1M-agent CPU sim, undone
-//   UndoAgents/add|erase          the undo of such a dab, or of an erase dab of 128 texels
+//   UndoAgents/erase:0|1          the undo of such a dab (0), or of an erase dab of 128 texels (1)
 //
 // Intrinsic Delaunay triangulation (issue 11), one core, bound = sqrt(area / a) with
 // a = area / bound^2 = 16000 or 160000 (Chew's refinement gives ~0.65 a vertices: ~10k

@@ -567,10 +567,10 @@ void Simulation::count_agents(const Agents& live) {
   update_u_metric();
 }
 
-void Simulation::add_species_counts(const Agents& changed, int sign) {
-  const std::vector<double> counts = agents_per_species(changed, settings_.species_count);
+void Simulation::add_species_counts(const Agents& added) {
+  const std::vector<double> counts = agents_per_species(added, settings_.species_count);
   species_agents_.resize(settings_.species_count, 0.0);
-  for (uint32_t k = 0; k < settings_.species_count; ++k) species_agents_[k] += sign * counts[k];
+  for (uint32_t k = 0; k < settings_.species_count; ++k) species_agents_[k] += counts[k];
   update_u_metric();
 }
 
@@ -662,7 +662,7 @@ void Simulation::add_agents(const moldtex_brush& brush, uint32_t count, uint32_t
   // After the live agents, without copying them where the backend keeps them in place.
   backend_->append_agents(added);
   record.added += count;
-  add_species_counts(added, +1);
+  add_species_counts(added);
 }
 
 uint32_t Simulation::erase_agents(const moldtex_brush& brush, uint32_t batch) {

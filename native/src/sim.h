@@ -110,8 +110,8 @@ class Simulation {
   // live agents, which passes through here, so parameter changes need no read-back).
   void update_u_metric();
   void count_agents(const Agents& live);
-  // The same after `changed` were added (sign +1) to the live agents or dropped (-1).
-  void add_species_counts(const Agents& changed, int sign);
+  // The same after `added` joined the live agents (no recount of the others).
+  void add_species_counts(const Agents& added);
   // Continuous model: steady-state clocks for agents [begin, end) (see start_agent_lives).
   void start_lives(Agents& agents, size_t begin, uint64_t stream);
   // The field plane the agents sense: the fields' obstacles and attractors plus the read
