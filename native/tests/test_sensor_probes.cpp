@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <random>
 #include <utility>
 #include <vector>
@@ -14,6 +15,7 @@
 #include "agents/momas_rules.h"
 #include "domain/texture_domain.h"
 #include "surface/surface.h"
+#include "surface/trace_lanes.h"
 #include "test_util.h"
 
 namespace mtx {
@@ -135,6 +137,74 @@ TEST(SensorProbes, AWrongUnfoldingIsCaught) {
   const Agreement a = CompareWithWalks(surface, moldtex::surface_tables(surface, domain), 512, float(0.7 * edge), 4000, 11);
   std::printf("neighbours mirrored: %d of %d probes far\n", a.far, a.probes);
   EXPECT_GT(a.far, a.probes / 20) << "worst " << a.worst << " texels";
+}
+
+// The traces in SIMD lanes (surface/trace_lanes.h) are the scalar traces bit for bit:
+// the same ends (triangle and weights, compared as bits) and the same traces left to the
+// walk, on every kind of edge, at lengths from a fifth of a triangle to twelve triangles
+// (past MTX_UNFOLDED_HOPS crossings, so lanes leave at the limit too), in batches whose
+// sizes are not multiples of 16 (part-filled vectors).
+TEST(SensorProbes, TraceLanesAreTheScalarTracesBitForBit) {
+  if (!moldtex::trace_lanes_available()) GTEST_SKIP() << "no AVX-512F on this processor: the lanes run the scalar code";
+  const ProbeCase cases[] = {{"uv sphere", make_uv_sphere(32, 16, 1.0)},
+                             {"fine uv sphere", make_uv_sphere(128, 64, 1.0)},
+                             {"torus", make_torus(24, 12, 1.0, 0.3)},
+                             {"cube", make_cube()},
+                             {"flipped torus", FlipEveryOther(make_torus(24, 12, 1.0, 0.3))},
+                             {"open cylinder", make_open_cylinder(16, 6, 0.5, 1.0)}};
+  for (const ProbeCase& c : cases) {
+    const moldtex::Surface surface = moldtex::build_surface(c.mesh.desc());
+    const uint32_t triangles = surface.triangle_count();
+    const double edge = std::sqrt(2.0 * surface.area / triangles);
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<float> uniform(0.f, 1.f);
+    int traces = 0, located = 0, walked = 0, differ = 0;
+    for (double lengths : {0.2, 0.7, 3.0, 12.0})
+      for (size_t batch : {size_t(64), size_t(37), size_t(5)})
+        for (int round = 0; round < 40; ++round) {
+          moldtex::TraceLanes lanes, scalar;
+          lanes.count = batch;
+          for (size_t i = 0; i < batch; ++i) {
+            moldtex::mtx_walker w{};
+            do w.triangle = uint32_t(rng() % triangles);
+            while (surface.degenerate[w.triangle]);
+            float b1 = uniform(rng), b2 = uniform(rng);
+            if (b1 + b2 > 1.f) b1 = 1.f - b1, b2 = 1.f - b2;
+            w.bary[0] = 1.f - b1 - b2;
+            w.bary[1] = b1;
+            w.bary[2] = b2;
+            const float angle = 6.2831853f * uniform(rng);
+            w.heading = {std::cos(angle), std::sin(angle)};
+            float s[3], e[3];
+            moldtex::mtx_trace_ends(surface.frames.data(), &w, float(lengths * edge), s, e);
+            lanes.triangle[i] = w.triangle;
+            for (int k = 0; k < 3; ++k) lanes.s[k][i] = s[k], lanes.e[k][i] = e[k];
+          }
+          scalar = lanes;
+          uint8_t in_lanes[moldtex::kTraceLanes], one_by_one[moldtex::kTraceLanes];
+          moldtex::trace_lanes_force_scalar(true);
+          moldtex::trace_hops_lanes(surface.adjacency.data(), surface.unfolded.data(), triangles, scalar, one_by_one);
+          moldtex::trace_lanes_force_scalar(false);
+          moldtex::trace_hops_lanes(surface.adjacency.data(), surface.unfolded.data(), triangles, lanes, in_lanes);
+          for (size_t i = 0; i < batch; ++i) {
+            ++traces;
+            bool same = in_lanes[i] == one_by_one[i];
+            if (same && in_lanes[i]) {
+              same = lanes.triangle[i] == scalar.triangle[i];
+              for (int k = 0; k < 3; ++k)
+                same = same && std::memcmp(&lanes.e[k][i], &scalar.e[k][i], sizeof(float)) == 0;
+            }
+            differ += !same;
+            located += in_lanes[i] != 0;
+            walked += in_lanes[i] == 0;
+          }
+        }
+    std::printf("%-14s %d traces: %d located, %d left to the walk, %d differ\n", c.name, traces, located, walked,
+                differ);
+    EXPECT_EQ(differ, 0) << c.name;
+    EXPECT_GT(located, traces / 2) << c.name;  // both outcomes exercised
+    EXPECT_GT(walked, 0) << c.name;
+  }
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 
 #include "agents/parameter_maps.h"
 #include "common/rng.h"
+#include "surface/trace_lanes.h"
 
 namespace moldtex {
 
@@ -166,19 +167,53 @@ void continuous_update_agents(const mtx_surface_tables& tables, const Continuous
   // another. Agents of one step are independent (they read the concentration of the
   // step's start and add deposits into exact integer sums), so the batching changes no
   // result.
-  constexpr size_t kBatch = 16;
+  constexpr size_t kBatch = 32;
   Walker w[kBatch];
   mtx_agent_life life[kBatch];
   mtx_continuous_plan plan[kBatch];
   const size_t plane = c.plane_cells;
   const bool three = tables.vertex_cells != 0;  // stencils of 3 cells (else 4 texels)
+  // The batch's sensor traces are located together (surface/trace_lanes.h: SIMD lanes
+  // where the processor has them, the same bits as one by one).
+  static_assert(3 * kBatch <= kTraceLanes);
+  TraceLanes lanes;
+  uint8_t located[kTraceLanes];
+  size_t lane_of[kBatch];  // each deciding agent's first lane
   for_each_in_batches<kBatch>(
       begin, end,
-      [&](size_t i, size_t j) {  // turnover, maps, sensor traces
+      [&](size_t i, size_t j) {  // turnover, maps, where the sensor traces start
         w[j] = agents.load(i);
         life[j] = mtx_agent_life{agents.clock[i], agents.age[i], agents.exposure[i], agents.threshold[i]};
-        mtx_continuous_agent_begin(tables, alias.prob.data(), alias.alias.data(), bias, maps, spawn_max, &w[j],
-                                   &life[j], i, &c, &plan[j]);
+        mtx_continuous_agent_begin_untraced(tables, alias.prob.data(), alias.alias.data(), bias, maps, spawn_max,
+                                            &w[j], &life[j], i, &c, &plan[j]);
+        if (j == 0) lanes.count = 0;
+        if (!plan[j].decide) return;
+        mtx_continuous_trace_starts(&w[j], plan[j].sensor_cos, plan[j].sensor_sin, plan[j].at);
+        lane_of[j] = lanes.count;
+        for (const Walker& at : plan[j].at) {
+          const size_t l = lanes.count++;
+          float s[3], e[3];
+          mtx_trace_ends(tables.frames, &at, plan[j].sensor_length, s, e);
+          lanes.triangle[l] = at.triangle;
+          for (int k = 0; k < 3; ++k) lanes.s[k][l] = s[k], lanes.e[k][l] = e[k];
+        }
+      },
+      [&](size_t, size_t j) {  // the traces' ends (mtx_continuous_traces)
+        if (j == 0 && tables.unfolded && lanes.count > 0)
+          trace_hops_lanes(tables.adjacency, tables.unfolded, c.triangle_count, lanes, located);
+        if (!plan[j].decide) return;
+        for (size_t m = 0; m < 3; ++m) {
+          Walker& at = plan[j].at[m];
+          const size_t l = lane_of[j] + m;
+          if (tables.unfolded && located[l]) {
+            at.triangle = lanes.triangle[l];
+            for (int k = 0; k < 3; ++k) at.bary[k] = lanes.e[k][l];
+            mtx_clamp_bary(at.bary);
+          } else {
+            mtx_walk_until(tables.frames, tables.adjacency, &at, plan[j].sensor_length, nullptr, 0,
+                           MTX_BOUNDARY_BOUNCE, nullptr);
+          }
+        }
       },
       [&](size_t i, size_t j) {  // the reading stencils; ask for the cells they read
         if (!plan[j].decide) return;

@@ -189,17 +189,23 @@ MTX_FN float mtx_continuous_read(MTX_GLOBAL const float* u, MTX_GLOBAL const flo
   return v;
 }
 
+/* The three sensor traces (left, front, right) of walker `from` as they start: at its
+ * point, the sides turned by (c, +-sn). */
+MTX_FN void mtx_continuous_trace_starts(const mtx_walker* from, float c, float sn, mtx_walker* at) {
+  for (int i = 0; i < 3; ++i) {
+    at[i] = *from;
+    /* (The front turned by (1, 0) too, as it always was: that keeps the sign of a zero.) */
+    at[i].heading = i == 1 ? mtx_rotate(from->heading, 1.0f, 0.0f) : mtx_rotate(from->heading, c, i == 0 ? sn : -sn);
+  }
+}
+
 /* The ends of the three sensor traces (left, front, right) of `length` from walker
  * `from`, the sides turned by (c, +-sn): where the traces end (triangle and weights;
  * their headings are not used). Located through the unfolded neighbours where the
  * tables have them (mtx_trace_unfolded), walked where not (open boundaries bounce). */
 MTX_FN void mtx_continuous_traces(MTX_TABLES s, const mtx_walker* from, float c, float sn,
                                   float length, mtx_walker* at) {
-  for (int i = 0; i < 3; ++i) {
-    at[i] = *from;
-    /* (The front turned by (1, 0) too, as it always was: that keeps the sign of a zero.) */
-    at[i].heading = i == 1 ? mtx_rotate(from->heading, 1.0f, 0.0f) : mtx_rotate(from->heading, c, i == 0 ? sn : -sn);
-  }
+  mtx_continuous_trace_starts(from, c, sn, at);
   for (int i = 0; i < 3; ++i)
     if (mtx_walk_trace(s.frames, s.adjacency, s.unfolded, &at[i], length, MTX_BOUNDARY_BOUNCE))
       mtx_clamp_bary(at[i].bary); /* on the simplex, as a walk leaves its weights */
@@ -228,15 +234,16 @@ typedef struct mtx_continuous_plan {
 } mtx_continuous_plan;
 
 /* The first part of one step of agent `agent` (walker w, clocks life): turnover, the
- * parameter maps where it then stands, its decision clock, and where it decides, the
- * first decision's sensor traces. Reads no concentration, so a backend can run it for a
- * batch of agents and fetch the cells their sensors read together. */
-MTX_FN void mtx_continuous_agent_begin(MTX_TABLES s, MTX_GLOBAL const float* alias_prob,
-                                       MTX_GLOBAL const mtx_u32* alias_index,
-                                       MTX_GLOBAL const float* bias, MTX_GLOBAL const float* maps,
-                                       MTX_GLOBAL const float* spawn_max, mtx_walker* w,
-                                       mtx_agent_life* life, mtx_u64 agent,
-                                       const mtx_continuous_constants* k, mtx_continuous_plan* plan) {
+ * parameter maps where it then stands and its decision clock (mtx_continuous_agent_begin
+ * adds the first decision's sensor traces where it decides). Reads no concentration, so
+ * a backend can run it for a batch of agents and fetch the cells their sensors read
+ * together. */
+MTX_FN void mtx_continuous_agent_begin_untraced(MTX_TABLES s, MTX_GLOBAL const float* alias_prob,
+                                                MTX_GLOBAL const mtx_u32* alias_index,
+                                                MTX_GLOBAL const float* bias, MTX_GLOBAL const float* maps,
+                                                MTX_GLOBAL const float* spawn_max, mtx_walker* w,
+                                                mtx_agent_life* life, mtx_u64 agent,
+                                                const mtx_continuous_constants* k, mtx_continuous_plan* plan) {
   /* Turnover (§3.2): exposure grows by dt / tau; past the threshold the agent decays and
    * a new one starts at a uniform point of the surface (or one drawn by the spawn map),
    * age 0, a fresh threshold. A lifetime map scales tau where the agent is (§3.3); where
@@ -307,7 +314,17 @@ MTX_FN void mtx_continuous_agent_begin(MTX_TABLES s, MTX_GLOBAL const float* ali
   plan->deposit_units = deposit_units;
   life->clock += k->dt;
   plan->decide = life->clock >= k->decision_period;
-  if (plan->decide) mtx_continuous_traces(s, w, sensor_cos, sensor_sin, sensor_length, plan->at);
+}
+
+/* ... and with the first decision's sensor traces (where the agent decides). */
+MTX_FN void mtx_continuous_agent_begin(MTX_TABLES s, MTX_GLOBAL const float* alias_prob,
+                                       MTX_GLOBAL const mtx_u32* alias_index,
+                                       MTX_GLOBAL const float* bias, MTX_GLOBAL const float* maps,
+                                       MTX_GLOBAL const float* spawn_max, mtx_walker* w,
+                                       mtx_agent_life* life, mtx_u64 agent,
+                                       const mtx_continuous_constants* k, mtx_continuous_plan* plan) {
+  mtx_continuous_agent_begin_untraced(s, alias_prob, alias_index, bias, maps, spawn_max, w, life, agent, k, plan);
+  if (plan->decide) mtx_continuous_traces(s, w, plan->sensor_cos, plan->sensor_sin, plan->sensor_length, plan->at);
 }
 
 /* The second part: the reading stencils where the plan's sensor traces end. Apart from

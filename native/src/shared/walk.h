@@ -320,23 +320,31 @@ MTX_FN int mtx_walk_until(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const m
   return mtx_walk_across(frames, adjacency, w, length, events, capacity, boundary, scatter_rng);
 }
 
-/* A straight walk of `length` from walker w, located without walking where it crosses
- * at most MTX_UNFOLDED_HOPS edges between triangles (none open): the weights of its start
- * and end points in the walker's triangle are linear in `length`; while the end lies
- * outside the current triangle, the trace leaves it by the edge whose weight reaches 0
- * first between start and end, and both points are carried into the neighbour there
- * through `unfolded` (MTX_UNFOLDED_FLOATS: affine maps, no division). The same end as
- * the walk up to rounding, with the heading left as it was (a sensor trace is read only
- * where it ends). Returns 1 with w moved there, or 0 with w unchanged (an open
- * boundary, more crossings, or a trace within rounding of a corner): the caller walks. */
-MTX_FN int mtx_trace_unfolded(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const mtx_u32* adjacency,
-                              MTX_GLOBAL const float* unfolded, mtx_walker* w, float length) {
+/* The start and end of a straight walk of `length` from walker w as weights in the
+ * walker's triangle (both linear in `length`; the end may lie outside): s[3], e[3]. */
+MTX_FN void mtx_trace_ends(MTX_GLOBAL const mtx_frame* frames, const mtx_walker* w, float length,
+                           float* s, float* e) {
   MTX_GLOBAL const mtx_frame* f = frames + w->triangle;
   const float d2 = w->heading.y * f->inv_by;
   const float d1 = (w->heading.x - f->bx * d2) * f->inv_a;
-  float s0 = w->bary[0], s1 = w->bary[1], s2 = w->bary[2];
-  float e0 = s0 - length * (d1 + d2), e1 = s1 + length * d1, e2 = s2 + length * d2;
-  mtx_u32 t = w->triangle;
+  s[0] = w->bary[0];
+  s[1] = w->bary[1];
+  s[2] = w->bary[2];
+  e[0] = s[0] - length * (d1 + d2);
+  e[1] = s[1] + length * d1;
+  e[2] = s[2] + length * d2;
+}
+
+/* The crossings of mtx_trace_unfolded from triangle *t with start and end weights s, e
+ * there (mtx_trace_ends): returns 1 with *t and e where the end lies (weights in *t), or
+ * 0 (an open boundary, more than MTX_UNFOLDED_HOPS crossings, or a trace within rounding
+ * of a corner), *t, s and e then meaningless. surface/trace_lanes.cpp runs the same
+ * operations in SIMD lanes and must stay bit for bit the same. */
+MTX_FN int mtx_trace_hops(MTX_GLOBAL const mtx_u32* adjacency, MTX_GLOBAL const float* unfolded,
+                          mtx_u32* t_io, float* s, float* e) {
+  float s0 = s[0], s1 = s[1], s2 = s[2];
+  float e0 = e[0], e1 = e[1], e2 = e[2];
+  mtx_u32 t = *t_io;
   for (int hop = 0;; ++hop) {
     const int n0 = e0 < 0.0f, n1 = e1 < 0.0f, n2 = e2 < 0.0f;
     if (!(n0 | n1 | n2)) break;
@@ -368,10 +376,32 @@ MTX_FN int mtx_trace_unfolded(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL con
     e0 = 1.0f - e1 - e2;
     t = code >> 3;
   }
+  *t_io = t;
+  e[0] = e0;
+  e[1] = e1;
+  e[2] = e2;
+  return 1;
+}
+
+/* A straight walk of `length` from walker w, located without walking where it crosses
+ * at most MTX_UNFOLDED_HOPS edges between triangles (none open): the weights of its start
+ * and end points in the walker's triangle are linear in `length`; while the end lies
+ * outside the current triangle, the trace leaves it by the edge whose weight reaches 0
+ * first between start and end, and both points are carried into the neighbour there
+ * through `unfolded` (MTX_UNFOLDED_FLOATS: affine maps, no division). The same end as
+ * the walk up to rounding, with the heading left as it was (a sensor trace is read only
+ * where it ends). Returns 1 with w moved there, or 0 with w unchanged (an open
+ * boundary, more crossings, or a trace within rounding of a corner): the caller walks. */
+MTX_FN int mtx_trace_unfolded(MTX_GLOBAL const mtx_frame* frames, MTX_GLOBAL const mtx_u32* adjacency,
+                              MTX_GLOBAL const float* unfolded, mtx_walker* w, float length) {
+  float s[3], e[3];
+  mtx_trace_ends(frames, w, length, s, e);
+  mtx_u32 t = w->triangle;
+  if (!mtx_trace_hops(adjacency, unfolded, &t, s, e)) return 0;
   w->triangle = t;
-  w->bary[0] = e0;
-  w->bary[1] = e1;
-  w->bary[2] = e2;
+  w->bary[0] = e[0];
+  w->bary[1] = e[1];
+  w->bary[2] = e[2];
   return 1;
 }
 
