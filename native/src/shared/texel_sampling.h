@@ -170,19 +170,25 @@ MTX_FN void mtx_lattice_scatter_node(MTX_GLOBAL mtx_i32* node_sums, MTX_GLOBAL m
                                      MTX_GLOBAL const mtx_u32* vertex, MTX_GLOBAL const float* weight,
                                      mtx_u32 n, mtx_u32 count, mtx_u32 vertices, mtx_u32 planes,
                                      int exclusive) {
+  /* The node's vertices and weights are read only where it holds a deposit (many nodes
+   * hold none: most of what the pass would read). */
   mtx_texel_stencil st;
-  for (int k = 0; k < 3; ++k) {
-    st.cell[k] = vertex[3 * MTX_CAST(mtx_u64, n) + k];
-    st.weight[k] = weight[3 * MTX_CAST(mtx_u64, n) + k];
-  }
-  st.cell[3] = st.cell[0];
-  st.weight[3] = 0.0f;
-  st.count = 3;
+  int read = 0;
   for (mtx_u32 p = 0; p < planes; ++p) {
     MTX_GLOBAL mtx_i32* in = node_sums + MTX_CAST(mtx_u64, p) * count + n;
     const mtx_i32 q = *in;
     if (q == 0) continue;
     *in = 0;
+    if (!read) {
+      for (int k = 0; k < 3; ++k) {
+        st.cell[k] = vertex[3 * MTX_CAST(mtx_u64, n) + k];
+        st.weight[k] = weight[3 * MTX_CAST(mtx_u64, n) + k];
+      }
+      st.cell[3] = st.cell[0];
+      st.weight[3] = 0.0f;
+      st.count = 3;
+      read = 1;
+    }
     mtx_texel_deposit(sums + MTX_CAST(mtx_u64, p) * vertices, &st, q, exclusive);
   }
 }
