@@ -145,7 +145,7 @@ TEST(SensorProbes, AWrongUnfoldingIsCaught) {
 // (past MTX_UNFOLDED_HOPS crossings, so lanes leave at the limit too), in batches whose
 // sizes are not multiples of 16 (part-filled vectors).
 TEST(SensorProbes, TraceLanesAreTheScalarTracesBitForBit) {
-  if (!moldtex::trace_lanes_available()) GTEST_SKIP() << "no AVX-512F on this processor: the lanes run the scalar code";
+  if (moldtex::trace_lane_width() < 8) GTEST_SKIP() << "neither AVX-512F nor AVX2 here: the lanes run the scalar code";
   const ProbeCase cases[] = {{"uv sphere", make_uv_sphere(32, 16, 1.0)},
                              {"fine uv sphere", make_uv_sphere(128, 64, 1.0)},
                              {"torus", make_torus(24, 12, 1.0, 0.3)},
@@ -158,6 +158,8 @@ TEST(SensorProbes, TraceLanesAreTheScalarTracesBitForBit) {
     const double edge = std::sqrt(2.0 * surface.area / triangles);
     std::mt19937_64 rng(7);
     std::uniform_real_distribution<float> uniform(0.f, 1.f);
+    for (unsigned width : {8u, 16u}) {
+    if (width > moldtex::trace_lane_width()) continue;
     int traces = 0, located = 0, walked = 0, differ = 0;
     for (double lengths : {0.2, 0.7, 3.0, 12.0})
       for (size_t batch : {size_t(64), size_t(37), size_t(5)})
@@ -182,9 +184,9 @@ TEST(SensorProbes, TraceLanesAreTheScalarTracesBitForBit) {
           }
           scalar = lanes;
           uint8_t in_lanes[moldtex::kTraceLanes], one_by_one[moldtex::kTraceLanes];
-          moldtex::trace_lanes_force_scalar(true);
+          moldtex::trace_lanes_limit(1);
           moldtex::trace_hops_lanes(surface.adjacency.data(), surface.unfolded.data(), triangles, scalar, one_by_one);
-          moldtex::trace_lanes_force_scalar(false);
+          moldtex::trace_lanes_limit(width);
           moldtex::trace_hops_lanes(surface.adjacency.data(), surface.unfolded.data(), triangles, lanes, in_lanes);
           for (size_t i = 0; i < batch; ++i) {
             ++traces;
@@ -199,12 +201,14 @@ TEST(SensorProbes, TraceLanesAreTheScalarTracesBitForBit) {
             walked += in_lanes[i] == 0;
           }
         }
-    std::printf("%-14s %d traces: %d located, %d left to the walk, %d differ\n", c.name, traces, located, walked,
-                differ);
-    EXPECT_EQ(differ, 0) << c.name;
+    std::printf("%-14s %2u lanes, %d traces: %d located, %d left to the walk, %d differ\n", c.name, width, traces,
+                located, walked, differ);
+    EXPECT_EQ(differ, 0) << c.name << ", " << width << " lanes";
     EXPECT_GT(located, traces / 2) << c.name;  // both outcomes exercised
     EXPECT_GT(walked, 0) << c.name;
+    }
   }
+  moldtex::trace_lanes_limit(16);
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 #include "surface/trace_lanes.h"
 
+#include <algorithm>
 #include <atomic>
+#include <cstdlib>
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
@@ -11,7 +13,16 @@ namespace moldtex {
 
 namespace {
 
-std::atomic<bool> g_force_scalar{false};
+// The cap on the lanes: 16, or what MOLDTEX_TRACE_LANES says (1, 8: benchmarks compare
+// the kinds on one processor; the results are the same bits).
+unsigned initial_limit() {
+  const char* text = std::getenv("MOLDTEX_TRACE_LANES");
+  if (!text || !*text) return 16u;
+  const long value = std::strtol(text, nullptr, 10);
+  return value >= 16 ? 16u : (value >= 8 ? 8u : 1u);
+}
+
+std::atomic<unsigned> g_limit{initial_limit()};
 
 void hops_scalar(const uint32_t* adjacency, const float* unfolded, TraceLanes& lanes, size_t begin, size_t end,
                  uint8_t* located) {
@@ -167,6 +178,141 @@ __attribute__((target("avx512f"))) void hops_in_lanes(const uint32_t* adjacency,
   for (size_t i = 0; i < lanes.count; ++i) located[i] = static_cast<uint8_t>(found[i]);
 }
 
+// The same in eight AVX2 lanes (processors without AVX-512: masks as vectors, no
+// scatter or expanding load): fixed groups of eight consecutive traces, two in flight;
+// a lane that is done keeps its values, stored when its group ends.
+struct LaneGroup8 {
+  __m256i t, hop, live, done;
+  __m256 s0, s1, s2, e0, e1, e2;
+};
+
+#define MOLDTEX_AVX2_FN __attribute__((target("avx2"), always_inline)) inline
+
+MOLDTEX_AVX2_FN __m256i lanes_below(size_t n) {  // lanes 0 .. n - 1 set
+  return _mm256_cmpgt_epi32(_mm256_set1_epi32(static_cast<int>(n)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+}
+
+MOLDTEX_AVX2_FN void load8(LaneGroup8& g, const TraceLanes& lanes, size_t first, size_t n) {
+  const __m256i m = lanes_below(n);
+  g.t = _mm256_maskload_epi32(reinterpret_cast<const int*>(lanes.triangle + first), m);
+  g.s0 = _mm256_maskload_ps(lanes.s[0] + first, m);
+  g.s1 = _mm256_maskload_ps(lanes.s[1] + first, m);
+  g.s2 = _mm256_maskload_ps(lanes.s[2] + first, m);
+  g.e0 = _mm256_maskload_ps(lanes.e[0] + first, m);
+  g.e1 = _mm256_maskload_ps(lanes.e[1] + first, m);
+  g.e2 = _mm256_maskload_ps(lanes.e[2] + first, m);
+  g.hop = _mm256_setzero_si256();
+  g.live = m;
+  g.done = _mm256_setzero_si256();
+}
+
+MOLDTEX_AVX2_FN void store8(const LaneGroup8& g, TraceLanes& lanes, size_t first, size_t n, uint8_t* located) {
+  _mm256_maskstore_epi32(reinterpret_cast<int*>(lanes.triangle + first), g.done, g.t);
+  _mm256_maskstore_ps(lanes.e[0] + first, g.done, g.e0);
+  _mm256_maskstore_ps(lanes.e[1] + first, g.done, g.e1);
+  _mm256_maskstore_ps(lanes.e[2] + first, g.done, g.e2);
+  const int bits = _mm256_movemask_ps(_mm256_castsi256_ps(g.done));
+  for (size_t i = 0; i < n; ++i) located[first + i] = static_cast<uint8_t>((bits >> i) & 1);
+}
+
+MOLDTEX_AVX2_FN __m256i as_int(__m256 v) { return _mm256_castps_si256(v); }
+MOLDTEX_AVX2_FN __m256 as_float(__m256i v) { return _mm256_castsi256_ps(v); }
+MOLDTEX_AVX2_FN int any(__m256i mask) { return !_mm256_testz_si256(mask, mask); }
+
+// One crossing of every live lane of g (as cross() above).
+MOLDTEX_AVX2_FN void cross8(LaneGroup8& g, const uint32_t* adjacency, const float* unfolded) {
+  const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
+  const __m256i i0 = _mm256_setzero_si256(), i1 = _mm256_set1_epi32(1), i2 = _mm256_set1_epi32(2);
+  const __m256i none = _mm256_set1_epi32(static_cast<int>(MTX_NO_NEIGHBOUR));
+  __m256i live = g.live;
+  const __m256i n0 = _mm256_and_si256(live, as_int(_mm256_cmp_ps(g.e0, zero, _CMP_LT_OQ)));
+  const __m256i n1 = _mm256_and_si256(live, as_int(_mm256_cmp_ps(g.e1, zero, _CMP_LT_OQ)));
+  const __m256i n2 = _mm256_and_si256(live, as_int(_mm256_cmp_ps(g.e2, zero, _CMP_LT_OQ)));
+  const __m256i out = _mm256_or_si256(_mm256_or_si256(n0, n1), n2);
+  g.done = _mm256_or_si256(g.done, _mm256_andnot_si256(out, live));  // located
+  // Past MTX_UNFOLDED_HOPS crossings: walked.
+  live = _mm256_andnot_si256(_mm256_cmpeq_epi32(g.hop, _mm256_set1_epi32(MTX_UNFOLDED_HOPS)), out);
+  g.live = live;
+  if (!any(live)) return;
+  __m256i edge = _mm256_blendv_epi8(_mm256_blendv_epi8(i2, i1, n1), i0, n0);
+  const __m256i multi = _mm256_and_si256(
+      live, _mm256_or_si256(_mm256_or_si256(_mm256_and_si256(n0, n1), _mm256_and_si256(n0, n2)), _mm256_and_si256(n1, n2)));
+  if (any(multi)) {
+    const __m256 m0 = as_float(n0), m2 = as_float(n2);
+    const __m256 si = _mm256_blendv_ps(g.s1, g.s0, m0), ei = _mm256_blendv_ps(g.e1, g.e0, m0);
+    const __m256 sj = _mm256_blendv_ps(g.s1, g.s2, m2), ej = _mm256_blendv_ps(g.e1, g.e2, m2);
+    const __m256i behind = _mm256_and_si256(
+        multi, as_int(_mm256_or_ps(_mm256_cmp_ps(si, zero, _CMP_LT_OQ), _mm256_cmp_ps(sj, zero, _CMP_LT_OQ))));
+    const __m256 lhs = _mm256_mul_ps(sj, _mm256_sub_ps(si, ei));
+    const __m256 rhs = _mm256_mul_ps(si, _mm256_sub_ps(sj, ej));
+    const __m256i later = _mm256_andnot_si256(behind, _mm256_and_si256(multi, as_int(_mm256_cmp_ps(lhs, rhs, _CMP_LT_OQ))));
+    edge = _mm256_blendv_epi8(edge, _mm256_blendv_epi8(i1, i2, n2), later);
+    live = _mm256_andnot_si256(behind, live);
+  }
+  const __m256 is0 = as_float(_mm256_cmpeq_epi32(edge, i0)), is1 = as_float(_mm256_cmpeq_epi32(edge, i1));
+  const __m256 s_edge = _mm256_blendv_ps(_mm256_blendv_ps(g.s2, g.s1, is1), g.s0, is0);
+  live = _mm256_andnot_si256(as_int(_mm256_cmp_ps(s_edge, zero, _CMP_LT_OQ)), live);
+  const __m256i slot = _mm256_add_epi32(_mm256_add_epi32(_mm256_add_epi32(g.t, g.t), g.t), edge);
+  const __m256i code =
+      _mm256_mask_i32gather_epi32(none, reinterpret_cast<const int*>(adjacency), slot, live, 4);
+  live = _mm256_andnot_si256(_mm256_cmpeq_epi32(code, none), live);
+  g.live = live;
+  if (!any(live)) return;
+  // The unfolding as three 64-bit pairs, four lanes per gather, split into floats.
+  const __m256i slot3 = _mm256_add_epi32(_mm256_add_epi32(slot, slot), slot);
+  const __m128i low = _mm256_castsi256_si128(slot3), high = _mm256_extracti128_si256(slot3, 1);
+  const __m256i live_low = _mm256_cvtepi32_epi64(_mm256_castsi256_si128(live));
+  const __m256i live_high = _mm256_cvtepi32_epi64(_mm256_extracti128_si256(live, 1));
+  const __m256i order = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
+  const long long* base = reinterpret_cast<const long long*>(unfolded);
+  __m256 u[6];
+  for (int k = 0; k < 3; ++k) {
+    const __m128i add = _mm_set1_epi32(k);
+    const __m256 a = _mm256_permutevar8x32_ps(
+        as_float(_mm256_mask_i32gather_epi64(_mm256_setzero_si256(), base, _mm_add_epi32(low, add), live_low, 8)), order);
+    const __m256 b = _mm256_permutevar8x32_ps(
+        as_float(_mm256_mask_i32gather_epi64(_mm256_setzero_si256(), base, _mm_add_epi32(high, add), live_high, 8)), order);
+    u[2 * k] = _mm256_permute2f128_ps(a, b, 0x20);
+    u[2 * k + 1] = _mm256_permute2f128_ps(a, b, 0x31);
+  }
+  const __m256 g0 = u[0], g1 = u[1], g2 = u[2], g3 = u[3], g4 = u[4], g5 = u[5];
+  const __m256 s1n = _mm256_add_ps(_mm256_add_ps(g0, _mm256_mul_ps(g1, g.s1)), _mm256_mul_ps(g2, g.s2));
+  const __m256 s2n = _mm256_add_ps(_mm256_add_ps(g3, _mm256_mul_ps(g4, g.s1)), _mm256_mul_ps(g5, g.s2));
+  const __m256 e1n = _mm256_add_ps(_mm256_add_ps(g0, _mm256_mul_ps(g1, g.e1)), _mm256_mul_ps(g2, g.e2));
+  const __m256 e2n = _mm256_add_ps(_mm256_add_ps(g3, _mm256_mul_ps(g4, g.e1)), _mm256_mul_ps(g5, g.e2));
+  const __m256 lv = as_float(live);
+  g.s1 = _mm256_blendv_ps(g.s1, s1n, lv);
+  g.s2 = _mm256_blendv_ps(g.s2, s2n, lv);
+  g.s0 = _mm256_blendv_ps(g.s0, _mm256_sub_ps(_mm256_sub_ps(one, s1n), s2n), lv);
+  g.e1 = _mm256_blendv_ps(g.e1, e1n, lv);
+  g.e2 = _mm256_blendv_ps(g.e2, e2n, lv);
+  g.e0 = _mm256_blendv_ps(g.e0, _mm256_sub_ps(_mm256_sub_ps(one, e1n), e2n), lv);
+  g.t = _mm256_blendv_epi8(g.t, _mm256_srli_epi32(code, 3), live);
+  g.hop = _mm256_sub_epi32(g.hop, live);  // + 1 where live (all ones = -1)
+}
+
+__attribute__((target("avx2"))) void hops_in_lanes8(const uint32_t* adjacency, const float* unfolded,
+                                                    TraceLanes& lanes, uint8_t* located) {
+  for (size_t first = 0; first < lanes.count; first += 16) {
+    const size_t na = std::min<size_t>(8, lanes.count - first);
+    const size_t nb = lanes.count - first > 8 ? std::min<size_t>(8, lanes.count - first - 8) : 0;
+    LaneGroup8 a, b;
+    load8(a, lanes, first, na);
+    load8(b, lanes, first + 8, nb);
+    while (any(_mm256_or_si256(a.live, b.live))) {
+      cross8(a, adjacency, unfolded);
+      cross8(b, adjacency, unfolded);
+    }
+    store8(a, lanes, first, na, located);
+    store8(b, lanes, first + 8, nb, located);
+  }
+}
+
+bool detect_avx2() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2");
+}
+
 static_assert(MTX_UNFOLDED_FLOATS == 6, "cross() reads an unfolding as three pairs at slot * 3");
 
 bool detect_avx512() {
@@ -178,24 +324,29 @@ bool detect_avx512() {
 
 }  // namespace
 
-bool trace_lanes_available() {
+unsigned trace_lane_width() {
 #ifdef MOLDTEX_TRACE_LANES_X86
-  static const bool available = detect_avx512();
-  return available;
+  static const unsigned width = detect_avx512() ? 16u : (detect_avx2() ? 8u : 1u);
+  return width;
 #else
-  return false;
+  return 1u;
 #endif
 }
 
-void trace_lanes_force_scalar(bool scalar) { g_force_scalar.store(scalar, std::memory_order_relaxed); }
+void trace_lanes_limit(unsigned width) { g_limit.store(width, std::memory_order_relaxed); }
 
 void trace_hops_lanes(const uint32_t* adjacency, const float* unfolded, uint32_t triangle_count, TraceLanes& lanes,
                       uint8_t* located) {
 #ifdef MOLDTEX_TRACE_LANES_X86
   // (Offsets up to 3 * triangle_count * MTX_UNFOLDED_FLOATS floats in a signed 32-bit index.)
   const bool fits = uint64_t(triangle_count) * 3u * MTX_UNFOLDED_FLOATS < (uint64_t(1) << 31);
-  if (fits && trace_lanes_available() && !g_force_scalar.load(std::memory_order_relaxed)) {
+  const unsigned width = std::min(trace_lane_width(), g_limit.load(std::memory_order_relaxed));
+  if (fits && width >= 16) {
     hops_in_lanes(adjacency, unfolded, lanes, located);
+    return;
+  }
+  if (fits && width >= 8) {
+    hops_in_lanes8(adjacency, unfolded, lanes, located);
     return;
   }
 #endif

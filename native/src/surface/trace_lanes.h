@@ -1,9 +1,9 @@
 // Sensor traces located through the unfolded neighbours many at a time, in SIMD lanes
-// where the processor has them (the CPU backend only; OpenCL runs shared/walk.h's
-// mtx_trace_hops per work item). On fine meshes a trace crosses several edges (about 5
-// on Suzanne's intrinsic domain): each crossing is a load that waits on the one before
-// and an edge choice that a branch predictor cannot learn. In lanes the crossings of
-// sixteen traces overlap, and the choices become masks.
+// where the processor has them: AVX-512F or AVX2 (the CPU backend only; OpenCL runs
+// shared/walk.h's mtx_trace_hops per work item). On fine meshes a trace crosses several
+// edges (about 5 on Suzanne's intrinsic domain): each crossing is a load that waits on
+// the one before and an edge choice that a branch predictor cannot learn. In lanes the
+// crossings of many traces overlap, and the choices become masks.
 //
 // The lanes run the same float operations in the same order as mtx_trace_hops (its
 // file is compiled without contraction into fused multiply-adds, as the rest of the
@@ -34,10 +34,10 @@ struct TraceLanes {
 void trace_hops_lanes(const uint32_t* adjacency, const float* unfolded, uint32_t triangle_count, TraceLanes& lanes,
                       uint8_t* located);
 
-// Whether trace_hops_lanes uses SIMD lanes on this processor (AVX-512F), or runs
-// mtx_trace_hops one trace after another; and a switch to force the latter (tests and
-// benchmarks compare the two).
-bool trace_lanes_available();
-void trace_lanes_force_scalar(bool scalar);
+// The lanes trace_hops_lanes uses on this processor (found at run time): 16 (AVX-512F),
+// 8 (AVX2) or 1 (mtx_trace_hops one trace after another); and a cap on them for tests
+// and benchmarks, which compare the kinds (trace_lanes_limit(1): the scalar code).
+unsigned trace_lane_width();
+void trace_lanes_limit(unsigned width);
 
 }  // namespace moldtex
