@@ -161,10 +161,10 @@ void continuous_update_agents(const mtx_surface_tables& tables, const Continuous
                               const float* u, const float* field, int32_t* sums,
                               const AliasTable& alias, const float* bias, const float* maps,
                               const float* spawn_max, Agents& agents, size_t begin, size_t end) {
-  // In batches, in stages: the first part of every agent's step (turnover, maps, its
-  // sensor traces); then its sensors' reading stencils, asking memory for the cells they
-  // read; then the rest. So the reads of a batch overlap instead of waiting one after
-  // another. Agents of one step are independent (they read the concentration of the
+  // In batches, in stages: the first part of every agent's step (turnover, maps, where
+  // its sensor traces start); then where the batch's traces end, located together; then
+  // its sensors' reading stencils, asking memory for the cells they read; then the rest.
+  // So the reads of a batch overlap instead of waiting one after another. Agents of one step are independent (they read the concentration of the
   // step's start and add deposits into exact integer sums), so the batching changes no
   // result.
   constexpr size_t kBatch = 32;
@@ -174,7 +174,7 @@ void continuous_update_agents(const mtx_surface_tables& tables, const Continuous
   const size_t plane = c.plane_cells;
   const bool three = tables.vertex_cells != 0;  // stencils of 3 cells (else 4 texels)
   // The batch's sensor traces are located together (surface/trace_lanes.h: SIMD lanes
-  // where the processor has them, the same bits as one by one).
+  // where the processor has them, the same bits as mtx_continuous_traces one by one).
   static_assert(3 * kBatch <= kTraceLanes);
   TraceLanes lanes;
   uint8_t located[kTraceLanes];
