@@ -47,6 +47,23 @@ struct Agreement {
   double worst = 0;  // texels
 };
 
+// A walker at a uniformly random point of a random non-degenerate triangle, heading in a
+// uniformly random direction.
+moldtex::mtx_walker RandomWalker(const moldtex::Surface& surface, std::mt19937_64& rng) {
+  std::uniform_real_distribution<float> uniform(0.f, 1.f);
+  moldtex::mtx_walker w{};
+  do w.triangle = uint32_t(rng() % surface.triangle_count());
+  while (surface.degenerate[w.triangle]);
+  float b1 = uniform(rng), b2 = uniform(rng);
+  if (b1 + b2 > 1.f) b1 = 1.f - b1, b2 = 1.f - b2;
+  w.bary[0] = 1.f - b1 - b2;
+  w.bary[1] = b1;
+  w.bary[2] = b2;
+  const float angle = 6.2831853f * uniform(rng);
+  w.heading = {std::cos(angle), std::sin(angle)};
+  return w;
+}
+
 // Probes of `count` random agents (random triangle, weights and heading; sensor length
 // `length` mesh units, sensor angle 30 degrees), located with the tables as given,
 // against each trace walked (mtx_walk_until, stopping at open boundaries).
@@ -59,19 +76,9 @@ Agreement CompareWithWalks(const moldtex::Surface& surface, const moldtex::mtx_s
   k.sensor_cos[0] = std::cos(0.5236f);
   k.sensor_sin[0] = std::sin(0.5236f);
   std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<float> uniform(0.f, 1.f);
   Agreement a;
   for (int n = 0; n < count; ++n) {
-    moldtex::mtx_walker w{};
-    do w.triangle = uint32_t(rng() % surface.triangle_count());
-    while (surface.degenerate[w.triangle]);
-    float b1 = uniform(rng), b2 = uniform(rng);
-    if (b1 + b2 > 1.f) b1 = 1.f - b1, b2 = 1.f - b2;
-    w.bary[0] = 1.f - b1 - b2;
-    w.bary[1] = b1;
-    w.bary[2] = b2;
-    const float angle = 6.2831853f * uniform(rng);
-    w.heading = {std::cos(angle), std::sin(angle)};
+    const moldtex::mtx_walker w = RandomWalker(surface, rng);
     moldtex::mtx_momas_probes p;
     moldtex::mtx_momas_probe(tables, &w, 0, &k, &p);
     for (int i = 0; i < 3; ++i) {
@@ -157,7 +164,6 @@ TEST(SensorProbes, TraceLanesAreTheScalarTracesBitForBit) {
     const uint32_t triangles = surface.triangle_count();
     const double edge = std::sqrt(2.0 * surface.area / triangles);
     std::mt19937_64 rng(7);
-    std::uniform_real_distribution<float> uniform(0.f, 1.f);
     for (unsigned width : {8u, 16u}) {
     if (width > moldtex::trace_lane_width()) continue;
     int traces = 0, located = 0, walked = 0, differ = 0;
@@ -167,16 +173,7 @@ TEST(SensorProbes, TraceLanesAreTheScalarTracesBitForBit) {
           moldtex::TraceLanes lanes, scalar;
           lanes.count = batch;
           for (size_t i = 0; i < batch; ++i) {
-            moldtex::mtx_walker w{};
-            do w.triangle = uint32_t(rng() % triangles);
-            while (surface.degenerate[w.triangle]);
-            float b1 = uniform(rng), b2 = uniform(rng);
-            if (b1 + b2 > 1.f) b1 = 1.f - b1, b2 = 1.f - b2;
-            w.bary[0] = 1.f - b1 - b2;
-            w.bary[1] = b1;
-            w.bary[2] = b2;
-            const float angle = 6.2831853f * uniform(rng);
-            w.heading = {std::cos(angle), std::sin(angle)};
+            const moldtex::mtx_walker w = RandomWalker(surface, rng);
             float s[3], e[3];
             moldtex::mtx_trace_ends(surface.frames.data(), &w, float(lengths * edge), s, e);
             lanes.triangle[i] = w.triangle;
