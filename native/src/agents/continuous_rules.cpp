@@ -184,8 +184,8 @@ void continuous_update_agents(const mtx_surface_tables& tables, const Continuous
       [&](size_t i, size_t j) {  // turnover, maps, where the sensor traces start
         w[j] = agents.load(i);
         life[j] = mtx_agent_life{agents.clock[i], agents.age[i], agents.exposure[i], agents.threshold[i]};
-        mtx_continuous_agent_begin_untraced(tables, alias.prob.data(), alias.alias.data(), bias, maps, spawn_max,
-                                            &w[j], &life[j], i, &c, &plan[j]);
+        mtx_continuous_agent_begin(tables, alias.prob.data(), alias.alias.data(), bias, maps, spawn_max, &w[j],
+                                   &life[j], i, &c, &plan[j]);
         if (j == 0) lanes.count = 0;
         if (!plan[j].decide) return;
         mtx_continuous_trace_starts(&w[j], plan[j].sensor_cos, plan[j].sensor_sin, plan[j].at);

@@ -234,16 +234,16 @@ typedef struct mtx_continuous_plan {
 } mtx_continuous_plan;
 
 /* The first part of one step of agent `agent` (walker w, clocks life): turnover, the
- * parameter maps where it then stands and its decision clock (mtx_continuous_agent_begin
- * adds the first decision's sensor traces where it decides). Reads no concentration, so
- * a backend can run it for a batch of agents and fetch the cells their sensors read
- * together. */
-MTX_FN void mtx_continuous_agent_begin_untraced(MTX_TABLES s, MTX_GLOBAL const float* alias_prob,
-                                                MTX_GLOBAL const mtx_u32* alias_index,
-                                                MTX_GLOBAL const float* bias, MTX_GLOBAL const float* maps,
-                                                MTX_GLOBAL const float* spawn_max, mtx_walker* w,
-                                                mtx_agent_life* life, mtx_u64 agent,
-                                                const mtx_continuous_constants* k, mtx_continuous_plan* plan) {
+ * parameter maps where it then stands and its decision clock. Where it decides, the
+ * first decision's sensor traces follow (mtx_continuous_traces into plan->at, or a
+ * backend's own batch of traces). Reads no concentration, so a backend can run it for a
+ * batch of agents and fetch the cells their sensors read together. */
+MTX_FN void mtx_continuous_agent_begin(MTX_TABLES s, MTX_GLOBAL const float* alias_prob,
+                                       MTX_GLOBAL const mtx_u32* alias_index,
+                                       MTX_GLOBAL const float* bias, MTX_GLOBAL const float* maps,
+                                       MTX_GLOBAL const float* spawn_max, mtx_walker* w,
+                                       mtx_agent_life* life, mtx_u64 agent,
+                                       const mtx_continuous_constants* k, mtx_continuous_plan* plan) {
   /* Turnover (§3.2): exposure grows by dt / tau; past the threshold the agent decays and
    * a new one starts at a uniform point of the surface (or one drawn by the spawn map),
    * age 0, a fresh threshold. A lifetime map scales tau where the agent is (§3.3); where
@@ -316,19 +316,9 @@ MTX_FN void mtx_continuous_agent_begin_untraced(MTX_TABLES s, MTX_GLOBAL const f
   plan->decide = life->clock >= k->decision_period;
 }
 
-/* ... and with the first decision's sensor traces (where the agent decides). */
-MTX_FN void mtx_continuous_agent_begin(MTX_TABLES s, MTX_GLOBAL const float* alias_prob,
-                                       MTX_GLOBAL const mtx_u32* alias_index,
-                                       MTX_GLOBAL const float* bias, MTX_GLOBAL const float* maps,
-                                       MTX_GLOBAL const float* spawn_max, mtx_walker* w,
-                                       mtx_agent_life* life, mtx_u64 agent,
-                                       const mtx_continuous_constants* k, mtx_continuous_plan* plan) {
-  mtx_continuous_agent_begin_untraced(s, alias_prob, alias_index, bias, maps, spawn_max, w, life, agent, k, plan);
-  if (plan->decide) mtx_continuous_traces(s, w, plan->sensor_cos, plan->sensor_sin, plan->sensor_length, plan->at);
-}
-
-/* The second part: the reading stencils where the plan's sensor traces end. Apart from
- * the first, so a backend can fetch what locating them reads for a batch of agents. */
+/* The second part (after the traces): the reading stencils where the plan's sensor
+ * traces end. Apart from the first, so a backend can fetch what locating them reads for
+ * a batch of agents. */
 MTX_FN void mtx_continuous_plan_stencils(MTX_TABLES s, const mtx_continuous_constants* k,
                                          mtx_continuous_plan* plan) {
   if (!plan->decide) return;
@@ -457,6 +447,7 @@ MTX_FN void mtx_continuous_agent_step(MTX_TABLES s, MTX_GLOBAL const float* u,
                                       const mtx_continuous_constants* k) {
   mtx_continuous_plan plan;
   mtx_continuous_agent_begin(s, alias_prob, alias_index, bias, maps, spawn_max, w, life, agent, k, &plan);
+  if (plan.decide) mtx_continuous_traces(s, w, plan.sensor_cos, plan.sensor_sin, plan.sensor_length, plan.at);
   mtx_continuous_plan_stencils(s, k, &plan);
   mtx_continuous_agent_finish(s, u, field, sums, bias, w, life, species, agent, k, &plan);
 }
