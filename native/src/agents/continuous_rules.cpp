@@ -164,9 +164,9 @@ void continuous_update_agents(const mtx_surface_tables& tables, const Continuous
   // In batches, in stages: the first part of every agent's step (turnover, maps, where
   // its sensor traces start); then where the batch's traces end, located together; then
   // its sensors' reading stencils, asking memory for the cells they read; then the rest.
-  // So the reads of a batch overlap instead of waiting one after another. Agents of one step are independent (they read the concentration of the
-  // step's start and add deposits into exact integer sums), so the batching changes no
-  // result.
+  // So the reads of a batch overlap instead of waiting one after another. Agents of one
+  // step are independent (they read the concentration of the step's start and add
+  // deposits into exact integer sums), so the batching changes no result.
   constexpr size_t kBatch = 32;
   Walker w[kBatch];
   mtx_agent_life life[kBatch];

@@ -24,9 +24,8 @@ unsigned initial_limit() {
 
 std::atomic<unsigned> g_limit{initial_limit()};
 
-void hops_scalar(const uint32_t* adjacency, const float* unfolded, TraceLanes& lanes, size_t begin, size_t end,
-                 uint8_t* located) {
-  for (size_t i = begin; i < end; ++i) {
+void hops_scalar(const uint32_t* adjacency, const float* unfolded, TraceLanes& lanes, uint8_t* located) {
+  for (size_t i = 0; i < lanes.count; ++i) {
     float s[3] = {lanes.s[0][i], lanes.s[1][i], lanes.s[2][i]};
     float e[3] = {lanes.e[0][i], lanes.e[1][i], lanes.e[2][i]};
     uint32_t t = lanes.triangle[i];
@@ -37,6 +36,8 @@ void hops_scalar(const uint32_t* adjacency, const float* unfolded, TraceLanes& l
 }
 
 #ifdef MOLDTEX_TRACE_LANES_X86
+
+static_assert(MTX_UNFOLDED_FLOATS == 6, "the lanes read an unfolding as three 64-bit pairs at slot * 3");
 
 // Sixteen lanes of traces in flight (AVX-512F): each lane's trace (its number `id`), its
 // triangle, start and end weights and crossings so far; `live`: the lanes that hold one.
@@ -313,8 +314,6 @@ bool detect_avx2() {
   return __builtin_cpu_supports("avx2");
 }
 
-static_assert(MTX_UNFOLDED_FLOATS == 6, "cross() reads an unfolding as three pairs at slot * 3");
-
 bool detect_avx512() {
   __builtin_cpu_init();
   return __builtin_cpu_supports("avx512f");
@@ -350,7 +349,7 @@ void trace_hops_lanes(const uint32_t* adjacency, const float* unfolded, uint32_t
     return;
   }
 #endif
-  hops_scalar(adjacency, unfolded, lanes, 0, lanes.count, located);
+  hops_scalar(adjacency, unfolded, lanes, located);
 }
 
 }  // namespace moldtex

@@ -29,7 +29,7 @@ struct TraceLanes {
 
 // Runs mtx_trace_hops on traces 0 .. count - 1: located[i] = 1 with triangle[i] and
 // e[.][i] where trace i ends, or 0 (the trace must be walked; its entries are then
-// meaningless). s is used as scratch. `triangle_count`: the surface's (lanes index the
+// meaningless); s is only read. `triangle_count`: the surface's (lanes index the
 // tables with 32-bit offsets, so larger surfaces run the scalar code).
 void trace_hops_lanes(const uint32_t* adjacency, const float* unfolded, uint32_t triangle_count, TraceLanes& lanes,
                       uint8_t* located);
