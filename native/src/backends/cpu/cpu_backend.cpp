@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "agents/momas_lanes.h"
 #include "agents/momas_rules.h"
 #include "agents/parameter_maps.h"
 #include "shared/pde.h"
@@ -80,8 +81,13 @@ void CpuBackend::step(const StepSettings& settings, uint64_t seed, uint64_t step
     tables.eaters = eaters;
   }
   const float* field = c.has_fields ? field_.data() : nullptr;
+  // The common case in SIMD lanes where the processor and the step allow (the same bits).
+  const bool lanes = momas_lanes_apply(c, surface_->triangle_count());
   pool_->parallel_for(agents_.size(), 1024, [&](size_t begin, size_t end) {
-    momas_update_agents(tables, c, pheromone_.data(), field, marks_.data(), agents_, begin, end);
+    if (lanes)
+      momas_lanes_update(tables, c, pheromone_.data(), field, marks_.data(), agents_, begin, end);
+    else
+      momas_update_agents(tables, c, pheromone_.data(), field, marks_.data(), agents_, begin, end);
   });
   // 2. Per species: deposit, make the gutter hold the texels across each seam, then blur
   //    (which then mixes across seams) and evaporate; in texel units in one pass

@@ -1,0 +1,525 @@
+#include "agents/momas_lanes.h"
+
+#include "agents/momas_rules.h"
+
+#include <atomic>
+#include <cmath>
+#include <cstddef>
+#include <cstdlib>
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define MOLDTEX_MOMAS_LANES_X86 1
+// GCC 12 warns inside its own AVX-512 headers (their _mm512_undefined_* sources, which
+// are meant to be left undefined) wherever these intrinsics are inlined; and about the
+// ABI of vector values, which never cross a call here (every helper is inlined).
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
+namespace moldtex {
+
+namespace {
+
+bool initial_enabled() {
+  const char* text = std::getenv("MOLDTEX_MOMAS_LANES");
+  return !(text && text[0] == '0');
+}
+
+std::atomic<bool> g_enabled{initial_enabled()};
+
+// Agents idx[0..n) (n <= kPending) through the scalar code as momas_update_agents' batches
+// run it: every probe first, with its texels asked for, then the rest of each step.
+constexpr size_t kPending = 32;
+void agents_scalar(const mtx_surface_tables& s, const mtx_momas_constants& c, const float* pheromone,
+                   const float* field, uint8_t* marks, Agents& agents, const size_t* idx, size_t n) {
+  Walker w[kPending];
+  mtx_momas_probes probes[kPending];
+  const size_t plane = size_t(c.width) * c.height;
+  for (size_t j = 0; j < n; ++j) {
+    const size_t i = idx[j];
+    w[j] = agents.load(i);
+    const uint32_t species = agents.species[i];
+    mtx_momas_probe(s, &w[j], species, &c, &probes[j]);
+    const float* own = pheromone + species * plane;
+    for (int k = 0; k < 3; ++k) __builtin_prefetch(own + probes[j].texel[k]);
+    __builtin_prefetch(marks + species * plane + probes[j].here, 1);
+  }
+  for (size_t j = 0; j < n; ++j) {
+    const size_t i = idx[j];
+    float hunger = agents.hunger[i];
+    mtx_momas_agent_finish(s, pheromone, field, marks, &w[j], &hunger, agents.species[i], i, &c, &probes[j]);
+    agents.store(i, w[j]);
+    agents.hunger[i] = hunger;
+  }
+}
+
+#ifdef MOLDTEX_MOMAS_LANES_X86
+
+// The frame's floats as the lanes gather them (shared/walk.h's mtx_frame).
+constexpr int kFrameFloats = sizeof(mtx_frame) / sizeof(float);
+static_assert(sizeof(mtx_frame) == 14 * sizeof(float), "mtx_frame is 14 floats");
+constexpr int kInvA = offsetof(mtx_frame, inv_a) / sizeof(float);
+constexpr int kBx = offsetof(mtx_frame, bx) / sizeof(float);
+constexpr int kInvBy = offsetof(mtx_frame, inv_by) / sizeof(float);
+constexpr int kAltitude = offsetof(mtx_frame, altitude) / sizeof(float);
+
+#define MOLDTEX_MOMAS_LANES_FN __attribute__((target("avx512f,avx512dq"), always_inline)) inline
+
+// shared/rng.h's mtx_mix64 in eight 64-bit lanes.
+MOLDTEX_MOMAS_LANES_FN __m512i mix64(__m512i x) {
+  x = _mm512_add_epi64(x, _mm512_set1_epi64(static_cast<long long>(0x9e3779b97f4a7c15ULL)));
+  x = _mm512_mullo_epi64(_mm512_xor_si512(x, _mm512_srli_epi64(x, 30)),
+                         _mm512_set1_epi64(static_cast<long long>(0xbf58476d1ce4e5b9ULL)));
+  x = _mm512_mullo_epi64(_mm512_xor_si512(x, _mm512_srli_epi64(x, 27)),
+                         _mm512_set1_epi64(static_cast<long long>(0x94d049bb133111ebULL)));
+  return _mm512_xor_si512(x, _mm512_srli_epi64(x, 31));
+}
+
+// mtx_rng_float's value of two halves of mixed states (lanes 0-7, 8-15): the top 24
+// bits, exact as a float, times 2^-24.
+MOLDTEX_MOMAS_LANES_FN __m512 unit_float(__m512i lo, __m512i hi) {
+  const __m256i a = _mm512_cvtepi64_epi32(_mm512_srli_epi64(lo, 40));
+  const __m256i b = _mm512_cvtepi64_epi32(_mm512_srli_epi64(hi, 40));
+  const __m512i ab = _mm512_inserti64x4(_mm512_castsi256_si512(a), b, 1);
+  return _mm512_mul_ps(_mm512_cvtepi32_ps(ab), _mm512_set1_ps(1.0f / 16777216.0f));
+}
+
+// mtx_texel_at_point in lanes: truncation toward zero (out of range and NaN give
+// INT_MIN, as the scalar conversion does on x86), clamped to the texture.
+MOLDTEX_MOMAS_LANES_FN __m512i texel_at(__m512 x, __m512 y, __m512i last_x, __m512i last_y, __m512i width) {
+  const __m512i zero = _mm512_setzero_si512();
+  const __m512i ix = _mm512_min_epi32(_mm512_max_epi32(_mm512_cvttps_epi32(x), zero), last_x);
+  const __m512i iy = _mm512_min_epi32(_mm512_max_epi32(_mm512_cvttps_epi32(y), zero), last_y);
+  return _mm512_add_epi32(_mm512_mullo_epi32(iy, width), ix);
+}
+
+// mtx_min(a, b) (b < a ? b : a) in lanes: vminps returns its first operand where it is
+// the smaller, else its second.
+MOLDTEX_MOMAS_LANES_FN __m512 lanes_min(__m512 a, __m512 b) { return _mm512_min_ps(b, a); }
+
+// A per-species constant (4 floats) for each lane's species.
+MOLDTEX_MOMAS_LANES_FN __m512 per_species(const float* four, __m512i species) {
+  return _mm512_permutexvar_ps(species, _mm512_broadcast_f32x4(_mm_loadu_ps(four)));
+}
+
+// What species s reads at `texel` (mtx_sensed_value without fields): the sum from 0.0f
+// over the planes, in plane order.
+MOLDTEX_MOMAS_LANES_FN __m512 sensed(const float* pheromone, uint32_t planes, uint32_t plane_texels,
+                                     __m512 attraction_table, __m512i species4, __m512i texel) {
+  __m512 v = _mm512_setzero_ps();
+  for (uint32_t p = 0; p < planes; ++p) {
+    const __m512 weight =
+        _mm512_permutexvar_ps(_mm512_add_epi32(species4, _mm512_set1_epi32(static_cast<int>(p))), attraction_table);
+    const __m512 value = _mm512_i32gather_ps(texel, pheromone + size_t(p) * plane_texels, 4);
+    v = _mm512_add_ps(v, _mm512_mul_ps(weight, value));
+  }
+  return v;
+}
+
+// mtx_clamp_bary3 in lanes.
+MOLDTEX_MOMAS_LANES_FN void clamp_bary(__m512& b0, __m512& b1, __m512& b2) {
+  const __m512 zero = _mm512_setzero_ps();
+  __m512 x = _mm512_mask_mov_ps(b0, _mm512_cmp_ps_mask(b0, zero, _CMP_LT_OQ), zero);
+  __m512 y = _mm512_mask_mov_ps(b1, _mm512_cmp_ps_mask(b1, zero, _CMP_LT_OQ), zero);
+  __m512 z = _mm512_mask_mov_ps(b2, _mm512_cmp_ps_mask(b2, zero, _CMP_LT_OQ), zero);
+  const __m512 s = _mm512_add_ps(_mm512_add_ps(x, y), z);
+  const __m512 one = _mm512_set1_ps(1.0f);
+  const __mmask16 near_one =
+      _mm512_cmp_ps_mask(_mm512_abs_ps(_mm512_sub_ps(s, one)), _mm512_set1_ps(1e-4f), _CMP_LE_OQ);
+  const __mmask16 positive = _mm512_cmp_ps_mask(s, _mm512_setzero_ps(), _CMP_GT_OQ);
+  __m512 inv = _mm512_div_ps(one, s);
+  inv = _mm512_mask_mov_ps(inv, near_one, _mm512_sub_ps(_mm512_set1_ps(2.0f), s));
+  const __mmask16 scaled = near_one | positive;
+  const __m512 third = _mm512_set1_ps(1.0f / 3.0f);
+  b0 = _mm512_mask_mul_ps(third, scaled, x, inv);
+  b1 = _mm512_mask_mul_ps(third, scaled, y, inv);
+  b2 = _mm512_mask_mul_ps(third, scaled, z, inv);
+}
+
+// floats[base + offset] in each lane.
+MOLDTEX_MOMAS_LANES_FN __m512 gather_at(const float* floats, __m512i base, int offset) {
+  return _mm512_i32gather_ps(_mm512_add_epi32(base, _mm512_set1_epi32(offset)), floats, 4);
+}
+
+// A triangle's map from frame directions to texel offsets, J = dUV/dq in texels.
+struct Jacobian {
+  __m512 xx, xy, yx, yy;
+};
+
+// The texel of a probe `length` from (x, y) (texels) along heading h (mtx_momas_probe's
+// trace that stays inside the triangle).
+MOLDTEX_MOMAS_LANES_FN __m512i probe_texel(__m512 x, __m512 y, __m512 length, const Jacobian& j, __m512 hx, __m512 hy,
+                                           __m512i last_x, __m512i last_y, __m512i width) {
+  const __m512 px = _mm512_add_ps(x, _mm512_mul_ps(length, _mm512_add_ps(_mm512_mul_ps(j.xx, hx), _mm512_mul_ps(j.xy, hy))));
+  const __m512 py = _mm512_add_ps(y, _mm512_mul_ps(length, _mm512_add_ps(_mm512_mul_ps(j.yx, hx), _mm512_mul_ps(j.yy, hy))));
+  return texel_at(px, py, last_x, last_y, width);
+}
+
+// mtx_clear_of_edge in lanes: (db >= 0) | ((b > 1e-30) & (b + length db >= 1e-6 b)).
+MOLDTEX_MOMAS_LANES_FN __mmask16 clear_of_edge(__m512 b, __m512 db, __m512 length) {
+  const __mmask16 rising = _mm512_cmp_ps_mask(db, _mm512_setzero_ps(), _CMP_GE_OQ);
+  const __mmask16 positive = _mm512_cmp_ps_mask(b, _mm512_set1_ps(1e-30f), _CMP_GT_OQ);
+  const __mmask16 kept = _mm512_cmp_ps_mask(_mm512_add_ps(b, _mm512_mul_ps(length, db)),
+                                            _mm512_mul_ps(_mm512_set1_ps(1e-6f), b), _CMP_GE_OQ);
+  return rising | (positive & kept);
+}
+
+// mtx_meets_edge in lanes: db < 0 and (b > 0 ? -b / db : 0) < length.
+MOLDTEX_MOMAS_LANES_FN __mmask16 meets_edge(__m512 b, __m512 db, __m512 length) {
+  const __m512 zero = _mm512_setzero_ps();
+  const __m512 minus_b = _mm512_castsi512_ps(
+      _mm512_xor_si512(_mm512_castps_si512(b), _mm512_set1_epi32(static_cast<int>(0x80000000u))));
+  const __m512 tau = _mm512_maskz_div_ps(_mm512_cmp_ps_mask(b, zero, _CMP_GT_OQ), minus_b, db);
+  return _mm512_cmp_ps_mask(db, zero, _CMP_LT_OQ) & _mm512_cmp_ps_mask(tau, length, _CMP_LT_OQ);
+}
+
+// Sensor traces in lanes: the triangle, start and end weights of each (mtx_trace_ends).
+struct Trace {
+  __m512i t;
+  __m512 s0, s1, s2, e0, e1, e2;
+};
+
+// mtx_trace_hops for the lanes `todo` of g: returns those located (g.t and g.e* then say
+// where their traces end); the rest must be walked, for the reasons mtx_trace_hops gives
+// up at the same crossing.
+MOLDTEX_MOMAS_LANES_FN __mmask16 trace_hops(Trace& g, __mmask16 todo, const uint32_t* adjacency,
+                                           const float* unfolded) {
+  const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.0f);
+  const __m512i i0 = _mm512_setzero_si512(), i1 = _mm512_set1_epi32(1), i2 = _mm512_set1_epi32(2);
+  const __m512i none = _mm512_set1_epi32(static_cast<int>(MTX_NO_NEIGHBOUR));
+  __mmask16 live = todo, located = 0;
+  for (int hop = 0;; ++hop) {
+    const __mmask16 n0 = _mm512_mask_cmp_ps_mask(live, g.e0, zero, _CMP_LT_OQ);
+    const __mmask16 n1 = _mm512_mask_cmp_ps_mask(live, g.e1, zero, _CMP_LT_OQ);
+    const __mmask16 n2 = _mm512_mask_cmp_ps_mask(live, g.e2, zero, _CMP_LT_OQ);
+    const __mmask16 out = n0 | n1 | n2;
+    located |= live & ~out;
+    live = out;
+    if (!live || hop == MTX_UNFOLDED_HOPS) break;
+    // The edge: the first beyond; of two or three, the one met sooner.
+    __m512i edge = _mm512_mask_mov_epi32(_mm512_mask_mov_epi32(i2, n1, i1), n0, i0);
+    const __mmask16 multi = live & ((n0 & n1) | (n0 & n2) | (n1 & n2));
+    if (multi) {
+      const __m512 si = _mm512_mask_blend_ps(n0, g.s1, g.s0), ei = _mm512_mask_blend_ps(n0, g.e1, g.e0);
+      const __m512 sj = _mm512_mask_blend_ps(n2, g.s1, g.s2), ej = _mm512_mask_blend_ps(n2, g.e1, g.e2);
+      const __mmask16 behind = _mm512_mask_cmp_ps_mask(multi, si, zero, _CMP_LT_OQ) |
+                               _mm512_mask_cmp_ps_mask(multi, sj, zero, _CMP_LT_OQ);
+      const __m512 lhs = _mm512_mul_ps(sj, _mm512_sub_ps(si, ei));
+      const __m512 rhs = _mm512_mul_ps(si, _mm512_sub_ps(sj, ej));
+      const __mmask16 later = _mm512_mask_cmp_ps_mask(multi & ~behind, lhs, rhs, _CMP_LT_OQ);
+      edge = _mm512_mask_mov_epi32(edge, later, _mm512_mask_mov_epi32(i1, n2, i2));
+      live &= ~behind;
+    }
+    // The start on the inner side of that edge, and a neighbour there.
+    const __mmask16 is0 = _mm512_cmpeq_epi32_mask(edge, i0), is1 = _mm512_cmpeq_epi32_mask(edge, i1);
+    const __m512 s_edge = _mm512_mask_blend_ps(is0, _mm512_mask_blend_ps(is1, g.s2, g.s1), g.s0);
+    live &= ~_mm512_mask_cmp_ps_mask(live, s_edge, zero, _CMP_LT_OQ);
+    const __m512i slot = _mm512_add_epi32(_mm512_add_epi32(_mm512_add_epi32(g.t, g.t), g.t), edge);
+    const __m512i code = _mm512_mask_i32gather_epi32(none, live, slot, adjacency, 4);
+    live &= ~_mm512_mask_cmpeq_epi32_mask(live, code, none);
+    if (!live) break;
+    // Both points carried into the neighbour.
+    const __m512i base = _mm512_mullo_epi32(slot, _mm512_set1_epi32(MTX_UNFOLDED_FLOATS));
+    __m512 u[6];
+    for (int k = 0; k < 6; ++k)
+      u[k] = _mm512_mask_i32gather_ps(zero, live, _mm512_add_epi32(base, _mm512_set1_epi32(k)), unfolded, 4);
+    const __m512 s1n = _mm512_add_ps(_mm512_add_ps(u[0], _mm512_mul_ps(u[1], g.s1)), _mm512_mul_ps(u[2], g.s2));
+    const __m512 s2n = _mm512_add_ps(_mm512_add_ps(u[3], _mm512_mul_ps(u[4], g.s1)), _mm512_mul_ps(u[5], g.s2));
+    const __m512 e1n = _mm512_add_ps(_mm512_add_ps(u[0], _mm512_mul_ps(u[1], g.e1)), _mm512_mul_ps(u[2], g.e2));
+    const __m512 e2n = _mm512_add_ps(_mm512_add_ps(u[3], _mm512_mul_ps(u[4], g.e1)), _mm512_mul_ps(u[5], g.e2));
+    g.s1 = _mm512_mask_mov_ps(g.s1, live, s1n);
+    g.s2 = _mm512_mask_mov_ps(g.s2, live, s2n);
+    g.s0 = _mm512_mask_mov_ps(g.s0, live, _mm512_sub_ps(_mm512_sub_ps(one, s1n), s2n));
+    g.e1 = _mm512_mask_mov_ps(g.e1, live, e1n);
+    g.e2 = _mm512_mask_mov_ps(g.e2, live, e2n);
+    g.e0 = _mm512_mask_mov_ps(g.e0, live, _mm512_sub_ps(_mm512_sub_ps(one, e1n), e2n));
+    g.t = _mm512_mask_mov_epi32(g.t, live, _mm512_srli_epi32(code, 3));
+  }
+  return located;
+}
+
+// The texel where a sensor trace from the agents' points (weights b*, triangle tri)
+// along heading (hx, hy) ends, for the lanes `todo` that leave their triangle
+// (mtx_momas_probe: mtx_walk_trace, then mtx_walker_texel_at); clears from *ok the lanes
+// whose trace must be walked.
+MOLDTEX_MOMAS_LANES_FN __m512i trace_texel(const mtx_surface_tables& s, __mmask16 todo, __mmask16* ok, __m512i tri,
+                                           __m512 b0, __m512 b1, __m512 b2, __m512 hx, __m512 hy, __m512 length,
+                                           __m512 inv_a, __m512 bx, __m512 inv_by, const mtx_momas_constants& c,
+                                           __m512i texel) {
+  // mtx_trace_ends.
+  const __m512 d2 = _mm512_mul_ps(hy, inv_by);
+  const __m512 d1 = _mm512_mul_ps(_mm512_sub_ps(hx, _mm512_mul_ps(bx, d2)), inv_a);
+  Trace g{tri,
+          b0,
+          b1,
+          b2,
+          _mm512_sub_ps(b0, _mm512_mul_ps(length, _mm512_add_ps(d1, d2))),
+          _mm512_add_ps(b1, _mm512_mul_ps(length, d1)),
+          _mm512_add_ps(b2, _mm512_mul_ps(length, d2))};
+  const __mmask16 located = trace_hops(g, todo, s.adjacency, s.unfolded);
+  *ok &= static_cast<__mmask16>(~(todo & ~located));
+  if (!located) return texel;
+  const __m512i t6 = _mm512_mullo_epi32(g.t, _mm512_set1_epi32(6));
+  __m512 uv[6];
+  for (int k = 0; k < 6; ++k)
+    uv[k] = _mm512_mask_i32gather_ps(_mm512_setzero_ps(), located, _mm512_add_epi32(t6, _mm512_set1_epi32(k)),
+                                     s.corner_uvs, 4);
+  const __m512 u = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(g.e0, uv[0]), _mm512_mul_ps(g.e1, uv[2])),
+                                 _mm512_mul_ps(g.e2, uv[4]));
+  const __m512 v = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(g.e0, uv[1]), _mm512_mul_ps(g.e1, uv[3])),
+                                 _mm512_mul_ps(g.e2, uv[5]));
+  const __m512i at = texel_at(_mm512_mul_ps(u, _mm512_set1_ps(static_cast<float>(c.width))),
+                              _mm512_mul_ps(v, _mm512_set1_ps(static_cast<float>(c.height))),
+                              _mm512_set1_epi32(static_cast<int>(c.width) - 1),
+                              _mm512_set1_epi32(static_cast<int>(c.height) - 1),
+                              _mm512_set1_epi32(static_cast<int>(c.width)));
+  return _mm512_mask_mov_epi32(texel, located, at);
+}
+
+// Agents [i, i + 16): the lanes whose probes and move stay inside their triangles are
+// stepped here; the others are returned for the scalar code.
+MOLDTEX_MOMAS_LANES_FN __mmask16 step16(const mtx_surface_tables& s, const mtx_momas_constants& c,
+                                        const float* pheromone, uint8_t* marks, Agents& agents, size_t i) {
+  const float* frames = reinterpret_cast<const float*>(s.frames);
+  const __m512i tri = _mm512_loadu_si512(agents.triangle.data() + i);
+  const __m512 b1_in = _mm512_loadu_ps(agents.b1.data() + i), b2_in = _mm512_loadu_ps(agents.b2.data() + i);
+  __m512 hx = _mm512_loadu_ps(agents.hx.data() + i), hy = _mm512_loadu_ps(agents.hy.data() + i);
+  const __m512i species =
+      _mm512_cvtepu8_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(agents.species.data() + i)));
+  const __m512 one = _mm512_set1_ps(1.0f);
+  // Agents::load: the first weight from the other two.
+  __m512 b0 = _mm512_sub_ps(_mm512_sub_ps(one, b1_in), b2_in), b1 = b1_in, b2 = b2_in;
+
+  // The triangle's UVs and frame.
+  const __m512i t6 = _mm512_mullo_epi32(tri, _mm512_set1_epi32(6));
+  __m512 uv[6];
+  for (int k = 0; k < 6; ++k) uv[k] = gather_at(s.corner_uvs, t6, k);
+  const __m512i tf = _mm512_mullo_epi32(tri, _mm512_set1_epi32(kFrameFloats));
+  const __m512 inv_a = gather_at(frames, tf, kInvA), bx = gather_at(frames, tf, kBx);
+  const __m512 inv_by = gather_at(frames, tf, kInvBy);
+  const __m512 alt0 = gather_at(frames, tf, kAltitude), alt1 = gather_at(frames, tf, kAltitude + 1);
+  const __m512 alt2 = gather_at(frames, tf, kAltitude + 2);
+
+  // mtx_momas_probe: the texel under the agent and its clearance.
+  const float width = static_cast<float>(c.width), height = static_cast<float>(c.height);
+  const __m512 wf = _mm512_set1_ps(width), hf = _mm512_set1_ps(height);
+  const __m512i last_x = _mm512_set1_epi32(static_cast<int>(c.width) - 1);
+  const __m512i last_y = _mm512_set1_epi32(static_cast<int>(c.height) - 1);
+  const __m512i width_i = _mm512_set1_epi32(static_cast<int>(c.width));
+  const __m512 u = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(b0, uv[0]), _mm512_mul_ps(b1, uv[2])),
+                                 _mm512_mul_ps(b2, uv[4]));
+  const __m512 v = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(b0, uv[1]), _mm512_mul_ps(b1, uv[3])),
+                                 _mm512_mul_ps(b2, uv[5]));
+  const __m512 x = _mm512_mul_ps(u, wf), y = _mm512_mul_ps(v, hf);
+  const __m512 clearance =
+      lanes_min(lanes_min(_mm512_mul_ps(b0, alt0), _mm512_mul_ps(b1, alt1)), _mm512_mul_ps(b2, alt2));
+  const __m512 sensor_length = per_species(c.sensor_length, species);
+  const __m512 move_length = per_species(c.move_length, species);
+  const __m512 margin = _mm512_set1_ps(1.0001f);
+  // The lanes whose probes stay inside the triangle, and the others, whose traces cross
+  // edges through the unfolded neighbours (where the tables have them); those whose move
+  // is sure to stay inside, and the others, whose move is tested as it goes.
+  const __mmask16 probes_inside = _mm512_cmp_ps_mask(clearance, _mm512_mul_ps(sensor_length, margin), _CMP_GT_OQ);
+  const __mmask16 traced = s.unfolded ? static_cast<__mmask16>(~probes_inside) : 0;
+  __mmask16 inside = static_cast<__mmask16>(probes_inside | traced);
+  if (!inside) return 0;
+  __mmask16 near = inside & ~_mm512_cmp_ps_mask(clearance, _mm512_mul_ps(move_length, margin), _CMP_GT_OQ);
+
+  // The three probes through the triangle's affine map to texels.
+  const __m512 du1 = _mm512_mul_ps(_mm512_sub_ps(uv[2], uv[0]), wf);
+  const __m512 dv1 = _mm512_mul_ps(_mm512_sub_ps(uv[3], uv[1]), hf);
+  const __m512 du2 = _mm512_mul_ps(_mm512_sub_ps(uv[4], uv[0]), wf);
+  const __m512 dv2 = _mm512_mul_ps(_mm512_sub_ps(uv[5], uv[1]), hf);
+  const __m512 jxx = _mm512_mul_ps(du1, inv_a), jyx = _mm512_mul_ps(dv1, inv_a);
+  const __m512 jxy = _mm512_mul_ps(_mm512_sub_ps(du2, _mm512_mul_ps(bx, jxx)), inv_by);
+  const __m512 jyy = _mm512_mul_ps(_mm512_sub_ps(dv2, _mm512_mul_ps(bx, jyx)), inv_by);
+  const __m512 cs = per_species(c.sensor_cos, species), sn = per_species(c.sensor_sin, species);
+  const __m512 nsn = _mm512_castsi512_ps(  // -sn, the sign bit flipped
+      _mm512_xor_si512(_mm512_castps_si512(sn), _mm512_set1_epi32(static_cast<int>(0x80000000u))));
+  const Jacobian j{jxx, jxy, jyx, jyy};
+  // mtx_rotate(h, c, s): (c x - s y, s x + c y); the right probe turns by -s.
+  const __m512 lx = _mm512_sub_ps(_mm512_mul_ps(cs, hx), _mm512_mul_ps(sn, hy));
+  const __m512 ly = _mm512_add_ps(_mm512_mul_ps(sn, hx), _mm512_mul_ps(cs, hy));
+  const __m512 rx = _mm512_sub_ps(_mm512_mul_ps(cs, hx), _mm512_mul_ps(nsn, hy));
+  const __m512 ry = _mm512_add_ps(_mm512_mul_ps(nsn, hx), _mm512_mul_ps(cs, hy));
+  __m512i texel_left = probe_texel(x, y, sensor_length, j, lx, ly, last_x, last_y, width_i);
+  __m512i texel_front = probe_texel(x, y, sensor_length, j, hx, hy, last_x, last_y, width_i);
+  __m512i texel_right = probe_texel(x, y, sensor_length, j, rx, ry, last_x, last_y, width_i);
+  if (traced) {
+    texel_left = trace_texel(s, traced, &inside, tri, b0, b1, b2, lx, ly, sensor_length, inv_a, bx, inv_by, c, texel_left);
+    texel_front = trace_texel(s, traced, &inside, tri, b0, b1, b2, hx, hy, sensor_length, inv_a, bx, inv_by, c, texel_front);
+    texel_right = trace_texel(s, traced, &inside, tri, b0, b1, b2, rx, ry, sensor_length, inv_a, bx, inv_by, c, texel_right);
+    if (!inside) return 0;
+  }
+
+  // mtx_momas_decision: sense.
+  const uint32_t plane_texels = c.width * c.height;
+  const __m512 attraction = _mm512_loadu_ps(c.attraction);
+  const __m512i species4 = _mm512_slli_epi32(species, 2);
+  const uint32_t planes = c.species_count;
+  const __m512 left = sensed(pheromone, planes, plane_texels, attraction, species4, texel_left);
+  const __m512 front = sensed(pheromone, planes, plane_texels, attraction, species4, texel_front);
+  const __m512 right = sensed(pheromone, planes, plane_texels, attraction, species4, texel_right);
+
+  // The step's random state per agent (mtx_rng_init_step) and its first two draws.
+  const __m512i iota64 = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7);
+  const __m512i step_bits = _mm512_set1_epi64(static_cast<long long>(c.step & 0xffffffffULL));
+  const __m512i key = _mm512_set1_epi64(static_cast<long long>(c.steer_key));
+  const __m512i first_agent = _mm512_set1_epi64(static_cast<long long>(i));
+  const __m512i agent_lo = _mm512_add_epi64(first_agent, iota64);
+  const __m512i agent_hi = _mm512_add_epi64(agent_lo, _mm512_set1_epi64(8));
+  __m512i state_lo = mix64(_mm512_xor_si512(key, _mm512_or_si512(_mm512_slli_epi64(agent_lo, 32), step_bits)));
+  __m512i state_hi = mix64(_mm512_xor_si512(key, _mm512_or_si512(_mm512_slli_epi64(agent_hi, 32), step_bits)));
+  state_lo = mix64(state_lo);
+  state_hi = mix64(state_hi);
+  const __m512 r = unit_float(state_lo, state_hi);
+
+  // Steer: keep going only while the front is strictly strongest.
+  const __mmask16 keep =
+      _mm512_cmp_ps_mask(front, left, _CMP_GT_OQ) & _mm512_cmp_ps_mask(front, right, _CMP_GT_OQ);
+  const __mmask16 turning = static_cast<__mmask16>(~keep) & inside;
+  if (turning) {
+    const __mmask16 to_left = _mm512_cmp_ps_mask(left, right, _CMP_GT_OQ);
+    const __mmask16 to_right = _mm512_cmp_ps_mask(right, left, _CMP_GT_OQ);
+    __m512 side = _mm512_set1_ps(-1.0f);
+    const __mmask16 tie = static_cast<__mmask16>(turning & ~(to_left | to_right));
+    if (tie) {  // a third draw decides the side
+      const __m512 coin = unit_float(mix64(state_lo), mix64(state_hi));
+      side = _mm512_mask_mov_ps(side, _mm512_cmp_ps_mask(coin, _mm512_set1_ps(0.5f), _CMP_LT_OQ), one);
+    }
+    side = _mm512_mask_mov_ps(side, to_right, _mm512_set1_ps(-1.0f));
+    side = _mm512_mask_mov_ps(side, to_left, one);
+    const __m512 turn = _mm512_mul_ps(_mm512_mul_ps(side, r), per_species(c.max_turn, species));
+    alignas(64) float turns[16], cosines[16], sines[16];
+    _mm512_store_ps(turns, turn);
+    for (unsigned bits = turning; bits; bits &= bits - 1) {
+      const int j = __builtin_ctz(bits);
+      cosines[j] = std::cos(turns[j]);
+      sines[j] = std::sin(turns[j]);
+    }
+    const __m512 tc = _mm512_mask_load_ps(one, turning, cosines);
+    const __m512 ts = _mm512_mask_load_ps(_mm512_setzero_ps(), turning, sines);
+    // mtx_renormalised(mtx_rotate(h, cos, sin)).
+    const __m512 nx = _mm512_sub_ps(_mm512_mul_ps(tc, hx), _mm512_mul_ps(ts, hy));
+    const __m512 ny = _mm512_add_ps(_mm512_mul_ps(ts, hx), _mm512_mul_ps(tc, hy));
+    const __m512 f = _mm512_sub_ps(_mm512_set1_ps(1.5f),
+                                   _mm512_mul_ps(_mm512_set1_ps(0.5f), _mm512_add_ps(_mm512_mul_ps(nx, nx),
+                                                                                     _mm512_mul_ps(ny, ny))));
+    hx = _mm512_mask_mul_ps(hx, turning, nx, f);
+    hy = _mm512_mask_mul_ps(hy, turning, ny, f);
+  }
+
+  // Move in substeps inside the triangle (mtx_walk_inside_known), marking each end.
+  const __m512 sub_length = _mm512_div_ps(move_length, _mm512_set1_ps(static_cast<float>(c.substeps)));
+  const __m512i mark_base = _mm512_mullo_epi32(species, _mm512_set1_epi32(static_cast<int>(plane_texels)));
+  const __m512 db2 = _mm512_mul_ps(hy, inv_by);
+  const __m512 db1 = _mm512_mul_ps(_mm512_sub_ps(hx, _mm512_mul_ps(bx, db2)), inv_a);
+  // -(db1 + db2): the sign bit flipped (0 - a would give +0 for a = +0, not -0).
+  const __m512 db0 = _mm512_castsi512_ps(_mm512_xor_si512(_mm512_castps_si512(_mm512_add_ps(db1, db2)),
+                                                          _mm512_set1_epi32(static_cast<int>(0x80000000u))));
+  for (uint32_t k = 0; k < c.substeps; ++k) {
+    if (near) {
+      // mtx_walk_until's first test (mtx_walk_inside): a lane whose substep meets an edge
+      // leaves the lanes (its marks so far are ones the scalar code makes again).
+      const __mmask16 clear = clear_of_edge(b0, db0, sub_length) & clear_of_edge(b1, db1, sub_length) &
+                              clear_of_edge(b2, db2, sub_length);
+      const __mmask16 meets = near & static_cast<__mmask16>(~clear) &
+                              (meets_edge(b0, db0, sub_length) | meets_edge(b1, db1, sub_length) |
+                               meets_edge(b2, db2, sub_length));
+      inside &= static_cast<__mmask16>(~meets);
+      near &= static_cast<__mmask16>(~meets);
+      if (!inside) return 0;
+    }
+    b0 = _mm512_add_ps(b0, _mm512_mul_ps(sub_length, db0));
+    b1 = _mm512_add_ps(b1, _mm512_mul_ps(sub_length, db1));
+    b2 = _mm512_add_ps(b2, _mm512_mul_ps(sub_length, db2));
+    clamp_bary(b0, b1, b2);
+    const __m512 mu = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(b0, uv[0]), _mm512_mul_ps(b1, uv[2])),
+                                    _mm512_mul_ps(b2, uv[4]));
+    const __m512 mv = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(b0, uv[1]), _mm512_mul_ps(b1, uv[3])),
+                                    _mm512_mul_ps(b2, uv[5]));
+    const __m512i texel = texel_at(_mm512_mul_ps(mu, wf), _mm512_mul_ps(mv, hf), last_x, last_y, width_i);
+    alignas(64) uint32_t at[16];
+    _mm512_store_si512(at, _mm512_add_epi32(mark_base, texel));
+    for (unsigned bits = inside; bits; bits &= bits - 1) MTX_MARK(marks, at[__builtin_ctz(bits)]);
+  }
+  _mm512_mask_storeu_ps(agents.b1.data() + i, inside, b1);
+  _mm512_mask_storeu_ps(agents.b2.data() + i, inside, b2);
+  _mm512_mask_storeu_ps(agents.hx.data() + i, inside, hx);
+  _mm512_mask_storeu_ps(agents.hy.data() + i, inside, hy);
+  return inside;
+}
+
+__attribute__((target("avx512f,avx512dq"))) size_t update_in_lanes(const mtx_surface_tables& s,
+                                                                  const mtx_momas_constants& c,
+                                                                  const float* pheromone, const float* field,
+                                                                  uint8_t* marks, Agents& agents, size_t begin,
+                                                                  size_t end) {
+  // The agents the lanes leave (probes or a move that may cross an edge) gather here and
+  // run in scalar batches of 16 or more (agents are independent within a step: each reads
+  // the step's field and its own state, and marks are the same byte from every writer).
+  size_t pending[kPending];
+  size_t waiting = 0, stepped = 0;
+  size_t i = begin;
+  for (; i + 16 <= end; i += 16) {
+    const unsigned done = step16(s, c, pheromone, marks, agents, i);
+    stepped += static_cast<size_t>(__builtin_popcount(done));
+    for (unsigned rest = ~done & 0xffffu; rest; rest &= rest - 1)
+      pending[waiting++] = i + static_cast<size_t>(__builtin_ctz(rest));
+    if (waiting >= 16) {
+      agents_scalar(s, c, pheromone, field, marks, agents, pending, waiting);
+      waiting = 0;
+    }
+  }
+  for (; i < end; ++i) pending[waiting++] = i;  // at most 15 more
+  agents_scalar(s, c, pheromone, field, marks, agents, pending, waiting);
+  return stepped;
+}
+
+bool detect_lanes() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
+}
+
+#endif
+
+}  // namespace
+
+bool momas_lanes_supported() {
+#ifdef MOLDTEX_MOMAS_LANES_X86
+  static const bool processor = detect_lanes();
+  return processor;
+#else
+  return false;
+#endif
+}
+
+bool momas_lanes_apply(const mtx_momas_constants& c, uint32_t triangle_count) {
+#ifdef MOLDTEX_MOMAS_LANES_X86
+  if (!momas_lanes_supported() || !g_enabled.load(std::memory_order_relaxed)) return false;
+  const uint64_t planes_texels = uint64_t(c.width) * c.height * (c.species_count ? c.species_count : 1u);
+  return c.surface_mode == 0u && c.coast == 0u && c.decisions <= 1u && c.sensor_size == 0u && c.has_fields == 0u &&
+         !(c.hunger_step > 0.0f) && c.substeps >= 1u && c.species_count >= 1u &&
+         c.species_count <= MTX_MAX_SPECIES && planes_texels < (1ull << 31) &&
+         uint64_t(triangle_count) * kFrameFloats < (1ull << 31);
+#else
+  (void)c;
+  (void)triangle_count;
+  return false;
+#endif
+}
+
+size_t momas_lanes_update(const mtx_surface_tables& tables, const mtx_momas_constants& c, const float* pheromone,
+                        const float* field, uint8_t* marks, Agents& agents, size_t begin, size_t end) {
+#ifdef MOLDTEX_MOMAS_LANES_X86
+  return update_in_lanes(tables, c, pheromone, field, marks, agents, begin, end);
+#else
+  momas_update_agents(tables, c, pheromone, field, marks, agents, begin, end);
+  return 0;
+#endif
+}
+
+void momas_lanes_enable(bool on) { g_enabled.store(on, std::memory_order_relaxed); }
+
+}  // namespace moldtex
