@@ -63,6 +63,7 @@ constexpr int kInvA = offsetof(mtx_frame, inv_a) / sizeof(float);
 constexpr int kBx = offsetof(mtx_frame, bx) / sizeof(float);
 constexpr int kInvBy = offsetof(mtx_frame, inv_by) / sizeof(float);
 constexpr int kAltitude = offsetof(mtx_frame, altitude) / sizeof(float);
+constexpr int kEdge = offsetof(mtx_frame, edge) / sizeof(float);
 
 #define MOLDTEX_MOMAS_LANES_FN __attribute__((target("avx512f,avx512dq"), always_inline)) inline
 
@@ -174,6 +175,121 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 meets_edge(__m512 b, __m512 db, __m512 length) 
   return _mm512_cmp_ps_mask(db, zero, _CMP_LT_OQ) & _mm512_cmp_ps_mask(tau, length, _CMP_LT_OQ);
 }
 
+// -a: the sign bit flipped (0 - a would give +0 for a = +0, not -0).
+MOLDTEX_MOMAS_LANES_FN __m512 negated(__m512 a) {
+  return _mm512_castsi512_ps(_mm512_xor_si512(_mm512_castps_si512(a), _mm512_set1_epi32(static_cast<int>(0x80000000u))));
+}
+
+// Walkers in lanes, with their triangle's frame values that a walk reads.
+struct Walk {
+  __m512i t;
+  __m512 b0, b1, b2, hx, hy;
+  __m512 inv_a, bx, inv_by;
+};
+
+// mtx_walk_across for the lanes `todo` of w, each `length` long: leg by leg
+// (mtx_walk_leg), each ending where the walk does, at an edge it crosses into the
+// neighbour, or at an open boundary (those lanes are not returned: the scalar walk
+// scatters them, with random numbers). Returns the lanes walked to their end.
+constexpr int kWalkLegs = 8;  // a walk with more legs leaves the lanes
+MOLDTEX_MOMAS_LANES_FN __mmask16 walk_across(const mtx_surface_tables& s, Walk& w, __mmask16 todo, __m512 length) {
+  static_assert(kWalkLegs <= MTX_MAX_CROSSINGS_PER_WALK, "the lanes end walks as mtx_walk_leg does");
+  const float* frames = reinterpret_cast<const float*>(s.frames);
+  const __m512 zero = _mm512_setzero_ps();
+  const __m512i i0 = _mm512_setzero_si512(), i1 = _mm512_set1_epi32(1), i2 = _mm512_set1_epi32(2);
+  const __m512i none = _mm512_set1_epi32(static_cast<int>(MTX_NO_NEIGHBOUR));
+  __m512 remaining = length;
+  __mmask16 live = todo, ended = 0;
+  for (int count = 0; count < kWalkLegs; ++count) {
+    // The first edge met within the remaining length, if any.
+    const __m512 db2 = _mm512_mul_ps(w.hy, w.inv_by);
+    const __m512 db1 = _mm512_mul_ps(_mm512_sub_ps(w.hx, _mm512_mul_ps(w.bx, db2)), w.inv_a);
+    const __m512 db0 = negated(_mm512_add_ps(db1, db2));
+    __m512 travel = remaining;
+    __m512i exit = _mm512_set1_epi32(-1);
+    const __m512 bs[3] = {w.b0, w.b1, w.b2}, dbs[3] = {db0, db1, db2};
+    for (int e = 0; e < 3; ++e) {
+      const __mmask16 falling = _mm512_mask_cmp_ps_mask(live, dbs[e], zero, _CMP_LT_OQ);
+      const __m512 tau = _mm512_maskz_div_ps(_mm512_cmp_ps_mask(bs[e], zero, _CMP_GT_OQ), negated(bs[e]), dbs[e]);
+      const __mmask16 sooner = falling & _mm512_cmp_ps_mask(tau, travel, _CMP_LT_OQ);
+      travel = _mm512_mask_mov_ps(travel, sooner, tau);
+      exit = _mm512_mask_mov_epi32(exit, sooner, _mm512_set1_epi32(e));
+    }
+    __m512 b0 = _mm512_add_ps(w.b0, _mm512_mul_ps(travel, db0));
+    __m512 b1 = _mm512_add_ps(w.b1, _mm512_mul_ps(travel, db1));
+    __m512 b2 = _mm512_add_ps(w.b2, _mm512_mul_ps(travel, db2));
+    // Lanes whose walk ends in this triangle: weights clamped, the heading made unit
+    // again after crossings.
+    const __mmask16 stop = _mm512_mask_cmplt_epi32_mask(live, exit, i0);
+    if (stop) {
+      __m512 c0 = b0, c1 = b1, c2 = b2;
+      clamp_bary(c0, c1, c2);
+      w.b0 = _mm512_mask_mov_ps(w.b0, stop, c0);
+      w.b1 = _mm512_mask_mov_ps(w.b1, stop, c1);
+      w.b2 = _mm512_mask_mov_ps(w.b2, stop, c2);
+      if (count > 0) {  // mtx_unit
+        const __m512 n = _mm512_sqrt_ps(_mm512_add_ps(_mm512_mul_ps(w.hx, w.hx), _mm512_mul_ps(w.hy, w.hy)));
+        const __mmask16 positive = _mm512_cmp_ps_mask(n, zero, _CMP_GT_OQ);
+        w.hx = _mm512_mask_mov_ps(w.hx, stop, _mm512_mask_div_ps(_mm512_set1_ps(1.0f), positive, w.hx, n));
+        w.hy = _mm512_mask_mov_ps(w.hy, stop, _mm512_mask_div_ps(zero, positive, w.hy, n));
+      }
+      ended |= stop;
+      live &= static_cast<__mmask16>(~stop);
+    }
+    if (!live) break;
+    // Onto the exit edge, then across it.
+    const __mmask16 x0 = _mm512_cmpeq_epi32_mask(exit, i0), x1 = _mm512_cmpeq_epi32_mask(exit, i1);
+    const __mmask16 x2 = _mm512_cmpeq_epi32_mask(exit, i2);
+    b0 = _mm512_mask_mov_ps(b0, x0, zero);
+    b1 = _mm512_mask_mov_ps(b1, x1, zero);
+    b2 = _mm512_mask_mov_ps(b2, x2, zero);
+    clamp_bary(b0, b1, b2);
+    remaining = _mm512_sub_ps(remaining, travel);
+    const __m512 bj = _mm512_mask_mov_ps(_mm512_mask_mov_ps(b0, x1, b2), x0, b1);
+    const __m512 bk = _mm512_mask_mov_ps(_mm512_mask_mov_ps(b1, x1, b0), x0, b2);
+    const __m512i tf = _mm512_mullo_epi32(w.t, _mm512_set1_epi32(kFrameFloats));
+    const __m512i at_edge = _mm512_add_epi32(_mm512_add_epi32(tf, _mm512_set1_epi32(kEdge)), _mm512_add_epi32(exit, exit));
+    const __m512 ex = _mm512_mask_i32gather_ps(zero, live, at_edge, frames, 4);
+    const __m512 ey = _mm512_mask_i32gather_ps(zero, live, _mm512_add_epi32(at_edge, i1), frames, 4);
+    const __m512 along = _mm512_add_ps(_mm512_mul_ps(w.hx, ex), _mm512_mul_ps(w.hy, ey));
+    const __m512 across = _mm512_max_ps(  // mtx_max(|...|, MTX_MIN_CROSSING_SINE)
+        _mm512_set1_ps(MTX_MIN_CROSSING_SINE),
+        _mm512_abs_ps(_mm512_add_ps(_mm512_mul_ps(w.hx, negated(ey)), _mm512_mul_ps(w.hy, ex))));
+    const __m512i slot = _mm512_add_epi32(_mm512_add_epi32(_mm512_add_epi32(w.t, w.t), w.t), exit);
+    const __m512i code = _mm512_mask_i32gather_epi32(none, live, slot, s.adjacency, 4);
+    live &= static_cast<__mmask16>(~_mm512_mask_cmpeq_epi32_mask(live, code, none));
+    if (!live) break;
+    const __m512i next = _mm512_srli_epi32(code, 3);
+    const __m512i edge = _mm512_and_si512(_mm512_srli_epi32(code, 1), _mm512_set1_epi32(3));
+    const __mmask16 same = _mm512_test_epi32_mask(code, i1);
+    // The corner of `next` equal to j: edge + 1 (same direction) or edge + 2, mod 3.
+    __m512i jn = _mm512_add_epi32(edge, _mm512_mask_mov_epi32(i2, same, i1));
+    jn = _mm512_mask_sub_epi32(jn, _mm512_cmpge_epi32_mask(jn, _mm512_set1_epi32(3)), jn, _mm512_set1_epi32(3));
+    const __mmask16 e0 = _mm512_cmpeq_epi32_mask(edge, i0), e1 = _mm512_cmpeq_epi32_mask(edge, i1);
+    const __mmask16 e2 = _mm512_cmpeq_epi32_mask(edge, i2);
+    const __mmask16 j0 = _mm512_cmpeq_epi32_mask(jn, i0), j1 = _mm512_cmpeq_epi32_mask(jn, i1);
+    const __mmask16 j2 = _mm512_cmpeq_epi32_mask(jn, i2);
+    w.b0 = _mm512_mask_mov_ps(w.b0, live, _mm512_mask_mov_ps(_mm512_mask_mov_ps(bk, j0, bj), e0, zero));
+    w.b1 = _mm512_mask_mov_ps(w.b1, live, _mm512_mask_mov_ps(_mm512_mask_mov_ps(bk, j1, bj), e1, zero));
+    w.b2 = _mm512_mask_mov_ps(w.b2, live, _mm512_mask_mov_ps(_mm512_mask_mov_ps(bk, j2, bj), e2, zero));
+    // The heading in the neighbour's frame: along its edge (reversed where it is wound
+    // the other way round) and across it.
+    const __m512i nf = _mm512_mullo_epi32(next, _mm512_set1_epi32(kFrameFloats));
+    const __m512i at_ccw = _mm512_add_epi32(_mm512_add_epi32(nf, _mm512_set1_epi32(kEdge)), _mm512_add_epi32(edge, edge));
+    const __m512 cx = _mm512_mask_i32gather_ps(zero, live, at_ccw, frames, 4);
+    const __m512 cy = _mm512_mask_i32gather_ps(zero, live, _mm512_add_epi32(at_ccw, i1), frames, 4);
+    const __m512 sign = _mm512_mask_mov_ps(_mm512_set1_ps(-1.0f), same, _mm512_set1_ps(1.0f));
+    const __m512 signed_along = _mm512_mul_ps(along, sign);
+    w.hx = _mm512_mask_mov_ps(w.hx, live, _mm512_sub_ps(_mm512_mul_ps(signed_along, cx), _mm512_mul_ps(across, cy)));
+    w.hy = _mm512_mask_mov_ps(w.hy, live, _mm512_add_ps(_mm512_mul_ps(signed_along, cy), _mm512_mul_ps(across, cx)));
+    w.t = _mm512_mask_mov_epi32(w.t, live, next);
+    w.inv_a = _mm512_mask_i32gather_ps(w.inv_a, live, _mm512_add_epi32(nf, _mm512_set1_epi32(kInvA)), frames, 4);
+    w.bx = _mm512_mask_i32gather_ps(w.bx, live, _mm512_add_epi32(nf, _mm512_set1_epi32(kBx)), frames, 4);
+    w.inv_by = _mm512_mask_i32gather_ps(w.inv_by, live, _mm512_add_epi32(nf, _mm512_set1_epi32(kInvBy)), frames, 4);
+  }
+  return ended;
+}
+
 // Sensor traces in lanes: the triangle, start and end weights of each (mtx_trace_ends).
 struct Trace {
   __m512i t;
@@ -245,8 +361,8 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 trace_hops(Trace& g, __mmask16 todo, const uint
 // whose trace must be walked.
 MOLDTEX_MOMAS_LANES_FN __m512i trace_texel(const mtx_surface_tables& s, __mmask16 todo, __mmask16* ok, __m512i tri,
                                            __m512 b0, __m512 b1, __m512 b2, __m512 hx, __m512 hy, __m512 length,
-                                           __m512 inv_a, __m512 bx, __m512 inv_by, const mtx_momas_constants& c,
-                                           __m512i texel) {
+                                           __m512 inv_a, __m512 bx, __m512 inv_by, const __m512* own_uv,
+                                           const mtx_momas_constants& c, __m512i texel) {
   // mtx_trace_ends.
   const __m512 d2 = _mm512_mul_ps(hy, inv_by);
   const __m512 d1 = _mm512_mul_ps(_mm512_sub_ps(hx, _mm512_mul_ps(bx, d2)), inv_a);
@@ -260,11 +376,15 @@ MOLDTEX_MOMAS_LANES_FN __m512i trace_texel(const mtx_surface_tables& s, __mmask1
   const __mmask16 located = trace_hops(g, todo, s.adjacency, s.unfolded);
   *ok &= static_cast<__mmask16>(~(todo & ~located));
   if (!located) return texel;
-  const __m512i t6 = _mm512_mullo_epi32(g.t, _mm512_set1_epi32(6));
+  // The UVs of the triangle where each trace ends: the agent's own unless it crossed.
+  const __mmask16 elsewhere = _mm512_mask_cmpneq_epi32_mask(located, g.t, tri);
   __m512 uv[6];
-  for (int k = 0; k < 6; ++k)
-    uv[k] = _mm512_mask_i32gather_ps(_mm512_setzero_ps(), located, _mm512_add_epi32(t6, _mm512_set1_epi32(k)),
-                                     s.corner_uvs, 4);
+  for (int k = 0; k < 6; ++k) uv[k] = own_uv[k];
+  if (elsewhere) {
+    const __m512i t6 = _mm512_mullo_epi32(g.t, _mm512_set1_epi32(6));
+    for (int k = 0; k < 6; ++k)
+      uv[k] = _mm512_mask_i32gather_ps(own_uv[k], elsewhere, _mm512_add_epi32(t6, _mm512_set1_epi32(k)), s.corner_uvs, 4);
+  }
   const __m512 u = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(g.e0, uv[0]), _mm512_mul_ps(g.e1, uv[2])),
                                  _mm512_mul_ps(g.e2, uv[4]));
   const __m512 v = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(g.e0, uv[1]), _mm512_mul_ps(g.e1, uv[3])),
@@ -347,9 +467,9 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 step16(const mtx_surface_tables& s, const mtx_m
   __m512i texel_front = probe_texel(x, y, sensor_length, j, hx, hy, last_x, last_y, width_i);
   __m512i texel_right = probe_texel(x, y, sensor_length, j, rx, ry, last_x, last_y, width_i);
   if (traced) {
-    texel_left = trace_texel(s, traced, &inside, tri, b0, b1, b2, lx, ly, sensor_length, inv_a, bx, inv_by, c, texel_left);
-    texel_front = trace_texel(s, traced, &inside, tri, b0, b1, b2, hx, hy, sensor_length, inv_a, bx, inv_by, c, texel_front);
-    texel_right = trace_texel(s, traced, &inside, tri, b0, b1, b2, rx, ry, sensor_length, inv_a, bx, inv_by, c, texel_right);
+    texel_left = trace_texel(s, traced, &inside, tri, b0, b1, b2, lx, ly, sensor_length, inv_a, bx, inv_by, uv, c, texel_left);
+    texel_front = trace_texel(s, traced, &inside, tri, b0, b1, b2, hx, hy, sensor_length, inv_a, bx, inv_by, uv, c, texel_front);
+    texel_right = trace_texel(s, traced, &inside, tri, b0, b1, b2, rx, ry, sensor_length, inv_a, bx, inv_by, uv, c, texel_right);
     if (!inside) return 0;
   }
 
@@ -410,42 +530,63 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 step16(const mtx_surface_tables& s, const mtx_m
     hy = _mm512_mask_mul_ps(hy, turning, ny, f);
   }
 
-  // Move in substeps inside the triangle (mtx_walk_inside_known), marking each end.
+  // Move in substeps (mtx_walk_until), marking each end: inside the triangle without
+  // tests where the move is sure to stay there (mtx_walk_inside_known), else tested, and
+  // across edges where it meets one (mtx_walk_across; lanes that reach an open boundary
+  // leave for the scalar code, their marks so far being ones it makes again).
   const __m512 sub_length = _mm512_div_ps(move_length, _mm512_set1_ps(static_cast<float>(c.substeps)));
   const __m512i mark_base = _mm512_mullo_epi32(species, _mm512_set1_epi32(static_cast<int>(plane_texels)));
-  const __m512 db2 = _mm512_mul_ps(hy, inv_by);
-  const __m512 db1 = _mm512_mul_ps(_mm512_sub_ps(hx, _mm512_mul_ps(bx, db2)), inv_a);
-  // -(db1 + db2): the sign bit flipped (0 - a would give +0 for a = +0, not -0).
-  const __m512 db0 = _mm512_castsi512_ps(_mm512_xor_si512(_mm512_castps_si512(_mm512_add_ps(db1, db2)),
-                                                          _mm512_set1_epi32(static_cast<int>(0x80000000u))));
+  Walk w{tri, b0, b1, b2, hx, hy, inv_a, bx, inv_by};
+  __mmask16 moved = 0;  // lanes now on another triangle
   for (uint32_t k = 0; k < c.substeps; ++k) {
+    const __m512 db2 = _mm512_mul_ps(w.hy, w.inv_by);
+    const __m512 db1 = _mm512_mul_ps(_mm512_sub_ps(w.hx, _mm512_mul_ps(w.bx, db2)), w.inv_a);
+    const __m512 db0 = negated(_mm512_add_ps(db1, db2));
+    __mmask16 across = 0;
     if (near) {
-      // mtx_walk_until's first test (mtx_walk_inside): a lane whose substep meets an edge
-      // leaves the lanes (its marks so far are ones the scalar code makes again).
-      const __mmask16 clear = clear_of_edge(b0, db0, sub_length) & clear_of_edge(b1, db1, sub_length) &
-                              clear_of_edge(b2, db2, sub_length);
-      const __mmask16 meets = near & static_cast<__mmask16>(~clear) &
-                              (meets_edge(b0, db0, sub_length) | meets_edge(b1, db1, sub_length) |
-                               meets_edge(b2, db2, sub_length));
-      inside &= static_cast<__mmask16>(~meets);
-      near &= static_cast<__mmask16>(~meets);
-      if (!inside) return 0;
+      // mtx_walk_inside's test.
+      const __mmask16 clear = clear_of_edge(w.b0, db0, sub_length) & clear_of_edge(w.b1, db1, sub_length) &
+                              clear_of_edge(w.b2, db2, sub_length);
+      across = near & static_cast<__mmask16>(~clear) &
+               (meets_edge(w.b0, db0, sub_length) | meets_edge(w.b1, db1, sub_length) |
+                meets_edge(w.b2, db2, sub_length));
     }
-    b0 = _mm512_add_ps(b0, _mm512_mul_ps(sub_length, db0));
-    b1 = _mm512_add_ps(b1, _mm512_mul_ps(sub_length, db1));
-    b2 = _mm512_add_ps(b2, _mm512_mul_ps(sub_length, db2));
-    clamp_bary(b0, b1, b2);
-    const __m512 mu = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(b0, uv[0]), _mm512_mul_ps(b1, uv[2])),
-                                    _mm512_mul_ps(b2, uv[4]));
-    const __m512 mv = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(b0, uv[1]), _mm512_mul_ps(b1, uv[3])),
-                                    _mm512_mul_ps(b2, uv[5]));
+    const __mmask16 within = inside & static_cast<__mmask16>(~across);
+    __m512 n0 = _mm512_add_ps(w.b0, _mm512_mul_ps(sub_length, db0));
+    __m512 n1 = _mm512_add_ps(w.b1, _mm512_mul_ps(sub_length, db1));
+    __m512 n2 = _mm512_add_ps(w.b2, _mm512_mul_ps(sub_length, db2));
+    clamp_bary(n0, n1, n2);
+    w.b0 = _mm512_mask_mov_ps(w.b0, within, n0);
+    w.b1 = _mm512_mask_mov_ps(w.b1, within, n1);
+    w.b2 = _mm512_mask_mov_ps(w.b2, within, n2);
+    if (across) {
+      const __mmask16 walked = walk_across(s, w, across, sub_length);
+      inside &= static_cast<__mmask16>(~(across & ~walked));
+      near &= inside;
+      moved |= walked & _mm512_cmpneq_epi32_mask(w.t, tri);
+      if (!inside) return 0;
+      const __mmask16 fresh = walked & moved;  // their UVs are the new triangle's
+      if (fresh) {
+        const __m512i t6 = _mm512_mullo_epi32(w.t, _mm512_set1_epi32(6));
+        for (int q = 0; q < 6; ++q)
+          uv[q] = _mm512_mask_i32gather_ps(uv[q], fresh, _mm512_add_epi32(t6, _mm512_set1_epi32(q)), s.corner_uvs, 4);
+      }
+    }
+    const __m512 mu = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(w.b0, uv[0]), _mm512_mul_ps(w.b1, uv[2])),
+                                    _mm512_mul_ps(w.b2, uv[4]));
+    const __m512 mv = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(w.b0, uv[1]), _mm512_mul_ps(w.b1, uv[3])),
+                                    _mm512_mul_ps(w.b2, uv[5]));
     const __m512i texel = texel_at(_mm512_mul_ps(mu, wf), _mm512_mul_ps(mv, hf), last_x, last_y, width_i);
     alignas(64) uint32_t at[16];
     _mm512_store_si512(at, _mm512_add_epi32(mark_base, texel));
     for (unsigned bits = inside; bits; bits &= bits - 1) MTX_MARK(marks, at[__builtin_ctz(bits)]);
   }
-  _mm512_mask_storeu_ps(agents.b1.data() + i, inside, b1);
-  _mm512_mask_storeu_ps(agents.b2.data() + i, inside, b2);
+  const __m512 b1_out = w.b1, b2_out = w.b2;
+  hx = w.hx;
+  hy = w.hy;
+  if (moved) _mm512_mask_storeu_epi32(agents.triangle.data() + i, moved & inside, w.t);
+  _mm512_mask_storeu_ps(agents.b1.data() + i, inside, b1_out);
+  _mm512_mask_storeu_ps(agents.b2.data() + i, inside, b2_out);
   _mm512_mask_storeu_ps(agents.hx.data() + i, inside, hx);
   _mm512_mask_storeu_ps(agents.hy.data() + i, inside, hy);
   return inside;
