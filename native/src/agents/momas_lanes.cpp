@@ -1,6 +1,7 @@
 #include "agents/momas_lanes.h"
 
 #include "agents/momas_rules.h"
+#include "surface/crossing_lanes.h"
 
 #include <atomic>
 #include <cmath>
@@ -95,6 +96,44 @@ MOLDTEX_MOMAS_LANES_FN __m512i texel_at(__m512 x, __m512 y, __m512i last_x, __m5
   return _mm512_add_epi32(_mm512_mullo_epi32(iy, width), ix);
 }
 
+// A texture's size for texel lookups in lanes.
+struct TextureLanes {
+  __m512 width, height;
+  __m512i last_x, last_y, row;
+};
+
+MOLDTEX_MOMAS_LANES_FN TextureLanes texture_lanes(const mtx_momas_constants& c) {
+  return TextureLanes{_mm512_set1_ps(static_cast<float>(c.width)), _mm512_set1_ps(static_cast<float>(c.height)),
+                      _mm512_set1_epi32(static_cast<int>(c.width) - 1), _mm512_set1_epi32(static_cast<int>(c.height) - 1),
+                      _mm512_set1_epi32(static_cast<int>(c.width))};
+}
+
+// The point with weights (b0, b1, b2) in a triangle whose corners have UVs uv[0..5], in
+// texels: mtx_walker_texel_at's x and y.
+MOLDTEX_MOMAS_LANES_FN void point_in_texels(__m512 b0, __m512 b1, __m512 b2, const __m512* uv, const TextureLanes& tx,
+                                            __m512& x, __m512& y) {
+  const __m512 u = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(b0, uv[0]), _mm512_mul_ps(b1, uv[2])),
+                                 _mm512_mul_ps(b2, uv[4]));
+  const __m512 v = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(b0, uv[1]), _mm512_mul_ps(b1, uv[3])),
+                                 _mm512_mul_ps(b2, uv[5]));
+  x = _mm512_mul_ps(u, tx.width);
+  y = _mm512_mul_ps(v, tx.height);
+}
+
+// The texel holding that point (mtx_walker_texel).
+MOLDTEX_MOMAS_LANES_FN __m512i texel_of(__m512 b0, __m512 b1, __m512 b2, const __m512* uv, const TextureLanes& tx) {
+  __m512 x, y;
+  point_in_texels(b0, b1, b2, uv, tx, x, y);
+  return texel_at(x, y, tx.last_x, tx.last_y, tx.row);
+}
+
+// uv[0..5] replaced by triangle t's corner UVs in the lanes m.
+MOLDTEX_MOMAS_LANES_FN void gather_uvs(const float* corner_uvs, __m512i t, __mmask16 m, __m512* uv) {
+  const __m512i t6 = _mm512_mullo_epi32(t, _mm512_set1_epi32(6));
+  for (int q = 0; q < 6; ++q)
+    uv[q] = _mm512_mask_i32gather_ps(uv[q], m, _mm512_add_epi32(t6, _mm512_set1_epi32(q)), corner_uvs, 4);
+}
+
 // mtx_min(a, b) (b < a ? b : a) in lanes: vminps returns its first operand where it is
 // the smaller, else its second.
 MOLDTEX_MOMAS_LANES_FN __m512 lanes_min(__m512 a, __m512 b) { return _mm512_min_ps(b, a); }
@@ -151,10 +190,10 @@ struct Jacobian {
 // The texel of a probe `length` from (x, y) (texels) along heading h (mtx_momas_probe's
 // trace that stays inside the triangle).
 MOLDTEX_MOMAS_LANES_FN __m512i probe_texel(__m512 x, __m512 y, __m512 length, const Jacobian& j, __m512 hx, __m512 hy,
-                                           __m512i last_x, __m512i last_y, __m512i width) {
+                                           const TextureLanes& tx) {
   const __m512 px = _mm512_add_ps(x, _mm512_mul_ps(length, _mm512_add_ps(_mm512_mul_ps(j.xx, hx), _mm512_mul_ps(j.xy, hy))));
   const __m512 py = _mm512_add_ps(y, _mm512_mul_ps(length, _mm512_add_ps(_mm512_mul_ps(j.yx, hx), _mm512_mul_ps(j.yy, hy))));
-  return texel_at(px, py, last_x, last_y, width);
+  return texel_at(px, py, tx.last_x, tx.last_y, tx.row);
 }
 
 // mtx_clear_of_edge in lanes: (db >= 0) | ((b > 1e-30) & (b + length db >= 1e-6 b)).
@@ -301,8 +340,7 @@ struct Trace {
 // up at the same crossing.
 MOLDTEX_MOMAS_LANES_FN __mmask16 trace_hops(Trace& g, __mmask16 todo, const uint32_t* adjacency,
                                            const float* unfolded) {
-  const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.0f);
-  const __m512i i0 = _mm512_setzero_si512(), i1 = _mm512_set1_epi32(1), i2 = _mm512_set1_epi32(2);
+  const __m512 zero = _mm512_setzero_ps();
   const __m512i none = _mm512_set1_epi32(static_cast<int>(MTX_NO_NEIGHBOUR));
   __mmask16 live = todo, located = 0;
   for (int hop = 0;; ++hop) {
@@ -313,43 +351,14 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 trace_hops(Trace& g, __mmask16 todo, const uint
     located |= live & ~out;
     live = out;
     if (!live || hop == MTX_UNFOLDED_HOPS) break;
-    // The edge: the first beyond; of two or three, the one met sooner.
-    __m512i edge = _mm512_mask_mov_epi32(_mm512_mask_mov_epi32(i2, n1, i1), n0, i0);
-    const __mmask16 multi = live & ((n0 & n1) | (n0 & n2) | (n1 & n2));
-    if (multi) {
-      const __m512 si = _mm512_mask_blend_ps(n0, g.s1, g.s0), ei = _mm512_mask_blend_ps(n0, g.e1, g.e0);
-      const __m512 sj = _mm512_mask_blend_ps(n2, g.s1, g.s2), ej = _mm512_mask_blend_ps(n2, g.e1, g.e2);
-      const __mmask16 behind = _mm512_mask_cmp_ps_mask(multi, si, zero, _CMP_LT_OQ) |
-                               _mm512_mask_cmp_ps_mask(multi, sj, zero, _CMP_LT_OQ);
-      const __m512 lhs = _mm512_mul_ps(sj, _mm512_sub_ps(si, ei));
-      const __m512 rhs = _mm512_mul_ps(si, _mm512_sub_ps(sj, ej));
-      const __mmask16 later = _mm512_mask_cmp_ps_mask(multi & ~behind, lhs, rhs, _CMP_LT_OQ);
-      edge = _mm512_mask_mov_epi32(edge, later, _mm512_mask_mov_epi32(i1, n2, i2));
-      live &= ~behind;
-    }
-    // The start on the inner side of that edge, and a neighbour there.
-    const __mmask16 is0 = _mm512_cmpeq_epi32_mask(edge, i0), is1 = _mm512_cmpeq_epi32_mask(edge, i1);
-    const __m512 s_edge = _mm512_mask_blend_ps(is0, _mm512_mask_blend_ps(is1, g.s2, g.s1), g.s0);
-    live &= ~_mm512_mask_cmp_ps_mask(live, s_edge, zero, _CMP_LT_OQ);
+    // The edge it leaves by, and a neighbour there.
+    const __m512i edge = exit_edge(g.s0, g.s1, g.s2, g.e0, g.e1, g.e2, n0, n1, n2, live);
     const __m512i slot = _mm512_add_epi32(_mm512_add_epi32(_mm512_add_epi32(g.t, g.t), g.t), edge);
     const __m512i code = _mm512_mask_i32gather_epi32(none, live, slot, adjacency, 4);
     live &= ~_mm512_mask_cmpeq_epi32_mask(live, code, none);
     if (!live) break;
     // Both points carried into the neighbour.
-    const __m512i base = _mm512_mullo_epi32(slot, _mm512_set1_epi32(MTX_UNFOLDED_FLOATS));
-    __m512 u[6];
-    for (int k = 0; k < 6; ++k)
-      u[k] = _mm512_mask_i32gather_ps(zero, live, _mm512_add_epi32(base, _mm512_set1_epi32(k)), unfolded, 4);
-    const __m512 s1n = _mm512_add_ps(_mm512_add_ps(u[0], _mm512_mul_ps(u[1], g.s1)), _mm512_mul_ps(u[2], g.s2));
-    const __m512 s2n = _mm512_add_ps(_mm512_add_ps(u[3], _mm512_mul_ps(u[4], g.s1)), _mm512_mul_ps(u[5], g.s2));
-    const __m512 e1n = _mm512_add_ps(_mm512_add_ps(u[0], _mm512_mul_ps(u[1], g.e1)), _mm512_mul_ps(u[2], g.e2));
-    const __m512 e2n = _mm512_add_ps(_mm512_add_ps(u[3], _mm512_mul_ps(u[4], g.e1)), _mm512_mul_ps(u[5], g.e2));
-    g.s1 = _mm512_mask_mov_ps(g.s1, live, s1n);
-    g.s2 = _mm512_mask_mov_ps(g.s2, live, s2n);
-    g.s0 = _mm512_mask_mov_ps(g.s0, live, _mm512_sub_ps(_mm512_sub_ps(one, s1n), s2n));
-    g.e1 = _mm512_mask_mov_ps(g.e1, live, e1n);
-    g.e2 = _mm512_mask_mov_ps(g.e2, live, e2n);
-    g.e0 = _mm512_mask_mov_ps(g.e0, live, _mm512_sub_ps(_mm512_sub_ps(one, e1n), e2n));
+    carry_across(slot, live, unfolded, g.s0, g.s1, g.s2, g.e0, g.e1, g.e2);
     g.t = _mm512_mask_mov_epi32(g.t, live, _mm512_srli_epi32(code, 3));
   }
   return located;
@@ -377,23 +386,11 @@ MOLDTEX_MOMAS_LANES_FN __m512i trace_texel(const mtx_surface_tables& s, __mmask1
   *ok &= static_cast<__mmask16>(~(todo & ~located));
   if (!located) return texel;
   // The UVs of the triangle where each trace ends: the agent's own unless it crossed.
-  const __mmask16 elsewhere = _mm512_mask_cmpneq_epi32_mask(located, g.t, tri);
   __m512 uv[6];
   for (int k = 0; k < 6; ++k) uv[k] = own_uv[k];
-  if (elsewhere) {
-    const __m512i t6 = _mm512_mullo_epi32(g.t, _mm512_set1_epi32(6));
-    for (int k = 0; k < 6; ++k)
-      uv[k] = _mm512_mask_i32gather_ps(own_uv[k], elsewhere, _mm512_add_epi32(t6, _mm512_set1_epi32(k)), s.corner_uvs, 4);
-  }
-  const __m512 u = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(g.e0, uv[0]), _mm512_mul_ps(g.e1, uv[2])),
-                                 _mm512_mul_ps(g.e2, uv[4]));
-  const __m512 v = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(g.e0, uv[1]), _mm512_mul_ps(g.e1, uv[3])),
-                                 _mm512_mul_ps(g.e2, uv[5]));
-  const __m512i at = texel_at(_mm512_mul_ps(u, _mm512_set1_ps(static_cast<float>(c.width))),
-                              _mm512_mul_ps(v, _mm512_set1_ps(static_cast<float>(c.height))),
-                              _mm512_set1_epi32(static_cast<int>(c.width) - 1),
-                              _mm512_set1_epi32(static_cast<int>(c.height) - 1),
-                              _mm512_set1_epi32(static_cast<int>(c.width)));
+  const __mmask16 elsewhere = _mm512_mask_cmpneq_epi32_mask(located, g.t, tri);
+  if (elsewhere) gather_uvs(s.corner_uvs, g.t, elsewhere, uv);
+  const __m512i at = texel_of(g.e0, g.e1, g.e2, uv, texture_lanes(c));
   return _mm512_mask_mov_epi32(texel, located, at);
 }
 
@@ -422,16 +419,9 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 step16(const mtx_surface_tables& s, const mtx_m
   const __m512 alt2 = gather_at(frames, tf, kAltitude + 2);
 
   // mtx_momas_probe: the texel under the agent and its clearance.
-  const float width = static_cast<float>(c.width), height = static_cast<float>(c.height);
-  const __m512 wf = _mm512_set1_ps(width), hf = _mm512_set1_ps(height);
-  const __m512i last_x = _mm512_set1_epi32(static_cast<int>(c.width) - 1);
-  const __m512i last_y = _mm512_set1_epi32(static_cast<int>(c.height) - 1);
-  const __m512i width_i = _mm512_set1_epi32(static_cast<int>(c.width));
-  const __m512 u = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(b0, uv[0]), _mm512_mul_ps(b1, uv[2])),
-                                 _mm512_mul_ps(b2, uv[4]));
-  const __m512 v = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(b0, uv[1]), _mm512_mul_ps(b1, uv[3])),
-                                 _mm512_mul_ps(b2, uv[5]));
-  const __m512 x = _mm512_mul_ps(u, wf), y = _mm512_mul_ps(v, hf);
+  const TextureLanes tx = texture_lanes(c);
+  __m512 x, y;
+  point_in_texels(b0, b1, b2, uv, tx, x, y);
   const __m512 clearance =
       lanes_min(lanes_min(_mm512_mul_ps(b0, alt0), _mm512_mul_ps(b1, alt1)), _mm512_mul_ps(b2, alt2));
   const __m512 sensor_length = per_species(c.sensor_length, species);
@@ -447,10 +437,10 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 step16(const mtx_surface_tables& s, const mtx_m
   __mmask16 near = inside & ~_mm512_cmp_ps_mask(clearance, _mm512_mul_ps(move_length, margin), _CMP_GT_OQ);
 
   // The three probes through the triangle's affine map to texels.
-  const __m512 du1 = _mm512_mul_ps(_mm512_sub_ps(uv[2], uv[0]), wf);
-  const __m512 dv1 = _mm512_mul_ps(_mm512_sub_ps(uv[3], uv[1]), hf);
-  const __m512 du2 = _mm512_mul_ps(_mm512_sub_ps(uv[4], uv[0]), wf);
-  const __m512 dv2 = _mm512_mul_ps(_mm512_sub_ps(uv[5], uv[1]), hf);
+  const __m512 du1 = _mm512_mul_ps(_mm512_sub_ps(uv[2], uv[0]), tx.width);
+  const __m512 dv1 = _mm512_mul_ps(_mm512_sub_ps(uv[3], uv[1]), tx.height);
+  const __m512 du2 = _mm512_mul_ps(_mm512_sub_ps(uv[4], uv[0]), tx.width);
+  const __m512 dv2 = _mm512_mul_ps(_mm512_sub_ps(uv[5], uv[1]), tx.height);
   const __m512 jxx = _mm512_mul_ps(du1, inv_a), jyx = _mm512_mul_ps(dv1, inv_a);
   const __m512 jxy = _mm512_mul_ps(_mm512_sub_ps(du2, _mm512_mul_ps(bx, jxx)), inv_by);
   const __m512 jyy = _mm512_mul_ps(_mm512_sub_ps(dv2, _mm512_mul_ps(bx, jyx)), inv_by);
@@ -463,9 +453,9 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 step16(const mtx_surface_tables& s, const mtx_m
   const __m512 ly = _mm512_add_ps(_mm512_mul_ps(sn, hx), _mm512_mul_ps(cs, hy));
   const __m512 rx = _mm512_sub_ps(_mm512_mul_ps(cs, hx), _mm512_mul_ps(nsn, hy));
   const __m512 ry = _mm512_add_ps(_mm512_mul_ps(nsn, hx), _mm512_mul_ps(cs, hy));
-  __m512i texel_left = probe_texel(x, y, sensor_length, j, lx, ly, last_x, last_y, width_i);
-  __m512i texel_front = probe_texel(x, y, sensor_length, j, hx, hy, last_x, last_y, width_i);
-  __m512i texel_right = probe_texel(x, y, sensor_length, j, rx, ry, last_x, last_y, width_i);
+  __m512i texel_left = probe_texel(x, y, sensor_length, j, lx, ly, tx);
+  __m512i texel_front = probe_texel(x, y, sensor_length, j, hx, hy, tx);
+  __m512i texel_right = probe_texel(x, y, sensor_length, j, rx, ry, tx);
   if (traced) {
     texel_left = trace_texel(s, traced, &inside, tri, b0, b1, b2, lx, ly, sensor_length, inv_a, bx, inv_by, uv, c, texel_left);
     texel_front = trace_texel(s, traced, &inside, tri, b0, b1, b2, hx, hy, sensor_length, inv_a, bx, inv_by, uv, c, texel_front);
@@ -566,17 +556,9 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 step16(const mtx_surface_tables& s, const mtx_m
       moved |= walked & _mm512_cmpneq_epi32_mask(w.t, tri);
       if (!inside) return 0;
       const __mmask16 fresh = walked & moved;  // their UVs are the new triangle's
-      if (fresh) {
-        const __m512i t6 = _mm512_mullo_epi32(w.t, _mm512_set1_epi32(6));
-        for (int q = 0; q < 6; ++q)
-          uv[q] = _mm512_mask_i32gather_ps(uv[q], fresh, _mm512_add_epi32(t6, _mm512_set1_epi32(q)), s.corner_uvs, 4);
-      }
+      if (fresh) gather_uvs(s.corner_uvs, w.t, fresh, uv);
     }
-    const __m512 mu = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(w.b0, uv[0]), _mm512_mul_ps(w.b1, uv[2])),
-                                    _mm512_mul_ps(w.b2, uv[4]));
-    const __m512 mv = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(w.b0, uv[1]), _mm512_mul_ps(w.b1, uv[3])),
-                                    _mm512_mul_ps(w.b2, uv[5]));
-    const __m512i texel = texel_at(_mm512_mul_ps(mu, wf), _mm512_mul_ps(mv, hf), last_x, last_y, width_i);
+    const __m512i texel = texel_of(w.b0, w.b1, w.b2, uv, tx);
     alignas(64) uint32_t at[16];
     _mm512_store_si512(at, _mm512_add_epi32(mark_base, texel));
     for (unsigned bits = inside; bits; bits &= bits - 1) MTX_MARK(marks, at[__builtin_ctz(bits)]);

@@ -1,5 +1,7 @@
 #include "surface/trace_lanes.h"
 
+#include "surface/crossing_lanes.h"
+
 #include <algorithm>
 #include <atomic>
 #include <cstdlib>
@@ -37,7 +39,6 @@ void hops_scalar(const uint32_t* adjacency, const float* unfolded, TraceLanes& l
 
 #ifdef MOLDTEX_TRACE_LANES_X86
 
-static_assert(MTX_UNFOLDED_FLOATS == 6, "the lanes read an unfolding as three 64-bit pairs at slot * 3");
 
 // Sixteen lanes of traces in flight (AVX-512F): each lane's trace (its number `id`), its
 // triangle, start and end weights and crossings so far; `live`: the lanes that hold one.
@@ -84,8 +85,8 @@ MOLDTEX_LANES_FN void refill(LaneGroup& g, const TraceLanes& lanes, size_t& next
 // the same reason as there.
 MOLDTEX_LANES_FN void cross(LaneGroup& g, const uint32_t* adjacency, const float* unfolded, TraceLanes& lanes,
                             int32_t* found) {
-  const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.0f);
-  const __m512i i0 = _mm512_setzero_si512(), i1 = _mm512_set1_epi32(1), i2 = _mm512_set1_epi32(2);
+  const __m512 zero = _mm512_setzero_ps();
+  const __m512i i1 = _mm512_set1_epi32(1);
   const __m512i none = _mm512_set1_epi32(static_cast<int>(MTX_NO_NEIGHBOUR));
   __mmask16 live = g.live;
   const __mmask16 n0 = _mm512_mask_cmp_ps_mask(live, g.e0, zero, _CMP_LT_OQ);
@@ -104,58 +105,15 @@ MOLDTEX_LANES_FN void cross(LaneGroup& g, const uint32_t* adjacency, const float
   live = out & ~_mm512_mask_cmpeq_epi32_mask(out, g.hop, _mm512_set1_epi32(MTX_UNFOLDED_HOPS));
   g.live = live;
   if (!live) return;
-  // The edge: the first beyond; of two or three, the one met sooner.
-  __m512i edge = _mm512_mask_mov_epi32(_mm512_mask_mov_epi32(i2, n1, i1), n0, i0);
-  const __mmask16 multi = live & ((n0 & n1) | (n0 & n2) | (n1 & n2));
-  if (multi) {
-    const __m512 si = _mm512_mask_blend_ps(n0, g.s1, g.s0), ei = _mm512_mask_blend_ps(n0, g.e1, g.e0);
-    const __m512 sj = _mm512_mask_blend_ps(n2, g.s1, g.s2), ej = _mm512_mask_blend_ps(n2, g.e1, g.e2);
-    const __mmask16 behind = _mm512_mask_cmp_ps_mask(multi, si, zero, _CMP_LT_OQ) |
-                             _mm512_mask_cmp_ps_mask(multi, sj, zero, _CMP_LT_OQ);
-    const __m512 lhs = _mm512_mul_ps(sj, _mm512_sub_ps(si, ei));
-    const __m512 rhs = _mm512_mul_ps(si, _mm512_sub_ps(sj, ej));
-    const __mmask16 later = _mm512_mask_cmp_ps_mask(multi & ~behind, lhs, rhs, _CMP_LT_OQ);
-    edge = _mm512_mask_mov_epi32(edge, later, _mm512_mask_mov_epi32(i1, n2, i2));
-    live &= ~behind;
-  }
-  // The start on the inner side of that edge.
-  const __mmask16 is0 = _mm512_cmpeq_epi32_mask(edge, i0), is1 = _mm512_cmpeq_epi32_mask(edge, i1);
-  const __m512 s_edge = _mm512_mask_blend_ps(is0, _mm512_mask_blend_ps(is1, g.s2, g.s1), g.s0);
-  live &= ~_mm512_mask_cmp_ps_mask(live, s_edge, zero, _CMP_LT_OQ);
+  const __m512i edge = exit_edge(g.s0, g.s1, g.s2, g.e0, g.e1, g.e2, n0, n1, n2, live);
   // The neighbour there, unless the edge is open.
   const __m512i slot = _mm512_add_epi32(_mm512_add_epi32(_mm512_add_epi32(g.t, g.t), g.t), edge);
   const __m512i code = _mm512_mask_i32gather_epi32(none, live, slot, adjacency, 4);
   live &= ~_mm512_mask_cmpeq_epi32_mask(live, code, none);
   g.live = live;
   if (!live) return;
-  // The unfolding there, its six floats as three pairs: each pair one 64-bit gather per
-  // eight lanes (half the loads of a gather per float), split into its two floats.
-  const __m512i slot3 = _mm512_add_epi32(_mm512_add_epi32(slot, slot), slot);  // pairs: slot * 3
-  const __m256i low = _mm512_maskz_extracti64x4_epi64(__mmask8(0xff), slot3, 0), high = _mm512_maskz_extracti64x4_epi64(__mmask8(0xff), slot3, 1);
-  const __mmask8 live_low = static_cast<__mmask8>(live), live_high = static_cast<__mmask8>(live >> 8);
-  const __m512i first = _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
-  const __m512i second = _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31);
-  __m512 u[6];
-  for (int k = 0; k < 3; ++k) {
-    const __m256i add = _mm256_set1_epi32(k);
-    const __m512 a = _mm512_castsi512_ps(
-        _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), live_low, _mm256_add_epi32(low, add), unfolded, 8));
-    const __m512 b = _mm512_castsi512_ps(
-        _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), live_high, _mm256_add_epi32(high, add), unfolded, 8));
-    u[2 * k] = _mm512_permutex2var_ps(a, first, b);
-    u[2 * k + 1] = _mm512_permutex2var_ps(a, second, b);
-  }
-  const __m512 g0 = u[0], g1 = u[1], g2 = u[2], g3 = u[3], g4 = u[4], g5 = u[5];
-  const __m512 s1n = _mm512_add_ps(_mm512_add_ps(g0, _mm512_mul_ps(g1, g.s1)), _mm512_mul_ps(g2, g.s2));
-  const __m512 s2n = _mm512_add_ps(_mm512_add_ps(g3, _mm512_mul_ps(g4, g.s1)), _mm512_mul_ps(g5, g.s2));
-  const __m512 e1n = _mm512_add_ps(_mm512_add_ps(g0, _mm512_mul_ps(g1, g.e1)), _mm512_mul_ps(g2, g.e2));
-  const __m512 e2n = _mm512_add_ps(_mm512_add_ps(g3, _mm512_mul_ps(g4, g.e1)), _mm512_mul_ps(g5, g.e2));
-  g.s1 = _mm512_mask_mov_ps(g.s1, live, s1n);
-  g.s2 = _mm512_mask_mov_ps(g.s2, live, s2n);
-  g.s0 = _mm512_mask_mov_ps(g.s0, live, _mm512_sub_ps(_mm512_sub_ps(one, s1n), s2n));
-  g.e1 = _mm512_mask_mov_ps(g.e1, live, e1n);
-  g.e2 = _mm512_mask_mov_ps(g.e2, live, e2n);
-  g.e0 = _mm512_mask_mov_ps(g.e0, live, _mm512_sub_ps(_mm512_sub_ps(one, e1n), e2n));
+  // Both points carried into the neighbour.
+  carry_across(slot, live, unfolded, g.s0, g.s1, g.s2, g.e0, g.e1, g.e2);
   g.t = _mm512_mask_mov_epi32(g.t, live, _mm512_maskz_srli_epi32(__mmask16(0xffff), code, 3));
   g.hop = _mm512_mask_add_epi32(g.hop, live, g.hop, i1);
 }

@@ -1,0 +1,84 @@
+// One crossing of shared/walk.h's mtx_trace_hops in sixteen AVX-512 lanes: which edge each
+// trace leaves its triangle by. Shared by the continuous model's trace lanes
+// (surface/trace_lanes.cpp) and MoMaS' step in lanes (agents/momas_lanes.cpp), which must
+// both choose as mtx_trace_hops does, bit for bit.
+#pragma once
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+
+#include "shared/walk.h"
+
+namespace moldtex {
+
+#define MOLDTEX_CROSSING_LANES_FN __attribute__((target("avx512f"), always_inline)) inline
+
+// The edge each lane of `live` leaves by, given its start and end weights (s*, e*) and
+// which ends lie beyond which edges (n0, n1, n2; at least one per live lane): the first
+// beyond; of two or three, the one met sooner (tau = s / (s - e), compared without
+// dividing). Clears from `live` the lanes mtx_trace_hops gives up on there: a start
+// behind one of two edges compared, or behind the edge chosen (within rounding of a
+// corner; the walk resolves those).
+MOLDTEX_CROSSING_LANES_FN __m512i exit_edge(__m512 s0, __m512 s1, __m512 s2, __m512 e0, __m512 e1, __m512 e2,
+                                            __mmask16 n0, __mmask16 n1, __mmask16 n2, __mmask16& live) {
+  const __m512 zero = _mm512_setzero_ps();
+  const __m512i i0 = _mm512_setzero_si512(), i1 = _mm512_set1_epi32(1), i2 = _mm512_set1_epi32(2);
+  __m512i edge = _mm512_mask_mov_epi32(_mm512_mask_mov_epi32(i2, n1, i1), n0, i0);
+  const __mmask16 multi = live & ((n0 & n1) | (n0 & n2) | (n1 & n2));
+  if (multi) {
+    const __m512 si = _mm512_mask_blend_ps(n0, s1, s0), ei = _mm512_mask_blend_ps(n0, e1, e0);
+    const __m512 sj = _mm512_mask_blend_ps(n2, s1, s2), ej = _mm512_mask_blend_ps(n2, e1, e2);
+    const __mmask16 behind = _mm512_mask_cmp_ps_mask(multi, si, zero, _CMP_LT_OQ) |
+                             _mm512_mask_cmp_ps_mask(multi, sj, zero, _CMP_LT_OQ);
+    const __m512 lhs = _mm512_mul_ps(sj, _mm512_sub_ps(si, ei));
+    const __m512 rhs = _mm512_mul_ps(si, _mm512_sub_ps(sj, ej));
+    const __mmask16 later = _mm512_mask_cmp_ps_mask(multi & ~behind, lhs, rhs, _CMP_LT_OQ);
+    edge = _mm512_mask_mov_epi32(edge, later, _mm512_mask_mov_epi32(i1, n2, i2));
+    live &= static_cast<__mmask16>(~behind);
+  }
+  // The start on the inner side of that edge.
+  const __mmask16 is0 = _mm512_cmpeq_epi32_mask(edge, i0), is1 = _mm512_cmpeq_epi32_mask(edge, i1);
+  const __m512 s_edge = _mm512_mask_blend_ps(is0, _mm512_mask_blend_ps(is1, s2, s1), s0);
+  live &= static_cast<__mmask16>(~_mm512_mask_cmp_ps_mask(live, s_edge, zero, _CMP_LT_OQ));
+  return edge;
+}
+
+// Start and end weights (s*, e*) of the lanes `live` carried across the edge `slot`
+// (3 t + edge) into the neighbour, in its own weights (mtx_trace_hops' step). The
+// unfolding's six floats are gathered as three pairs: each pair one 64-bit gather per
+// eight lanes (half the loads of a gather per float), split into its two floats.
+MOLDTEX_CROSSING_LANES_FN void carry_across(__m512i slot, __mmask16 live, const float* unfolded, __m512& s0,
+                                            __m512& s1, __m512& s2, __m512& e0, __m512& e1, __m512& e2) {
+  static_assert(MTX_UNFOLDED_FLOATS == 6, "an unfolding is read as three 64-bit pairs at slot * 3");
+  const __m512i slot3 = _mm512_add_epi32(_mm512_add_epi32(slot, slot), slot);  // pairs: slot * 3
+  const __m256i low = _mm512_maskz_extracti64x4_epi64(__mmask8(0xff), slot3, 0);
+  const __m256i high = _mm512_maskz_extracti64x4_epi64(__mmask8(0xff), slot3, 1);
+  const __mmask8 live_low = static_cast<__mmask8>(live), live_high = static_cast<__mmask8>(live >> 8);
+  const __m512i first = _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
+  const __m512i second = _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31);
+  __m512 u[6];
+  for (int k = 0; k < 3; ++k) {
+    const __m256i add = _mm256_set1_epi32(k);
+    const __m512 a = _mm512_castsi512_ps(
+        _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), live_low, _mm256_add_epi32(low, add), unfolded, 8));
+    const __m512 b = _mm512_castsi512_ps(
+        _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), live_high, _mm256_add_epi32(high, add), unfolded, 8));
+    u[2 * k] = _mm512_permutex2var_ps(a, first, b);
+    u[2 * k + 1] = _mm512_permutex2var_ps(a, second, b);
+  }
+  const __m512 one = _mm512_set1_ps(1.0f);
+  const __m512 s1n = _mm512_add_ps(_mm512_add_ps(u[0], _mm512_mul_ps(u[1], s1)), _mm512_mul_ps(u[2], s2));
+  const __m512 s2n = _mm512_add_ps(_mm512_add_ps(u[3], _mm512_mul_ps(u[4], s1)), _mm512_mul_ps(u[5], s2));
+  const __m512 e1n = _mm512_add_ps(_mm512_add_ps(u[0], _mm512_mul_ps(u[1], e1)), _mm512_mul_ps(u[2], e2));
+  const __m512 e2n = _mm512_add_ps(_mm512_add_ps(u[3], _mm512_mul_ps(u[4], e1)), _mm512_mul_ps(u[5], e2));
+  s1 = _mm512_mask_mov_ps(s1, live, s1n);
+  s2 = _mm512_mask_mov_ps(s2, live, s2n);
+  s0 = _mm512_mask_mov_ps(s0, live, _mm512_sub_ps(_mm512_sub_ps(one, s1n), s2n));
+  e1 = _mm512_mask_mov_ps(e1, live, e1n);
+  e2 = _mm512_mask_mov_ps(e2, live, e2n);
+  e0 = _mm512_mask_mov_ps(e0, live, _mm512_sub_ps(_mm512_sub_ps(one, e1n), e2n));
+}
+
+}  // namespace moldtex
+
+#endif
