@@ -1,12 +1,11 @@
-// MoMaS' common case in SIMD lanes (the CPU backend only; OpenCL runs shared/momas.h per
-// work item). Most agent-steps of MoMaS in texel units sense and move without leaving
-// their triangle: the flat plane's always, a 2048^2 UV sphere's almost always. There an
-// agent's step is the same few dozen float operations, loads and stores for every agent
-// (probes through the triangle's affine map to texels, three reads, a turn, a move, a
-// mark): the textbook SIMD loop of issue #15. The lanes run those operations in the
-// order shared/momas.h runs them (the file is built without fused multiply-adds), so
-// every agent ends bit for bit where the scalar code puts it; an agent whose probes or
-// move may leave its triangle takes the scalar code in its lane's place.
+// MoMaS' step in SIMD lanes (the CPU backend only; OpenCL runs shared/momas.h per work
+// item). A MoMaS step in texel units is the same few dozen float operations, loads and
+// stores for every agent (probes through the triangle's affine map to texels or across
+// a few edges, three reads, a turn, a move, a mark): the textbook SIMD loop of issue #15.
+// The lanes run those operations in the order shared/momas.h runs them (the file is
+// built without fused multiply-adds), so every agent ends bit for bit where the scalar
+// code puts it; an agent whose trace or move must be walked (open boundaries, long
+// walks) takes the scalar step in its lane's place.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -16,21 +15,23 @@
 
 namespace moldtex {
 
-// Whether this processor has the lanes (AVX-512 F and DQ).
-bool momas_lanes_supported();
+// The lanes this processor has (found at run time): 16 (AVX-512 F and DQ), 8 (AVX2) or
+// 0 (none: every step runs the scalar code).
+unsigned momas_lane_width();
 
-// Whether momas_lanes_update can run steps with constants c on this processor: AVX-512 (F
-// and DQ), MoMaS in texel units with one decision a step, one-texel sensors, no fields and
-// no food with hunger, and tables small enough for 32-bit gather offsets.
+// A cap on the lanes, for tests and benchmarks that compare the kinds (0: the scalar code,
+// 8: the AVX2 lanes even where AVX-512 exists); MOLDTEX_MOMAS_LANES=0|8|16 sets it at
+// load. The results are the same bits whatever the cap.
+void momas_lanes_limit(unsigned width);
+
+// Whether momas_lanes_update runs steps with constants c in lanes (under the cap): MoMaS
+// in texel units with one decision a step, one-texel sensors, no fields and no food with
+// hunger, and tables small enough for 32-bit gather offsets.
 bool momas_lanes_apply(const mtx_momas_constants& c, uint32_t triangle_count);
 
-// Updates agents [begin, end) as momas_update_agents does (the same bits), 16 at a time;
-// returns how many were stepped in the lanes (the rest ran the scalar code).
+// Updates agents [begin, end) as momas_update_agents does (the same bits), 16 or 8 at a
+// time; returns how many were stepped in the lanes (the rest ran the scalar code).
 size_t momas_lanes_update(const mtx_surface_tables& tables, const mtx_momas_constants& c, const float* pheromone,
-                        const float* field, uint8_t* marks, Agents& agents, size_t begin, size_t end);
-
-// Off (or on again) for tests and benchmarks, which compare the two; also off when the
-// environment variable MOLDTEX_MOMAS_LANES is 0 at load.
-void momas_lanes_enable(bool on);
+                          const float* field, uint8_t* marks, Agents& agents, size_t begin, size_t end);
 
 }  // namespace moldtex

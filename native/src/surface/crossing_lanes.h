@@ -79,6 +79,68 @@ MOLDTEX_CROSSING_LANES_FN void carry_across(__m512i slot, __mmask16 live, const 
   e0 = _mm512_mask_mov_ps(e0, live, _mm512_sub_ps(_mm512_sub_ps(one, e1n), e2n));
 }
 
+// The same two steps in eight AVX2 lanes (masks as vectors, all ones where set).
+#define MOLDTEX_CROSSING_LANES8_FN __attribute__((target("avx2"), always_inline)) inline
+
+MOLDTEX_CROSSING_LANES8_FN __m256i exit_edge8(__m256 s0, __m256 s1, __m256 s2, __m256 e0, __m256 e1, __m256 e2,
+                                              __m256i n0, __m256i n1, __m256i n2, __m256i& live) {
+  const __m256 zero = _mm256_setzero_ps();
+  const __m256i i0 = _mm256_setzero_si256(), i1 = _mm256_set1_epi32(1), i2 = _mm256_set1_epi32(2);
+  __m256i edge = _mm256_blendv_epi8(_mm256_blendv_epi8(i2, i1, n1), i0, n0);
+  const __m256i multi = _mm256_and_si256(
+      live, _mm256_or_si256(_mm256_or_si256(_mm256_and_si256(n0, n1), _mm256_and_si256(n0, n2)), _mm256_and_si256(n1, n2)));
+  if (!_mm256_testz_si256(multi, multi)) {
+    const __m256 m0 = _mm256_castsi256_ps(n0), m2 = _mm256_castsi256_ps(n2);
+    const __m256 si = _mm256_blendv_ps(s1, s0, m0), ei = _mm256_blendv_ps(e1, e0, m0);
+    const __m256 sj = _mm256_blendv_ps(s1, s2, m2), ej = _mm256_blendv_ps(e1, e2, m2);
+    const __m256i behind = _mm256_and_si256(
+        multi, _mm256_castps_si256(_mm256_or_ps(_mm256_cmp_ps(si, zero, _CMP_LT_OQ), _mm256_cmp_ps(sj, zero, _CMP_LT_OQ))));
+    const __m256 lhs = _mm256_mul_ps(sj, _mm256_sub_ps(si, ei));
+    const __m256 rhs = _mm256_mul_ps(si, _mm256_sub_ps(sj, ej));
+    const __m256i later = _mm256_andnot_si256(behind, _mm256_and_si256(multi, _mm256_castps_si256(_mm256_cmp_ps(lhs, rhs, _CMP_LT_OQ))));
+    edge = _mm256_blendv_epi8(edge, _mm256_blendv_epi8(i1, i2, n2), later);
+    live = _mm256_andnot_si256(behind, live);
+  }
+  const __m256 is0 = _mm256_castsi256_ps(_mm256_cmpeq_epi32(edge, i0)), is1 = _mm256_castsi256_ps(_mm256_cmpeq_epi32(edge, i1));
+  const __m256 s_edge = _mm256_blendv_ps(_mm256_blendv_ps(s2, s1, is1), s0, is0);
+  live = _mm256_andnot_si256(_mm256_castps_si256(_mm256_cmp_ps(s_edge, zero, _CMP_LT_OQ)), live);
+  return edge;
+}
+
+MOLDTEX_CROSSING_LANES8_FN void carry_across8(__m256i slot, __m256i live, const float* unfolded, __m256& s0,
+                                              __m256& s1, __m256& s2, __m256& e0, __m256& e1, __m256& e2) {
+  const __m256 one = _mm256_set1_ps(1.0f);
+  // The unfolding as three 64-bit pairs, four lanes per gather, split into floats.
+  const __m256i slot3 = _mm256_add_epi32(_mm256_add_epi32(slot, slot), slot);
+  const __m128i low = _mm256_castsi256_si128(slot3), high = _mm256_extracti128_si256(slot3, 1);
+  const __m256i live_low = _mm256_cvtepi32_epi64(_mm256_castsi256_si128(live));
+  const __m256i live_high = _mm256_cvtepi32_epi64(_mm256_extracti128_si256(live, 1));
+  const __m256i order = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
+  const long long* base = reinterpret_cast<const long long*>(unfolded);
+  __m256 u[6];
+  for (int k = 0; k < 3; ++k) {
+    const __m128i add = _mm_set1_epi32(k);
+    const __m256 a = _mm256_permutevar8x32_ps(
+        _mm256_castsi256_ps(_mm256_mask_i32gather_epi64(_mm256_setzero_si256(), base, _mm_add_epi32(low, add), live_low, 8)), order);
+    const __m256 b = _mm256_permutevar8x32_ps(
+        _mm256_castsi256_ps(_mm256_mask_i32gather_epi64(_mm256_setzero_si256(), base, _mm_add_epi32(high, add), live_high, 8)), order);
+    u[2 * k] = _mm256_permute2f128_ps(a, b, 0x20);
+    u[2 * k + 1] = _mm256_permute2f128_ps(a, b, 0x31);
+  }
+  const __m256 g0 = u[0], g1 = u[1], g2 = u[2], g3 = u[3], g4 = u[4], g5 = u[5];
+  const __m256 s1n = _mm256_add_ps(_mm256_add_ps(g0, _mm256_mul_ps(g1, s1)), _mm256_mul_ps(g2, s2));
+  const __m256 s2n = _mm256_add_ps(_mm256_add_ps(g3, _mm256_mul_ps(g4, s1)), _mm256_mul_ps(g5, s2));
+  const __m256 e1n = _mm256_add_ps(_mm256_add_ps(g0, _mm256_mul_ps(g1, e1)), _mm256_mul_ps(g2, e2));
+  const __m256 e2n = _mm256_add_ps(_mm256_add_ps(g3, _mm256_mul_ps(g4, e1)), _mm256_mul_ps(g5, e2));
+  const __m256 lv = _mm256_castsi256_ps(live);
+  s1 = _mm256_blendv_ps(s1, s1n, lv);
+  s2 = _mm256_blendv_ps(s2, s2n, lv);
+  s0 = _mm256_blendv_ps(s0, _mm256_sub_ps(_mm256_sub_ps(one, s1n), s2n), lv);
+  e1 = _mm256_blendv_ps(e1, e1n, lv);
+  e2 = _mm256_blendv_ps(e2, e2n, lv);
+  e0 = _mm256_blendv_ps(e0, _mm256_sub_ps(_mm256_sub_ps(one, e1n), e2n), lv);
+}
+
 }  // namespace moldtex
 
 #endif

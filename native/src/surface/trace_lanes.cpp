@@ -180,8 +180,7 @@ MOLDTEX_AVX2_FN int any(__m256i mask) { return !_mm256_testz_si256(mask, mask); 
 
 // One crossing of every live lane of g (as cross() above).
 MOLDTEX_AVX2_FN void cross8(LaneGroup8& g, const uint32_t* adjacency, const float* unfolded) {
-  const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
-  const __m256i i0 = _mm256_setzero_si256(), i1 = _mm256_set1_epi32(1), i2 = _mm256_set1_epi32(2);
+  const __m256 zero = _mm256_setzero_ps();
   const __m256i none = _mm256_set1_epi32(static_cast<int>(MTX_NO_NEIGHBOUR));
   __m256i live = g.live;
   const __m256i n0 = _mm256_and_si256(live, as_int(_mm256_cmp_ps(g.e0, zero, _CMP_LT_OQ)));
@@ -193,59 +192,14 @@ MOLDTEX_AVX2_FN void cross8(LaneGroup8& g, const uint32_t* adjacency, const floa
   live = _mm256_andnot_si256(_mm256_cmpeq_epi32(g.hop, _mm256_set1_epi32(MTX_UNFOLDED_HOPS)), out);
   g.live = live;
   if (!any(live)) return;
-  __m256i edge = _mm256_blendv_epi8(_mm256_blendv_epi8(i2, i1, n1), i0, n0);
-  const __m256i multi = _mm256_and_si256(
-      live, _mm256_or_si256(_mm256_or_si256(_mm256_and_si256(n0, n1), _mm256_and_si256(n0, n2)), _mm256_and_si256(n1, n2)));
-  if (any(multi)) {
-    const __m256 m0 = as_float(n0), m2 = as_float(n2);
-    const __m256 si = _mm256_blendv_ps(g.s1, g.s0, m0), ei = _mm256_blendv_ps(g.e1, g.e0, m0);
-    const __m256 sj = _mm256_blendv_ps(g.s1, g.s2, m2), ej = _mm256_blendv_ps(g.e1, g.e2, m2);
-    const __m256i behind = _mm256_and_si256(
-        multi, as_int(_mm256_or_ps(_mm256_cmp_ps(si, zero, _CMP_LT_OQ), _mm256_cmp_ps(sj, zero, _CMP_LT_OQ))));
-    const __m256 lhs = _mm256_mul_ps(sj, _mm256_sub_ps(si, ei));
-    const __m256 rhs = _mm256_mul_ps(si, _mm256_sub_ps(sj, ej));
-    const __m256i later = _mm256_andnot_si256(behind, _mm256_and_si256(multi, as_int(_mm256_cmp_ps(lhs, rhs, _CMP_LT_OQ))));
-    edge = _mm256_blendv_epi8(edge, _mm256_blendv_epi8(i1, i2, n2), later);
-    live = _mm256_andnot_si256(behind, live);
-  }
-  const __m256 is0 = as_float(_mm256_cmpeq_epi32(edge, i0)), is1 = as_float(_mm256_cmpeq_epi32(edge, i1));
-  const __m256 s_edge = _mm256_blendv_ps(_mm256_blendv_ps(g.s2, g.s1, is1), g.s0, is0);
-  live = _mm256_andnot_si256(as_int(_mm256_cmp_ps(s_edge, zero, _CMP_LT_OQ)), live);
+  const __m256i edge = exit_edge8(g.s0, g.s1, g.s2, g.e0, g.e1, g.e2, n0, n1, n2, live);
   const __m256i slot = _mm256_add_epi32(_mm256_add_epi32(_mm256_add_epi32(g.t, g.t), g.t), edge);
   const __m256i code =
       _mm256_mask_i32gather_epi32(none, reinterpret_cast<const int*>(adjacency), slot, live, 4);
   live = _mm256_andnot_si256(_mm256_cmpeq_epi32(code, none), live);
   g.live = live;
   if (!any(live)) return;
-  // The unfolding as three 64-bit pairs, four lanes per gather, split into floats.
-  const __m256i slot3 = _mm256_add_epi32(_mm256_add_epi32(slot, slot), slot);
-  const __m128i low = _mm256_castsi256_si128(slot3), high = _mm256_extracti128_si256(slot3, 1);
-  const __m256i live_low = _mm256_cvtepi32_epi64(_mm256_castsi256_si128(live));
-  const __m256i live_high = _mm256_cvtepi32_epi64(_mm256_extracti128_si256(live, 1));
-  const __m256i order = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
-  const long long* base = reinterpret_cast<const long long*>(unfolded);
-  __m256 u[6];
-  for (int k = 0; k < 3; ++k) {
-    const __m128i add = _mm_set1_epi32(k);
-    const __m256 a = _mm256_permutevar8x32_ps(
-        as_float(_mm256_mask_i32gather_epi64(_mm256_setzero_si256(), base, _mm_add_epi32(low, add), live_low, 8)), order);
-    const __m256 b = _mm256_permutevar8x32_ps(
-        as_float(_mm256_mask_i32gather_epi64(_mm256_setzero_si256(), base, _mm_add_epi32(high, add), live_high, 8)), order);
-    u[2 * k] = _mm256_permute2f128_ps(a, b, 0x20);
-    u[2 * k + 1] = _mm256_permute2f128_ps(a, b, 0x31);
-  }
-  const __m256 g0 = u[0], g1 = u[1], g2 = u[2], g3 = u[3], g4 = u[4], g5 = u[5];
-  const __m256 s1n = _mm256_add_ps(_mm256_add_ps(g0, _mm256_mul_ps(g1, g.s1)), _mm256_mul_ps(g2, g.s2));
-  const __m256 s2n = _mm256_add_ps(_mm256_add_ps(g3, _mm256_mul_ps(g4, g.s1)), _mm256_mul_ps(g5, g.s2));
-  const __m256 e1n = _mm256_add_ps(_mm256_add_ps(g0, _mm256_mul_ps(g1, g.e1)), _mm256_mul_ps(g2, g.e2));
-  const __m256 e2n = _mm256_add_ps(_mm256_add_ps(g3, _mm256_mul_ps(g4, g.e1)), _mm256_mul_ps(g5, g.e2));
-  const __m256 lv = as_float(live);
-  g.s1 = _mm256_blendv_ps(g.s1, s1n, lv);
-  g.s2 = _mm256_blendv_ps(g.s2, s2n, lv);
-  g.s0 = _mm256_blendv_ps(g.s0, _mm256_sub_ps(_mm256_sub_ps(one, s1n), s2n), lv);
-  g.e1 = _mm256_blendv_ps(g.e1, e1n, lv);
-  g.e2 = _mm256_blendv_ps(g.e2, e2n, lv);
-  g.e0 = _mm256_blendv_ps(g.e0, _mm256_sub_ps(_mm256_sub_ps(one, e1n), e2n), lv);
+  carry_across8(slot, live, unfolded, g.s0, g.s1, g.s2, g.e0, g.e1, g.e2);
   g.t = _mm256_blendv_epi8(g.t, _mm256_srli_epi32(code, 3), live);
   g.hop = _mm256_sub_epi32(g.hop, live);  // + 1 where live (all ones = -1)
 }
