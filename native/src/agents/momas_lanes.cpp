@@ -226,13 +226,20 @@ struct Jacobian {
   __m512 xx, xy, yx, yy;
 };
 
-// The texel of a probe `length` from (x, y) (texels) along heading h (mtx_momas_probe's
+// Where each lane's probe ends: its triangle, its point in texels and the texel there
+// (mtx_momas_probes' entries).
+struct Probe {
+  __m512i texel, triangle;
+  __m512 x, y;
+};
+
+// The probe `length` from (x, y) (texels) along heading h on triangle tri (mtx_momas_probe's
 // trace that stays inside the triangle).
-MOLDTEX_MOMAS_LANES_FN __m512i probe_texel(__m512 x, __m512 y, __m512 length, const Jacobian& j, __m512 hx, __m512 hy,
-                                           const TextureLanes& tx) {
+MOLDTEX_MOMAS_LANES_FN Probe probe_at(__m512 x, __m512 y, __m512i tri, __m512 length, const Jacobian& j, __m512 hx,
+                                      __m512 hy, const TextureLanes& tx) {
   const __m512 px = _mm512_add_ps(x, _mm512_mul_ps(length, _mm512_add_ps(_mm512_mul_ps(j.xx, hx), _mm512_mul_ps(j.xy, hy))));
   const __m512 py = _mm512_add_ps(y, _mm512_mul_ps(length, _mm512_add_ps(_mm512_mul_ps(j.yx, hx), _mm512_mul_ps(j.yy, hy))));
-  return texel_at(px, py, tx.last_x, tx.last_y, tx.row);
+  return Probe{texel_at(px, py, tx.last_x, tx.last_y, tx.row), tri, px, py};
 }
 
 // mtx_clear_of_edge in lanes: (db >= 0) | ((b > 1e-30) & (b + length db >= 1e-6 b)).
@@ -403,14 +410,14 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 trace_hops(Trace& g, __mmask16 todo, const uint
   return located;
 }
 
-// The texel where a sensor trace from the agents' points (weights b*, triangle tri)
-// along heading (hx, hy) ends, for the lanes `todo` that leave their triangle
-// (mtx_momas_probe: mtx_walk_trace, then mtx_walker_texel_at); clears from *ok the lanes
+// Where a sensor trace from the agents' points (weights b*, triangle tri) along heading
+// (hx, hy) ends, for the lanes `todo` that leave their triangle (mtx_momas_probe:
+// mtx_walk_trace, then mtx_walker_texel_at), written into p; clears from *ok the lanes
 // whose trace must be walked.
-MOLDTEX_MOMAS_LANES_FN __m512i trace_texel(const mtx_surface_tables& s, __mmask16 todo, __mmask16* ok, __m512i tri,
-                                           __m512 b0, __m512 b1, __m512 b2, __m512 hx, __m512 hy, __m512 length,
-                                           __m512 inv_a, __m512 bx, __m512 inv_by, const __m512* own_uv,
-                                           const mtx_momas_constants& c, __m512i texel) {
+MOLDTEX_MOMAS_LANES_FN void trace_probe(const mtx_surface_tables& s, __mmask16 todo, __mmask16* ok, __m512i tri,
+                                        __m512 b0, __m512 b1, __m512 b2, __m512 hx, __m512 hy, __m512 length,
+                                        __m512 inv_a, __m512 bx, __m512 inv_by, const __m512* own_uv,
+                                        const TextureLanes& tx, Probe& p) {
   // mtx_trace_ends.
   const __m512 d2 = _mm512_mul_ps(hy, inv_by);
   const __m512 d1 = _mm512_mul_ps(_mm512_sub_ps(hx, _mm512_mul_ps(bx, d2)), inv_a);
@@ -423,20 +430,47 @@ MOLDTEX_MOMAS_LANES_FN __m512i trace_texel(const mtx_surface_tables& s, __mmask1
           _mm512_add_ps(b2, _mm512_mul_ps(length, d2))};
   const __mmask16 located = trace_hops(g, todo, s.adjacency, s.unfolded);
   *ok &= static_cast<__mmask16>(~(todo & ~located));
-  if (!located) return texel;
+  if (!located) return;
   // The UVs of the triangle where each trace ends: the agent's own unless it crossed.
   __m512 uv[6];
   for (int k = 0; k < 6; ++k) uv[k] = own_uv[k];
   const __mmask16 elsewhere = _mm512_mask_cmpneq_epi32_mask(located, g.t, tri);
   if (elsewhere) gather_uvs(s.corner_uvs, g.t, elsewhere, uv);
-  const __m512i at = texel_of(g.e0, g.e1, g.e2, uv, texture_lanes(c));
-  return _mm512_mask_mov_epi32(texel, located, at);
+  __m512 x, y;
+  point_in_texels(g.e0, g.e1, g.e2, uv, tx, x, y);
+  p.texel = _mm512_mask_mov_epi32(p.texel, located, texel_at(x, y, tx.last_x, tx.last_y, tx.row));
+  p.triangle = _mm512_mask_mov_epi32(p.triangle, located, g.t);
+  p.x = _mm512_mask_mov_ps(p.x, located, x);
+  p.y = _mm512_mask_mov_ps(p.y, located, y);
+}
+
+// What each lane of `lanes` reads at its probes in surface units: the footprint's mean
+// (mtx_sense_footprint_at), lane by lane (its box depends on the lane's triangle and point).
+MOLDTEX_MOMAS_LANES_FN void sense_footprints(const mtx_surface_tables& s, const mtx_momas_constants& c,
+                                             const float* pheromone, const float* field, __mmask16 lanes,
+                                             __m512i species, const Probe* p, __m512* value) {
+  alignas(64) uint32_t sp[16], texel[3][16], tri[3][16];
+  alignas(64) float x[3][16], y[3][16], v[3][16];
+  _mm512_store_si512(sp, species);
+  for (int k = 0; k < 3; ++k) {
+    _mm512_store_si512(texel[k], p[k].texel);
+    _mm512_store_si512(tri[k], p[k].triangle);
+    _mm512_store_ps(x[k], p[k].x);
+    _mm512_store_ps(y[k], p[k].y);
+  }
+  for (unsigned bits = lanes; bits; bits &= bits - 1) {
+    const int j = __builtin_ctz(bits);
+    for (int k = 0; k < 3; ++k)
+      v[k][j] = mtx_sense_footprint_at(s, pheromone, field, tri[k][j], x[k][j], y[k][j], texel[k][j], sp[j], &c);
+  }
+  for (int k = 0; k < 3; ++k) value[k] = _mm512_mask_load_ps(_mm512_setzero_ps(), lanes, v[k]);
 }
 
 // Agents [i, i + 16): the lanes whose probes and move stay inside their triangles are
 // stepped here; the others are returned for the scalar code.
 MOLDTEX_MOMAS_LANES_FN __mmask16 step16(const mtx_surface_tables& s, const mtx_momas_constants& c,
-                                        const float* pheromone, uint8_t* marks, Agents& agents, size_t i) {
+                                        const float* pheromone, const float* field, uint8_t* marks, Agents& agents,
+                                        size_t i) {
   const float* frames = reinterpret_cast<const float*>(s.frames);
   const __m512i tri = _mm512_loadu_si512(agents.triangle.data() + i);
   const __m512 b1_in = _mm512_loadu_ps(agents.b1.data() + i), b2_in = _mm512_loadu_ps(agents.b2.data() + i);
@@ -469,47 +503,56 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 step16(const mtx_surface_tables& s, const mtx_m
   // The lanes whose probes stay inside the triangle, and the others, whose traces cross
   // edges through the unfolded neighbours (where the tables have them); those whose move
   // is sure to stay inside, and the others, whose move is tested as it goes.
-  const __mmask16 probes_inside = _mm512_cmp_ps_mask(clearance, _mm512_mul_ps(sensor_length, margin), _CMP_GT_OQ);
+  // A step without sensing (mtx_momas_constants.coast) traces no probes.
+  const __mmask16 probes_inside =
+      c.coast ? 0xffff : _mm512_cmp_ps_mask(clearance, _mm512_mul_ps(sensor_length, margin), _CMP_GT_OQ);
   const __mmask16 traced = s.unfolded ? static_cast<__mmask16>(~probes_inside) : 0;
   __mmask16 inside = static_cast<__mmask16>(probes_inside | traced);
   if (!inside) return 0;
   __mmask16 near = inside & ~_mm512_cmp_ps_mask(clearance, _mm512_mul_ps(move_length, margin), _CMP_GT_OQ);
 
-  // The three probes through the triangle's affine map to texels.
-  const __m512 du1 = _mm512_mul_ps(_mm512_sub_ps(uv[2], uv[0]), tx.width);
-  const __m512 dv1 = _mm512_mul_ps(_mm512_sub_ps(uv[3], uv[1]), tx.height);
-  const __m512 du2 = _mm512_mul_ps(_mm512_sub_ps(uv[4], uv[0]), tx.width);
-  const __m512 dv2 = _mm512_mul_ps(_mm512_sub_ps(uv[5], uv[1]), tx.height);
-  const __m512 jxx = _mm512_mul_ps(du1, inv_a), jyx = _mm512_mul_ps(dv1, inv_a);
-  const __m512 jxy = _mm512_mul_ps(_mm512_sub_ps(du2, _mm512_mul_ps(bx, jxx)), inv_by);
-  const __m512 jyy = _mm512_mul_ps(_mm512_sub_ps(dv2, _mm512_mul_ps(bx, jyx)), inv_by);
-  const __m512 cs = per_species(c.sensor_cos, species), sn = per_species(c.sensor_sin, species);
-  const __m512 nsn = _mm512_castsi512_ps(  // -sn, the sign bit flipped
-      _mm512_xor_si512(_mm512_castps_si512(sn), _mm512_set1_epi32(static_cast<int>(0x80000000u))));
-  const Jacobian j{jxx, jxy, jyx, jyy};
-  // mtx_rotate(h, c, s): (c x - s y, s x + c y); the right probe turns by -s.
-  const __m512 lx = _mm512_sub_ps(_mm512_mul_ps(cs, hx), _mm512_mul_ps(sn, hy));
-  const __m512 ly = _mm512_add_ps(_mm512_mul_ps(sn, hx), _mm512_mul_ps(cs, hy));
-  const __m512 rx = _mm512_sub_ps(_mm512_mul_ps(cs, hx), _mm512_mul_ps(nsn, hy));
-  const __m512 ry = _mm512_add_ps(_mm512_mul_ps(nsn, hx), _mm512_mul_ps(cs, hy));
-  __m512i texel_left = probe_texel(x, y, sensor_length, j, lx, ly, tx);
-  __m512i texel_front = probe_texel(x, y, sensor_length, j, hx, hy, tx);
-  __m512i texel_right = probe_texel(x, y, sensor_length, j, rx, ry, tx);
-  if (traced) {
-    texel_left = trace_texel(s, traced, &inside, tri, b0, b1, b2, lx, ly, sensor_length, inv_a, bx, inv_by, uv, c, texel_left);
-    texel_front = trace_texel(s, traced, &inside, tri, b0, b1, b2, hx, hy, sensor_length, inv_a, bx, inv_by, uv, c, texel_front);
-    texel_right = trace_texel(s, traced, &inside, tri, b0, b1, b2, rx, ry, sensor_length, inv_a, bx, inv_by, uv, c, texel_right);
-    if (!inside) return 0;
-  }
-
-  // mtx_momas_decision: sense.
   const uint32_t plane_texels = c.width * c.height;
-  const __m512 attraction = _mm512_loadu_ps(c.attraction);
-  const __m512i species4 = _mm512_slli_epi32(species, 2);
-  const uint32_t planes = c.species_count;
-  const __m512 left = sensed(pheromone, planes, plane_texels, attraction, species4, texel_left);
-  const __m512 front = sensed(pheromone, planes, plane_texels, attraction, species4, texel_front);
-  const __m512 right = sensed(pheromone, planes, plane_texels, attraction, species4, texel_right);
+  // mtx_momas_decision: sense (a step without sensing reads 0, 1, 0: straight on).
+  __m512 left = _mm512_setzero_ps(), front = one, right = _mm512_setzero_ps();
+  if (!c.coast) {
+    // The three probes through the triangle's affine map to texels.
+    const __m512 du1 = _mm512_mul_ps(_mm512_sub_ps(uv[2], uv[0]), tx.width);
+    const __m512 dv1 = _mm512_mul_ps(_mm512_sub_ps(uv[3], uv[1]), tx.height);
+    const __m512 du2 = _mm512_mul_ps(_mm512_sub_ps(uv[4], uv[0]), tx.width);
+    const __m512 dv2 = _mm512_mul_ps(_mm512_sub_ps(uv[5], uv[1]), tx.height);
+    const __m512 jxx = _mm512_mul_ps(du1, inv_a), jyx = _mm512_mul_ps(dv1, inv_a);
+    const __m512 jxy = _mm512_mul_ps(_mm512_sub_ps(du2, _mm512_mul_ps(bx, jxx)), inv_by);
+    const __m512 jyy = _mm512_mul_ps(_mm512_sub_ps(dv2, _mm512_mul_ps(bx, jyx)), inv_by);
+    const __m512 cs = per_species(c.sensor_cos, species), sn = per_species(c.sensor_sin, species);
+    const __m512 nsn = _mm512_castsi512_ps(  // -sn, the sign bit flipped
+        _mm512_xor_si512(_mm512_castps_si512(sn), _mm512_set1_epi32(static_cast<int>(0x80000000u))));
+    const Jacobian j{jxx, jxy, jyx, jyy};
+    // mtx_rotate(h, c, s): (c x - s y, s x + c y); the right probe turns by -s.
+    const __m512 px[3] = {_mm512_sub_ps(_mm512_mul_ps(cs, hx), _mm512_mul_ps(sn, hy)), hx,
+                          _mm512_sub_ps(_mm512_mul_ps(cs, hx), _mm512_mul_ps(nsn, hy))};
+    const __m512 py[3] = {_mm512_add_ps(_mm512_mul_ps(sn, hx), _mm512_mul_ps(cs, hy)), hy,
+                          _mm512_add_ps(_mm512_mul_ps(nsn, hx), _mm512_mul_ps(cs, hy))};
+    Probe probe[3];
+    for (int k = 0; k < 3; ++k) probe[k] = probe_at(x, y, tri, sensor_length, j, px[k], py[k], tx);
+    if (traced) {
+      for (int k = 0; k < 3; ++k)
+        trace_probe(s, traced, &inside, tri, b0, b1, b2, px[k], py[k], sensor_length, inv_a, bx, inv_by, uv, tx,
+                    probe[k]);
+      if (!inside) return 0;
+    }
+    __m512 value[3];
+    if (c.surface_mode) {
+      sense_footprints(s, c, pheromone, field, inside, species, probe, value);
+    } else {
+      const __m512 attraction = _mm512_loadu_ps(c.attraction);
+      const __m512i species4 = _mm512_slli_epi32(species, 2);
+      for (int k = 0; k < 3; ++k)
+        value[k] = sensed(pheromone, c.species_count, plane_texels, attraction, species4, probe[k].texel);
+    }
+    left = value[0];
+    front = value[1];
+    right = value[2];
+  }
 
   // The step's random state per agent (mtx_rng_init_step) and its first two draws.
   const __m512i iota64 = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7);
@@ -539,7 +582,13 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 step16(const mtx_surface_tables& s, const mtx_m
     }
     side = _mm512_mask_mov_ps(side, to_right, _mm512_set1_ps(-1.0f));
     side = _mm512_mask_mov_ps(side, to_left, one);
-    const __m512 turn = _mm512_mul_ps(_mm512_mul_ps(side, r), per_species(c.max_turn, species));
+    // Surface units: mean r = 1/2 as MoMaS, the spread around it time-step independent.
+    const __m512 amount =
+        c.surface_mode
+            ? _mm512_add_ps(_mm512_set1_ps(0.5f), _mm512_mul_ps(_mm512_sub_ps(r, _mm512_set1_ps(0.5f)),
+                                                                _mm512_set1_ps(c.turn_jitter)))
+            : r;
+    const __m512 turn = _mm512_mul_ps(_mm512_mul_ps(side, amount), per_species(c.max_turn, species));
     alignas(64) float turns[16], cosines[16], sines[16];
     _mm512_store_ps(turns, turn);
     for (unsigned bits = turning; bits; bits &= bits - 1) {
@@ -597,7 +646,26 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 step16(const mtx_surface_tables& s, const mtx_m
       const __mmask16 fresh = walked & moved;  // their UVs are the new triangle's
       if (fresh) gather_uvs(s.corner_uvs, w.t, fresh, uv);
     }
-    const __m512i texel = texel_of(w.b0, w.b1, w.b2, uv, tx);
+    __m512 mx, my;
+    point_in_texels(w.b0, w.b1, w.b2, uv, tx, mx, my);
+    const __m512i texel = texel_at(mx, my, tx.last_x, tx.last_y, tx.row);
+    if (c.surface_mode) {
+      // The footprint around each lane's point (mtx_mark_footprint), lane by lane.
+      alignas(64) uint32_t sp[16], at[16], on[16];
+      alignas(64) float fx[16], fy[16];
+      _mm512_store_si512(sp, species);
+      _mm512_store_si512(at, texel);
+      _mm512_store_si512(on, w.t);
+      _mm512_store_ps(fx, mx);
+      _mm512_store_ps(fy, my);
+      for (unsigned bits = inside; bits; bits &= bits - 1) {
+        const int q = __builtin_ctz(bits);
+        mtx_walker where{};
+        where.triangle = on[q];
+        mtx_mark_footprint(s, field, marks + size_t(sp[q]) * plane_texels, &where, at[q], fx[q], fy[q], &c);
+      }
+      continue;
+    }
     alignas(64) uint32_t at[16];
     _mm512_store_si512(at, _mm512_add_epi32(mark_base, texel));
     for (unsigned bits = inside; bits; bits &= bits - 1) MTX_MARK(marks, at[__builtin_ctz(bits)]);
@@ -620,7 +688,7 @@ __attribute__((target("avx512f,avx512dq"))) size_t update_in_lanes(const mtx_sur
                                                                   size_t end) {
   Leftovers rest{s, c, pheromone, field, marks, agents, {}, 0, 0};
   size_t i = begin;
-  for (; i + 16 <= end; i += 16) rest.take(i, step16(s, c, pheromone, marks, agents, i), 0xffffu);
+  for (; i + 16 <= end; i += 16) rest.take(i, step16(s, c, pheromone, field, marks, agents, i), 0xffffu);
   return rest.finish(i, end);
 }
 
@@ -1069,9 +1137,12 @@ unsigned lanes_now() { return std::min(momas_lane_width(), g_limit.load(std::mem
 
 bool momas_lanes_apply(const mtx_momas_constants& c, uint32_t triangle_count) {
 #ifdef MOLDTEX_MOMAS_LANES_X86
-  if (lanes_now() < 8u) return false;
+  const unsigned width = lanes_now();
+  if (width < 8u) return false;
   const uint64_t planes_texels = uint64_t(c.width) * c.height * (c.species_count ? c.species_count : 1u);
-  return c.surface_mode == 0u && c.coast == 0u && c.decisions <= 1u && c.sensor_size == 0u && c.has_fields == 0u &&
+  // Surface units (footprint sensing and marks, steps without sensing): 16 lanes only.
+  const bool units = c.surface_mode == 0u ? c.coast == 0u : width >= 16u;
+  return units && c.decisions <= 1u && c.sensor_size == 0u && c.has_fields == 0u &&
          !(c.hunger_step > 0.0f) && c.substeps >= 1u && c.species_count >= 1u &&
          c.species_count <= MTX_MAX_SPECIES && planes_texels < (1ull << 31) &&
          uint64_t(triangle_count) * kFrameFloats < (1ull << 31);
