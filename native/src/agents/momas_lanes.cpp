@@ -233,6 +233,16 @@ struct Probe {
   __m512 x, y;
 };
 
+// mtx_floor_int and mtx_ceil_int in lanes (|v| < 2^31).
+MOLDTEX_MOMAS_LANES_FN __m512i floor_int(__m512 v) {
+  const __m512i i = _mm512_cvttps_epi32(v);
+  return _mm512_mask_sub_epi32(i, _mm512_cmp_ps_mask(v, _mm512_cvtepi32_ps(i), _CMP_LT_OQ), i, _mm512_set1_epi32(1));
+}
+MOLDTEX_MOMAS_LANES_FN __m512i ceil_int(__m512 v) {
+  const __m512i i = _mm512_cvttps_epi32(v);
+  return _mm512_mask_add_epi32(i, _mm512_cmp_ps_mask(v, _mm512_cvtepi32_ps(i), _CMP_GT_OQ), i, _mm512_set1_epi32(1));
+}
+
 // The probe `length` from (x, y) (texels) along heading h on triangle tri (mtx_momas_probe's
 // trace that stays inside the triangle).
 MOLDTEX_MOMAS_LANES_FN Probe probe_at(__m512 x, __m512 y, __m512i tri, __m512 length, const Jacobian& j, __m512 hx,
@@ -444,26 +454,101 @@ MOLDTEX_MOMAS_LANES_FN void trace_probe(const mtx_surface_tables& s, __mmask16 t
   p.y = _mm512_mask_mov_ps(p.y, located, y);
 }
 
-// What each lane of `lanes` reads at its probes in surface units: the footprint's mean
-// (mtx_sense_footprint_at), lane by lane (its box depends on the lane's triangle and point).
+// What each lane of `lanes` reads at its probes in surface units: the mean over the
+// footprint around the probe (mtx_sense_footprint_at). In the usual case (one species, no
+// fields, the footprint's box within the block around the probe's texel that is all of
+// the lane's island) the box is summed in the lanes, row by row as the scalar code sums
+// it; other lanes call mtx_sense_footprint_at.
 MOLDTEX_MOMAS_LANES_FN void sense_footprints(const mtx_surface_tables& s, const mtx_momas_constants& c,
                                              const float* pheromone, const float* field, __mmask16 lanes,
                                              __m512i species, const Probe* p, __m512* value) {
-  alignas(64) uint32_t sp[16], texel[3][16], tri[3][16];
-  alignas(64) float x[3][16], y[3][16], v[3][16];
-  _mm512_store_si512(sp, species);
+  const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.0f);
+  const bool plain = c.species_count == 1u && !c.has_fields && s.interior_reach != nullptr;
+  const __m512i width = _mm512_set1_epi32(static_cast<int>(c.width));
   for (int k = 0; k < 3; ++k) {
-    _mm512_store_si512(texel[k], p[k].texel);
-    _mm512_store_si512(tri[k], p[k].triangle);
-    _mm512_store_ps(x[k], p[k].x);
-    _mm512_store_ps(y[k], p[k].y);
+    __mmask16 slow = lanes;
+    value[k] = zero;
+    if (plain) {
+      // What the probe's own texel holds (mtx_sensed_value: 0 + a p).
+      const __m512 a = _mm512_set1_ps(c.attraction[0]);
+      const __m512 here = _mm512_add_ps(zero, _mm512_mul_ps(a, _mm512_i32gather_ps(p[k].texel, pheromone, 4)));
+      // The footprint's box (mtx_footprint_box_at, mtx_centres_within).
+      const __m512i t2 = _mm512_add_epi32(p[k].triangle, p[k].triangle);
+      const __m512 half = _mm512_set1_ps(0.5f * c.length_unit), limit = _mm512_set1_ps(float(MTX_MAX_FOOTPRINT_TEXELS));
+      const __m512 ex = lanes_min(_mm512_mul_ps(half, _mm512_i32gather_ps(t2, s.texels_per_unit, 4)), limit);
+      const __m512 ey =
+          lanes_min(_mm512_mul_ps(half, _mm512_i32gather_ps(_mm512_add_epi32(t2, _mm512_set1_epi32(1)), s.texels_per_unit, 4)),
+                    limit);
+      const __mmask16 small = _mm512_cmp_ps_mask(ex, _mm512_set1_ps(0.5f), _CMP_LT_OQ) &
+                              _mm512_cmp_ps_mask(ey, _mm512_set1_ps(0.5f), _CMP_LT_OQ);
+      const __m512 h = _mm512_set1_ps(0.5f);
+      __m512i x0 = ceil_int(_mm512_sub_ps(_mm512_sub_ps(p[k].x, ex), h));
+      __m512i x1 = floor_int(_mm512_sub_ps(_mm512_add_ps(p[k].x, ex), h));
+      __m512i y0 = ceil_int(_mm512_sub_ps(_mm512_sub_ps(p[k].y, ey), h));
+      __m512i y1 = floor_int(_mm512_sub_ps(_mm512_add_ps(p[k].y, ey), h));
+      x0 = _mm512_max_epi32(x0, _mm512_setzero_si512());
+      y0 = _mm512_max_epi32(y0, _mm512_setzero_si512());
+      x1 = _mm512_min_epi32(x1, _mm512_set1_epi32(static_cast<int>(c.width) - 1));
+      y1 = _mm512_min_epi32(y1, _mm512_set1_epi32(static_cast<int>(c.height) - 1));
+      // mtx_box_within_island: the probe texel's interior reach r (a byte, read as the
+      // last of four bytes that lie inside the table) and its island.
+      const __m512i at = _mm512_max_epi32(_mm512_sub_epi32(p[k].texel, _mm512_set1_epi32(3)), _mm512_setzero_si512());
+      const __m512i word = _mm512_i32gather_epi32(at, s.interior_reach, 1);
+      const __m512i r = _mm512_and_si512(
+          _mm512_srlv_epi32(word, _mm512_slli_epi32(_mm512_sub_epi32(p[k].texel, at), 3)), _mm512_set1_epi32(0xff));
+      // cx, cy: the texel's column and row (texel = cy width + cx, texel < 2^31).
+      const __m512i cy = _mm512_cvttps_epi32(_mm512_div_ps(_mm512_cvtepi32_ps(p[k].texel), _mm512_cvtepi32_ps(width)));
+      __m512i cyf = cy;  // corrected by one where the float quotient rounded across a row
+      __m512i cx = _mm512_sub_epi32(p[k].texel, _mm512_mullo_epi32(cyf, width));
+      const __mmask16 under = _mm512_cmplt_epi32_mask(cx, _mm512_setzero_si512());
+      cyf = _mm512_mask_sub_epi32(cyf, under, cyf, _mm512_set1_epi32(1));
+      cx = _mm512_mask_add_epi32(cx, under, cx, width);
+      const __mmask16 over = _mm512_cmpge_epi32_mask(cx, width);
+      cyf = _mm512_mask_add_epi32(cyf, over, cyf, _mm512_set1_epi32(1));
+      cx = _mm512_mask_sub_epi32(cx, over, cx, width);
+      const __m512i island = _mm512_i32gather_epi32(p[k].triangle, s.island, 4);
+      const __mmask16 whole =
+          _mm512_cmpge_epi32_mask(x0, _mm512_sub_epi32(cx, r)) & _mm512_cmple_epi32_mask(x1, _mm512_add_epi32(cx, r)) &
+          _mm512_cmpge_epi32_mask(y0, _mm512_sub_epi32(cyf, r)) & _mm512_cmple_epi32_mask(y1, _mm512_add_epi32(cyf, r)) &
+          _mm512_cmpeq_epi32_mask(_mm512_i32gather_epi32(p[k].texel, s.texel_island, 4), island);
+      const __mmask16 fast = lanes & static_cast<__mmask16>(~small) & whole;
+      __m512 sum = here, count = one;
+      if (fast) {
+        const __m512i w = _mm512_sub_epi32(x1, x0), hgt = _mm512_sub_epi32(y1, y0);
+        const int most_w = _mm512_mask_reduce_max_epi32(fast, w), most_h = _mm512_mask_reduce_max_epi32(fast, hgt);
+        for (int dy = 0; dy <= most_h; ++dy) {
+          const __mmask16 row_in = fast & _mm512_cmple_epi32_mask(_mm512_set1_epi32(dy), hgt);
+          if (!row_in) continue;
+          const __m512i row = _mm512_mullo_epi32(_mm512_add_epi32(y0, _mm512_set1_epi32(dy)), width);
+          for (int dx = 0; dx <= most_w; ++dx) {
+            const __m512i i = _mm512_add_epi32(row, _mm512_add_epi32(x0, _mm512_set1_epi32(dx)));
+            const __mmask16 m = row_in & _mm512_cmple_epi32_mask(_mm512_set1_epi32(dx), w) &
+                                _mm512_cmpneq_epi32_mask(i, p[k].texel);
+            if (!m) continue;
+            const __m512 v = _mm512_mask_i32gather_ps(zero, m, i, pheromone, 4);
+            sum = _mm512_mask_add_ps(sum, m, sum, _mm512_mul_ps(a, v));
+            count = _mm512_mask_add_ps(count, m, count, one);
+          }
+        }
+      }
+      value[k] = _mm512_mask_mov_ps(here, fast, _mm512_div_ps(sum, count));
+      slow = lanes & static_cast<__mmask16>(~small) & static_cast<__mmask16>(~whole);
+    }
+    if (!slow) continue;
+    alignas(64) uint32_t sp[16], texel[16], tri[16];
+    alignas(64) float x[16], y[16], v[16];
+    _mm512_store_si512(sp, species);
+    _mm512_store_si512(texel, p[k].texel);
+    _mm512_store_si512(tri, p[k].triangle);
+    _mm512_store_ps(x, p[k].x);
+    _mm512_store_ps(y, p[k].y);
+    _mm512_store_ps(v, value[k]);
+    for (unsigned bits = slow; bits; bits &= bits - 1) {
+      const int j = __builtin_ctz(bits);
+      v[j] = mtx_sense_footprint_at(s, pheromone, field, tri[j], x[j], y[j], texel[j], sp[j], &c);
+    }
+    value[k] = _mm512_load_ps(v);
   }
-  for (unsigned bits = lanes; bits; bits &= bits - 1) {
-    const int j = __builtin_ctz(bits);
-    for (int k = 0; k < 3; ++k)
-      v[k][j] = mtx_sense_footprint_at(s, pheromone, field, tri[k][j], x[k][j], y[k][j], texel[k][j], sp[j], &c);
-  }
-  for (int k = 0; k < 3; ++k) value[k] = _mm512_mask_load_ps(_mm512_setzero_ps(), lanes, v[k]);
 }
 
 // Agents [i, i + 16): the lanes whose probes and move stay inside their triangles are
