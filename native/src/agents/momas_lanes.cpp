@@ -454,6 +454,134 @@ MOLDTEX_MOMAS_LANES_FN void trace_probe(const mtx_surface_tables& s, __mmask16 t
   p.y = _mm512_mask_mov_ps(p.y, located, y);
 }
 
+// table[index] for a byte table, in lanes: the last of four bytes read from
+// max(index - 3, 0), so every byte read lies inside the table (of at least 4 bytes).
+MOLDTEX_MOMAS_LANES_FN __m512i byte_at(const uint8_t* table, __m512i index) {
+  const __m512i at = _mm512_max_epi32(_mm512_sub_epi32(index, _mm512_set1_epi32(3)), _mm512_setzero_si512());
+  const __m512i word = _mm512_i32gather_epi32(at, table, 1);
+  return _mm512_and_si512(_mm512_srlv_epi32(word, _mm512_slli_epi32(_mm512_sub_epi32(index, at), 3)),
+                          _mm512_set1_epi32(0xff));
+}
+
+// A footprint's half sizes in texels on each lane's triangle t (mtx_footprint_box_at).
+MOLDTEX_MOMAS_LANES_FN void footprint_size(const mtx_surface_tables& s, const mtx_momas_constants& c, __m512i t,
+                                           __m512& ex, __m512& ey) {
+  const __m512i t2 = _mm512_add_epi32(t, t);
+  const __m512 half = _mm512_set1_ps(0.5f * c.length_unit), limit = _mm512_set1_ps(float(MTX_MAX_FOOTPRINT_TEXELS));
+  ex = lanes_min(_mm512_mul_ps(half, _mm512_i32gather_ps(t2, s.texels_per_unit, 4)), limit);
+  ey = lanes_min(_mm512_mul_ps(half, _mm512_i32gather_ps(_mm512_add_epi32(t2, _mm512_set1_epi32(1)), s.texels_per_unit, 4)),
+                 limit);
+}
+
+// A texel box in lanes.
+struct Box {
+  __m512i x0, x1, y0, y1;
+};
+
+// mtx_centres_within: the texels whose centres lie within (ex, ey) of (x, y), clipped.
+MOLDTEX_MOMAS_LANES_FN Box centres_within(__m512 x, __m512 y, __m512 ex, __m512 ey, const mtx_momas_constants& c) {
+  const __m512 h = _mm512_set1_ps(0.5f);
+  Box b{ceil_int(_mm512_sub_ps(_mm512_sub_ps(x, ex), h)), floor_int(_mm512_sub_ps(_mm512_add_ps(x, ex), h)),
+        ceil_int(_mm512_sub_ps(_mm512_sub_ps(y, ey), h)), floor_int(_mm512_sub_ps(_mm512_add_ps(y, ey), h))};
+  b.x0 = _mm512_max_epi32(b.x0, _mm512_setzero_si512());
+  b.y0 = _mm512_max_epi32(b.y0, _mm512_setzero_si512());
+  b.x1 = _mm512_min_epi32(b.x1, _mm512_set1_epi32(static_cast<int>(c.width) - 1));
+  b.y1 = _mm512_min_epi32(b.y1, _mm512_set1_epi32(static_cast<int>(c.height) - 1));
+  return b;
+}
+
+// mtx_box_within_island for the box grown by `grow` texels each side: within the block
+// around `texel` that its interior reach says is all of its island, that island being
+// the lane's triangle t's.
+MOLDTEX_MOMAS_LANES_FN __mmask16 box_within_island(const mtx_surface_tables& s, const mtx_momas_constants& c,
+                                                   __m512i texel, const Box& b, int grow, __m512i t) {
+  const __m512i r = byte_at(s.interior_reach, texel);
+  // The texel's column and row: a float quotient, corrected by one where it rounded
+  // across a row.
+  const __m512i width = _mm512_set1_epi32(static_cast<int>(c.width));
+  __m512i cy = _mm512_cvttps_epi32(_mm512_div_ps(_mm512_cvtepi32_ps(texel), _mm512_cvtepi32_ps(width)));
+  __m512i cx = _mm512_sub_epi32(texel, _mm512_mullo_epi32(cy, width));
+  const __mmask16 under = _mm512_cmplt_epi32_mask(cx, _mm512_setzero_si512());
+  cy = _mm512_mask_sub_epi32(cy, under, cy, _mm512_set1_epi32(1));
+  cx = _mm512_mask_add_epi32(cx, under, cx, width);
+  const __mmask16 over = _mm512_cmpge_epi32_mask(cx, width);
+  cy = _mm512_mask_add_epi32(cy, over, cy, _mm512_set1_epi32(1));
+  cx = _mm512_mask_sub_epi32(cx, over, cx, width);
+  const __m512i g = _mm512_set1_epi32(grow);
+  const __m512i island = _mm512_i32gather_epi32(t, s.island, 4);
+  return _mm512_cmpge_epi32_mask(_mm512_sub_epi32(b.x0, g), _mm512_sub_epi32(cx, r)) &
+         _mm512_cmple_epi32_mask(_mm512_add_epi32(b.x1, g), _mm512_add_epi32(cx, r)) &
+         _mm512_cmpge_epi32_mask(_mm512_sub_epi32(b.y0, g), _mm512_sub_epi32(cy, r)) &
+         _mm512_cmple_epi32_mask(_mm512_add_epi32(b.y1, g), _mm512_add_epi32(cy, r)) &
+         _mm512_cmpeq_epi32_mask(_mm512_i32gather_epi32(texel, s.texel_island, 4), island);
+}
+
+// Surface units: each lane of `lanes` marks its footprint around (x, y) (texels; the
+// walker on triangle t, over `texel`), as mtx_mark_footprint does: the texel under it if
+// an island texel, then, where the box of texels whose centres the footprint holds lies
+// (grown by one) within the texel's island block, every texel of that box, in the lanes;
+// elsewhere (strongly stretched texels, boxes near an island's edge) mtx_mark_footprint
+// lane by lane.
+MOLDTEX_MOMAS_LANES_FN void mark_footprints(const mtx_surface_tables& s, const mtx_momas_constants& c,
+                                            const float* field, uint8_t* marks, __mmask16 lanes, __m512i species,
+                                            __m512i t, __m512i texel, __m512 x, __m512 y) {
+  const uint32_t plane_texels = c.width * c.height;
+  const __m512i base = _mm512_mullo_epi32(species, _mm512_set1_epi32(static_cast<int>(plane_texels)));
+  __mmask16 slow = lanes;
+  if (!c.has_fields && s.interior_reach != nullptr) {
+    __m512 ex, ey;
+    footprint_size(s, c, t, ex, ey);
+    const __m512 quarter = _mm512_set1_ps(0.25f), half = _mm512_set1_ps(0.5f);
+    const __mmask16 jx = _mm512_cmp_ps_mask(ex, quarter, _CMP_LT_OQ) &
+                         _mm512_cmp_ps_mask(ex, _mm512_mul_ps(half, ey), _CMP_LT_OQ);
+    const __mmask16 jy = _mm512_cmp_ps_mask(ey, quarter, _CMP_LT_OQ) &
+                         _mm512_cmp_ps_mask(ey, _mm512_mul_ps(half, ex), _CMP_LT_OQ);
+    const __mmask16 plain = lanes & static_cast<__mmask16>(~(jx | jy));
+    // The texel under the walker, if an island texel.
+    alignas(64) uint32_t at[16];
+    const __mmask16 own = plain & _mm512_cmpeq_epi32_mask(byte_at(s.classes, texel), _mm512_set1_epi32(MTX_TEXEL_INSIDE));
+    _mm512_store_si512(at, _mm512_add_epi32(base, texel));
+    for (unsigned bits = own; bits; bits &= bits - 1) MTX_MARK(marks, at[__builtin_ctz(bits)]);
+    const __mmask16 small = _mm512_cmp_ps_mask(ex, half, _CMP_LT_OQ) & _mm512_cmp_ps_mask(ey, half, _CMP_LT_OQ);
+    const __mmask16 boxed = plain & static_cast<__mmask16>(~small);
+    __mmask16 fast = 0;
+    if (boxed) {
+      const Box b = centres_within(x, y, ex, ey, c);
+      const __mmask16 filled = _mm512_cmple_epi32_mask(b.x0, b.x1) & _mm512_cmple_epi32_mask(b.y0, b.y1);
+      fast = boxed & filled & box_within_island(s, c, texel, b, 1, t);
+      if (fast) {
+        const __m512i w = _mm512_sub_epi32(b.x1, b.x0), hgt = _mm512_sub_epi32(b.y1, b.y0);
+        const int most_w = _mm512_mask_reduce_max_epi32(fast, w), most_h = _mm512_mask_reduce_max_epi32(fast, hgt);
+        const __m512i width = _mm512_set1_epi32(static_cast<int>(c.width));
+        for (int dy = 0; dy <= most_h; ++dy) {
+          const __mmask16 row_in = fast & _mm512_cmple_epi32_mask(_mm512_set1_epi32(dy), hgt);
+          const __m512i row = _mm512_add_epi32(base, _mm512_mullo_epi32(_mm512_add_epi32(b.y0, _mm512_set1_epi32(dy)), width));
+          for (int dx = 0; dx <= most_w; ++dx) {
+            const __mmask16 m = row_in & _mm512_cmple_epi32_mask(_mm512_set1_epi32(dx), w);
+            _mm512_store_si512(at, _mm512_add_epi32(row, _mm512_add_epi32(b.x0, _mm512_set1_epi32(dx))));
+            for (unsigned bits = m; bits; bits &= bits - 1) MTX_MARK(marks, at[__builtin_ctz(bits)]);
+          }
+        }
+      }
+    }
+    slow = (lanes & (jx | jy)) | (boxed & static_cast<__mmask16>(~fast));
+  }
+  if (!slow) return;
+  alignas(64) uint32_t sp[16], at[16], on[16];
+  alignas(64) float fx[16], fy[16];
+  _mm512_store_si512(sp, species);
+  _mm512_store_si512(at, texel);
+  _mm512_store_si512(on, t);
+  _mm512_store_ps(fx, x);
+  _mm512_store_ps(fy, y);
+  for (unsigned bits = slow; bits; bits &= bits - 1) {
+    const int q = __builtin_ctz(bits);
+    mtx_walker where{};
+    where.triangle = on[q];
+    mtx_mark_footprint(s, field, marks + size_t(sp[q]) * plane_texels, &where, at[q], fx[q], fy[q], &c);
+  }
+}
+
 // What each lane of `lanes` reads at its probes in surface units: the mean over the
 // footprint around the probe (mtx_sense_footprint_at). In the usual case (one species, no
 // fields, the footprint's box within the block around the probe's texel that is all of
@@ -472,45 +600,15 @@ MOLDTEX_MOMAS_LANES_FN void sense_footprints(const mtx_surface_tables& s, const 
       // What the probe's own texel holds (mtx_sensed_value: 0 + a p).
       const __m512 a = _mm512_set1_ps(c.attraction[0]);
       const __m512 here = _mm512_add_ps(zero, _mm512_mul_ps(a, _mm512_i32gather_ps(p[k].texel, pheromone, 4)));
-      // The footprint's box (mtx_footprint_box_at, mtx_centres_within).
-      const __m512i t2 = _mm512_add_epi32(p[k].triangle, p[k].triangle);
-      const __m512 half = _mm512_set1_ps(0.5f * c.length_unit), limit = _mm512_set1_ps(float(MTX_MAX_FOOTPRINT_TEXELS));
-      const __m512 ex = lanes_min(_mm512_mul_ps(half, _mm512_i32gather_ps(t2, s.texels_per_unit, 4)), limit);
-      const __m512 ey =
-          lanes_min(_mm512_mul_ps(half, _mm512_i32gather_ps(_mm512_add_epi32(t2, _mm512_set1_epi32(1)), s.texels_per_unit, 4)),
-                    limit);
+      // The footprint's box (mtx_footprint_box_at, mtx_centres_within), and whether it
+      // lies within the probe texel's island block.
+      __m512 ex, ey;
+      footprint_size(s, c, p[k].triangle, ex, ey);
       const __mmask16 small = _mm512_cmp_ps_mask(ex, _mm512_set1_ps(0.5f), _CMP_LT_OQ) &
                               _mm512_cmp_ps_mask(ey, _mm512_set1_ps(0.5f), _CMP_LT_OQ);
-      const __m512 h = _mm512_set1_ps(0.5f);
-      __m512i x0 = ceil_int(_mm512_sub_ps(_mm512_sub_ps(p[k].x, ex), h));
-      __m512i x1 = floor_int(_mm512_sub_ps(_mm512_add_ps(p[k].x, ex), h));
-      __m512i y0 = ceil_int(_mm512_sub_ps(_mm512_sub_ps(p[k].y, ey), h));
-      __m512i y1 = floor_int(_mm512_sub_ps(_mm512_add_ps(p[k].y, ey), h));
-      x0 = _mm512_max_epi32(x0, _mm512_setzero_si512());
-      y0 = _mm512_max_epi32(y0, _mm512_setzero_si512());
-      x1 = _mm512_min_epi32(x1, _mm512_set1_epi32(static_cast<int>(c.width) - 1));
-      y1 = _mm512_min_epi32(y1, _mm512_set1_epi32(static_cast<int>(c.height) - 1));
-      // mtx_box_within_island: the probe texel's interior reach r (a byte, read as the
-      // last of four bytes that lie inside the table) and its island.
-      const __m512i at = _mm512_max_epi32(_mm512_sub_epi32(p[k].texel, _mm512_set1_epi32(3)), _mm512_setzero_si512());
-      const __m512i word = _mm512_i32gather_epi32(at, s.interior_reach, 1);
-      const __m512i r = _mm512_and_si512(
-          _mm512_srlv_epi32(word, _mm512_slli_epi32(_mm512_sub_epi32(p[k].texel, at), 3)), _mm512_set1_epi32(0xff));
-      // cx, cy: the texel's column and row (texel = cy width + cx, texel < 2^31).
-      const __m512i cy = _mm512_cvttps_epi32(_mm512_div_ps(_mm512_cvtepi32_ps(p[k].texel), _mm512_cvtepi32_ps(width)));
-      __m512i cyf = cy;  // corrected by one where the float quotient rounded across a row
-      __m512i cx = _mm512_sub_epi32(p[k].texel, _mm512_mullo_epi32(cyf, width));
-      const __mmask16 under = _mm512_cmplt_epi32_mask(cx, _mm512_setzero_si512());
-      cyf = _mm512_mask_sub_epi32(cyf, under, cyf, _mm512_set1_epi32(1));
-      cx = _mm512_mask_add_epi32(cx, under, cx, width);
-      const __mmask16 over = _mm512_cmpge_epi32_mask(cx, width);
-      cyf = _mm512_mask_add_epi32(cyf, over, cyf, _mm512_set1_epi32(1));
-      cx = _mm512_mask_sub_epi32(cx, over, cx, width);
-      const __m512i island = _mm512_i32gather_epi32(p[k].triangle, s.island, 4);
-      const __mmask16 whole =
-          _mm512_cmpge_epi32_mask(x0, _mm512_sub_epi32(cx, r)) & _mm512_cmple_epi32_mask(x1, _mm512_add_epi32(cx, r)) &
-          _mm512_cmpge_epi32_mask(y0, _mm512_sub_epi32(cyf, r)) & _mm512_cmple_epi32_mask(y1, _mm512_add_epi32(cyf, r)) &
-          _mm512_cmpeq_epi32_mask(_mm512_i32gather_epi32(p[k].texel, s.texel_island, 4), island);
+      const Box b = centres_within(p[k].x, p[k].y, ex, ey, c);
+      const __m512i x0 = b.x0, x1 = b.x1, y0 = b.y0, y1 = b.y1;
+      const __mmask16 whole = box_within_island(s, c, p[k].texel, b, 0, p[k].triangle);
       const __mmask16 fast = lanes & static_cast<__mmask16>(~small) & whole;
       __m512 sum = here, count = one;
       if (fast) {
@@ -735,20 +833,7 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 step16(const mtx_surface_tables& s, const mtx_m
     point_in_texels(w.b0, w.b1, w.b2, uv, tx, mx, my);
     const __m512i texel = texel_at(mx, my, tx.last_x, tx.last_y, tx.row);
     if (c.surface_mode) {
-      // The footprint around each lane's point (mtx_mark_footprint), lane by lane.
-      alignas(64) uint32_t sp[16], at[16], on[16];
-      alignas(64) float fx[16], fy[16];
-      _mm512_store_si512(sp, species);
-      _mm512_store_si512(at, texel);
-      _mm512_store_si512(on, w.t);
-      _mm512_store_ps(fx, mx);
-      _mm512_store_ps(fy, my);
-      for (unsigned bits = inside; bits; bits &= bits - 1) {
-        const int q = __builtin_ctz(bits);
-        mtx_walker where{};
-        where.triangle = on[q];
-        mtx_mark_footprint(s, field, marks + size_t(sp[q]) * plane_texels, &where, at[q], fx[q], fy[q], &c);
-      }
+      mark_footprints(s, c, field, marks, inside, species, w.t, texel, mx, my);
       continue;
     }
     alignas(64) uint32_t at[16];
