@@ -9,10 +9,6 @@
 #include "agents/momas_rules.h"
 #include "surface/trace_lanes.h"
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#define MOLDTEX_MOMAS_LANES_X86 1
-#endif
-
 namespace moldtex {
 
 namespace {

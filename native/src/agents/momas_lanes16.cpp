@@ -6,14 +6,7 @@
 #include "agents/momas_lanes_shared.h"
 #include "surface/crossing_lanes.h"
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#include <immintrin.h>
-// GCC 12 warns inside its own AVX-512 headers (their _mm512_undefined_* sources, which
-// are meant to be left undefined) wherever these intrinsics are inlined; and about the
-// ABI of vector values, which never cross a call here (every helper is inlined).
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#pragma GCC diagnostic ignored "-Wuninitialized"
-#pragma GCC diagnostic ignored "-Wpsabi"
+#ifdef MOLDTEX_MOMAS_LANES_X86
 
 namespace moldtex {
 

@@ -6,23 +6,16 @@
 #include "agents/momas_lanes_shared.h"
 #include "surface/crossing_lanes.h"
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#include <immintrin.h>
-// GCC 12 warns inside its own AVX-512 headers (their _mm512_undefined_* sources, which
-// are meant to be left undefined) wherever these intrinsics are inlined; and about the
-// ABI of vector values, which never cross a call here (every helper is inlined).
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#pragma GCC diagnostic ignored "-Wuninitialized"
-#pragma GCC diagnostic ignored "-Wpsabi"
+#ifdef MOLDTEX_MOMAS_LANES_X86
 
 namespace moldtex {
 
 namespace {
 
-// The same step as agents/momas_lanes16.cpp in eight AVX2 lanes (processors without AVX-512: AMD before Zen 4,
-// Intel's consumer parts). Masks are vectors (all ones where set), the 64-bit multiplies
-// of the random numbers are built from 32-bit ones, and the unfolding is gathered float
-// by float; every float operation is the 16-lane code's, so the bits are the same.
+// The same step as agents/momas_lanes16.cpp in eight AVX2 lanes (processors without
+// AVX-512: AMD before Zen 4, Intel's consumer parts). Masks are vectors (all ones where
+// set), the 64-bit multiplies of the random numbers are built from 32-bit ones; every
+// float operation is the 16-lane code's, so the bits are the same.
 
 #define MOLDTEX_AVX2_FN __attribute__((target("avx2"), always_inline)) inline
 

@@ -8,6 +8,17 @@
 #include "agents/agents.h"
 #include "shared/momas.h"
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define MOLDTEX_MOMAS_LANES_X86 1
+// GCC 12 warns inside its own AVX-512 headers (their _mm512_undefined_* sources, which
+// are meant to be left undefined) wherever these intrinsics are inlined; and about the
+// ABI of vector values, which never cross a call here (every helper is inlined).
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
 namespace moldtex {
 
 // Agents idx[0..n) (n <= kPending) through the scalar code as momas_update_agents' batches
