@@ -1,10 +1,10 @@
 #include "surface/trace_lanes.h"
 
-#include "surface/crossing_lanes.h"
-
 #include <algorithm>
 #include <atomic>
 #include <cstdlib>
+
+#include "surface/crossing_lanes.h"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
@@ -38,7 +38,6 @@ void hops_scalar(const uint32_t* adjacency, const float* unfolded, TraceLanes& l
 }
 
 #ifdef MOLDTEX_TRACE_LANES_X86
-
 
 // Sixteen lanes of traces in flight (AVX-512F): each lane's trace (its number `id`), its
 // triangle, start and end weights and crossings so far; `live`: the lanes that hold one.
