@@ -1,8 +1,12 @@
-// MoMaS' common case in SIMD lanes (agents/momas_lanes.h), white-box: every agent must end
-// each step bit for bit where the scalar code (momas_update_agents) puts it, with the same
-// marks, whichever way it went: probes inside its triangle or traced across edges, a move
-// that stays inside or leaves the lanes for the scalar code (edges crossed, open
-// boundaries), turns to either side or on a tie, one species or several.
+// MoMaS' step in SIMD lanes (agents/momas_lanes.h), white-box: every agent must end each
+// step bit for bit where the scalar code (momas_update_agents) puts it, with the same
+// marks, at 16 lanes and at 8, whichever way it went: probes inside its triangle or traced
+// across edges, a move that stays inside, walks across edges or leaves the lanes for the
+// scalar code (open boundaries), turns to either side or on a tie, one species or
+// several, texel or surface units (footprints summed and marked in the lanes or lane by
+// lane), steps with and without sensing. The comparison sees a rounding only where it
+// moves a texel or a decision (an end's weight one ulp off seldom does), so the lanes
+// also follow the scalar code's order of operations line by line.
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
