@@ -555,8 +555,8 @@ MOLDTEX_MOMAS_LANES_FN void sense_footprints(const mtx_surface_tables& s, const 
   }
 }
 
-// Agents [i, i + 16): the lanes whose probes and move stay inside their triangles are
-// stepped here; the others are returned for the scalar code.
+// Agents [i, i + 16) through a whole step in the lanes; returns the lanes stepped (the
+// others, with a trace or a move that must be walked, are left to the scalar code).
 MOLDTEX_MOMAS_LANES_FN __mmask16 step16(const mtx_surface_tables& s, const mtx_momas_constants& c,
                                         const float* pheromone, const float* field, uint8_t* marks, Agents& agents,
                                         size_t i) {

@@ -130,7 +130,7 @@ struct Trace8 {
   __m256 s0, s1, s2, e0, e1, e2;
 };
 
-// mtx_trace_hops for the lanes `todo` (trace_hops' eight-lane twin).
+// mtx_trace_hops for the lanes `todo` (momas_lanes16.cpp's trace_hops in eight lanes).
 MOLDTEX_AVX2_FN M8 trace_hops8(Trace8& g, M8 todo, const uint32_t* adjacency, const float* unfolded) {
   const __m256 zero = _mm256_setzero_ps();
   const __m256i none = _mm256_set1_epi32(static_cast<int>(MTX_NO_NEIGHBOUR));
@@ -155,7 +155,7 @@ MOLDTEX_AVX2_FN M8 trace_hops8(Trace8& g, M8 todo, const uint32_t* adjacency, co
   return located;
 }
 
-// trace_texel's twin.
+// The texel where each lane's trace ends (momas_lanes16.cpp's trace_probe, texel only).
 MOLDTEX_AVX2_FN __m256i trace_texel8(const mtx_surface_tables& s, M8 todo, M8* ok, __m256i tri, __m256 b0, __m256 b1,
                                      __m256 b2, __m256 hx, __m256 hy, __m256 length, __m256 inv_a, __m256 bx,
                                      __m256 inv_by, const __m256* own_uv, const Texture8& tx, __m256i texel) {
@@ -178,7 +178,7 @@ struct Walk8 {
   __m256 inv_a, bx, inv_by;
 };
 
-// walk_across' twin.
+// mtx_walk_across in eight lanes (momas_lanes16.cpp's walk_across).
 MOLDTEX_AVX2_FN M8 walk_across8(const mtx_surface_tables& s, Walk8& w, M8 todo, __m256 length) {
   const float* frames = reinterpret_cast<const float*>(s.frames);
   const __m256 zero = _mm256_setzero_ps();
@@ -262,7 +262,8 @@ MOLDTEX_AVX2_FN M8 walk_across8(const mtx_surface_tables& s, Walk8& w, M8 todo, 
   return ended;
 }
 
-// step16's twin: agents [i, i + 8); returns the lanes done (bits).
+// momas_lanes16.cpp's step16 in eight lanes, texel units: agents [i, i + 8); returns the
+// lanes stepped (bits).
 MOLDTEX_AVX2_FN unsigned step8(const mtx_surface_tables& s, const mtx_momas_constants& c, const float* pheromone,
                                uint8_t* marks, Agents& agents, size_t i) {
   const float* frames = reinterpret_cast<const float*>(s.frames);
