@@ -34,29 +34,6 @@ bool detect_lanes() {
 
 }  // namespace
 
-void momas_agents_scalar(const mtx_surface_tables& s, const mtx_momas_constants& c, const float* pheromone,
-                         const float* field, uint8_t* marks, Agents& agents, const size_t* idx, size_t n) {
-  Walker w[kPending];
-  mtx_momas_probes probes[kPending];
-  const size_t plane = size_t(c.width) * c.height;
-  for (size_t j = 0; j < n; ++j) {
-    const size_t i = idx[j];
-    w[j] = agents.load(i);
-    const uint32_t species = agents.species[i];
-    mtx_momas_probe(s, &w[j], species, &c, &probes[j]);
-    const float* own = pheromone + species * plane;
-    for (int k = 0; k < 3; ++k) __builtin_prefetch(own + probes[j].texel[k]);
-    __builtin_prefetch(marks + species * plane + probes[j].here, 1);
-  }
-  for (size_t j = 0; j < n; ++j) {
-    const size_t i = idx[j];
-    float hunger = agents.hunger[i];
-    mtx_momas_agent_finish(s, pheromone, field, marks, &w[j], &hunger, agents.species[i], i, &c, &probes[j]);
-    agents.store(i, w[j]);
-    agents.hunger[i] = hunger;
-  }
-}
-
 unsigned momas_lane_width() {
 #ifdef MOLDTEX_MOMAS_LANES_X86
   // AVX2 as the trace lanes find it.
@@ -79,7 +56,7 @@ bool momas_lanes_apply(const mtx_momas_constants& c, uint32_t triangle_count) {
 #ifdef MOLDTEX_MOMAS_LANES_X86
   const unsigned width = lanes_now();
   if (width < 8u) return false;
-  const uint64_t planes_texels = uint64_t(c.width) * c.height * (c.species_count ? c.species_count : 1u);
+  const uint64_t planes_texels = uint64_t(c.width) * c.height * c.species_count;
   // Surface units (footprint sensing and marks, steps without sensing): 16 lanes only.
   const bool units = c.surface_mode == 0u ? c.coast == 0u : width >= 16u;
   return units && c.decisions <= 1u && c.sensor_size == 0u && c.has_fields == 0u &&

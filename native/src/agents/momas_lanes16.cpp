@@ -42,6 +42,13 @@ MOLDTEX_MOMAS_LANES_FN __m512i texel_at(__m512 x, __m512 y, __m512i last_x, __m5
   return _mm512_add_epi32(_mm512_mullo_epi32(iy, width), ix);
 }
 
+// Marks byte marks[index] of each lane in m (every writer stores the same 1).
+MOLDTEX_MOMAS_LANES_FN void mark_lanes(uint8_t* marks, __m512i index, __mmask16 m) {
+  alignas(64) uint32_t at[16];
+  _mm512_store_si512(at, index);
+  for (unsigned bits = m; bits; bits &= bits - 1) MTX_MARK(marks, at[__builtin_ctz(bits)]);
+}
+
 // A texture's size for texel lookups in lanes.
 struct TextureLanes {
   __m512 width, height;
@@ -159,6 +166,11 @@ MOLDTEX_MOMAS_LANES_FN Probe probe_at(__m512 x, __m512 y, __m512i tri, __m512 le
   return Probe{texel_at(px, py, tx.last_x, tx.last_y, tx.row), tri, px, py};
 }
 
+// -a: the sign bit flipped (0 - a would give +0 for a = +0, not -0).
+MOLDTEX_MOMAS_LANES_FN __m512 negated(__m512 a) {
+  return _mm512_castsi512_ps(_mm512_xor_si512(_mm512_castps_si512(a), _mm512_set1_epi32(static_cast<int>(0x80000000u))));
+}
+
 // mtx_clear_of_edge in lanes: (db >= 0) | ((b > 1e-30) & (b + length db >= 1e-6 b)).
 MOLDTEX_MOMAS_LANES_FN __mmask16 clear_of_edge(__m512 b, __m512 db, __m512 length) {
   const __mmask16 rising = _mm512_cmp_ps_mask(db, _mm512_setzero_ps(), _CMP_GE_OQ);
@@ -171,15 +183,8 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 clear_of_edge(__m512 b, __m512 db, __m512 lengt
 // mtx_meets_edge in lanes: db < 0 and (b > 0 ? -b / db : 0) < length.
 MOLDTEX_MOMAS_LANES_FN __mmask16 meets_edge(__m512 b, __m512 db, __m512 length) {
   const __m512 zero = _mm512_setzero_ps();
-  const __m512 minus_b = _mm512_castsi512_ps(
-      _mm512_xor_si512(_mm512_castps_si512(b), _mm512_set1_epi32(static_cast<int>(0x80000000u))));
-  const __m512 tau = _mm512_maskz_div_ps(_mm512_cmp_ps_mask(b, zero, _CMP_GT_OQ), minus_b, db);
+  const __m512 tau = _mm512_maskz_div_ps(_mm512_cmp_ps_mask(b, zero, _CMP_GT_OQ), negated(b), db);
   return _mm512_cmp_ps_mask(db, zero, _CMP_LT_OQ) & _mm512_cmp_ps_mask(tau, length, _CMP_LT_OQ);
-}
-
-// -a: the sign bit flipped (0 - a would give +0 for a = +0, not -0).
-MOLDTEX_MOMAS_LANES_FN __m512 negated(__m512 a) {
-  return _mm512_castsi512_ps(_mm512_xor_si512(_mm512_castps_si512(a), _mm512_set1_epi32(static_cast<int>(0x80000000u))));
 }
 
 // Walkers in lanes, with their triangle's frame values that a walk reads.
@@ -444,10 +449,8 @@ MOLDTEX_MOMAS_LANES_FN void mark_footprints(const mtx_surface_tables& s, const m
                          _mm512_cmp_ps_mask(ey, _mm512_mul_ps(half, ex), _CMP_LT_OQ);
     const __mmask16 plain = lanes & static_cast<__mmask16>(~(jx | jy));
     // The texel under the walker, if an island texel.
-    alignas(64) uint32_t at[16];
     const __mmask16 own = plain & _mm512_cmpeq_epi32_mask(byte_at(s.classes, texel), _mm512_set1_epi32(MTX_TEXEL_INSIDE));
-    _mm512_store_si512(at, _mm512_add_epi32(base, texel));
-    for (unsigned bits = own; bits; bits &= bits - 1) MTX_MARK(marks, at[__builtin_ctz(bits)]);
+    mark_lanes(marks, _mm512_add_epi32(base, texel), own);
     const __mmask16 small = _mm512_cmp_ps_mask(ex, half, _CMP_LT_OQ) & _mm512_cmp_ps_mask(ey, half, _CMP_LT_OQ);
     const __mmask16 boxed = plain & static_cast<__mmask16>(~small);
     __mmask16 fast = 0;
@@ -463,9 +466,8 @@ MOLDTEX_MOMAS_LANES_FN void mark_footprints(const mtx_surface_tables& s, const m
           const __mmask16 row_in = fast & _mm512_cmple_epi32_mask(_mm512_set1_epi32(dy), hgt);
           const __m512i row = _mm512_add_epi32(base, _mm512_mullo_epi32(_mm512_add_epi32(b.y0, _mm512_set1_epi32(dy)), width));
           for (int dx = 0; dx <= most_w; ++dx) {
-            const __mmask16 m = row_in & _mm512_cmple_epi32_mask(_mm512_set1_epi32(dx), w);
-            _mm512_store_si512(at, _mm512_add_epi32(row, _mm512_add_epi32(b.x0, _mm512_set1_epi32(dx))));
-            for (unsigned bits = m; bits; bits &= bits - 1) MTX_MARK(marks, at[__builtin_ctz(bits)]);
+            mark_lanes(marks, _mm512_add_epi32(row, _mm512_add_epi32(b.x0, _mm512_set1_epi32(dx))),
+                       row_in & _mm512_cmple_epi32_mask(_mm512_set1_epi32(dx), w));
           }
         }
       }
@@ -513,19 +515,18 @@ MOLDTEX_MOMAS_LANES_FN void sense_footprints(const mtx_surface_tables& s, const 
       const __mmask16 small = _mm512_cmp_ps_mask(ex, _mm512_set1_ps(0.5f), _CMP_LT_OQ) &
                               _mm512_cmp_ps_mask(ey, _mm512_set1_ps(0.5f), _CMP_LT_OQ);
       const Box b = centres_within(p[k].x, p[k].y, ex, ey, c);
-      const __m512i x0 = b.x0, x1 = b.x1, y0 = b.y0, y1 = b.y1;
       const __mmask16 whole = box_within_island(s, c, p[k].texel, b, 0, p[k].triangle);
       const __mmask16 fast = lanes & static_cast<__mmask16>(~small) & whole;
       __m512 sum = here, count = one;
       if (fast) {
-        const __m512i w = _mm512_sub_epi32(x1, x0), hgt = _mm512_sub_epi32(y1, y0);
+        const __m512i w = _mm512_sub_epi32(b.x1, b.x0), hgt = _mm512_sub_epi32(b.y1, b.y0);
         const int most_w = _mm512_mask_reduce_max_epi32(fast, w), most_h = _mm512_mask_reduce_max_epi32(fast, hgt);
         for (int dy = 0; dy <= most_h; ++dy) {
           const __mmask16 row_in = fast & _mm512_cmple_epi32_mask(_mm512_set1_epi32(dy), hgt);
           if (!row_in) continue;
-          const __m512i row = _mm512_mullo_epi32(_mm512_add_epi32(y0, _mm512_set1_epi32(dy)), width);
+          const __m512i row = _mm512_mullo_epi32(_mm512_add_epi32(b.y0, _mm512_set1_epi32(dy)), width);
           for (int dx = 0; dx <= most_w; ++dx) {
-            const __m512i i = _mm512_add_epi32(row, _mm512_add_epi32(x0, _mm512_set1_epi32(dx)));
+            const __m512i i = _mm512_add_epi32(row, _mm512_add_epi32(b.x0, _mm512_set1_epi32(dx)));
             const __mmask16 m = row_in & _mm512_cmple_epi32_mask(_mm512_set1_epi32(dx), w) &
                                 _mm512_cmpneq_epi32_mask(i, p[k].texel);
             if (!m) continue;
@@ -613,8 +614,7 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 step16(const mtx_surface_tables& s, const mtx_m
     const __m512 jxy = _mm512_mul_ps(_mm512_sub_ps(du2, _mm512_mul_ps(bx, jxx)), inv_by);
     const __m512 jyy = _mm512_mul_ps(_mm512_sub_ps(dv2, _mm512_mul_ps(bx, jyx)), inv_by);
     const __m512 cs = per_species(c.sensor_cos, species), sn = per_species(c.sensor_sin, species);
-    const __m512 nsn = _mm512_castsi512_ps(  // -sn, the sign bit flipped
-        _mm512_xor_si512(_mm512_castps_si512(sn), _mm512_set1_epi32(static_cast<int>(0x80000000u))));
+    const __m512 nsn = negated(sn);
     const Jacobian j{jxx, jxy, jyx, jyy};
     // mtx_rotate(h, c, s): (c x - s y, s x + c y); the right probe turns by -s.
     const __m512 px[3] = {_mm512_sub_ps(_mm512_mul_ps(cs, hx), _mm512_mul_ps(sn, hy)), hx,
@@ -742,18 +742,13 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 step16(const mtx_surface_tables& s, const mtx_m
       mark_footprints(s, c, field, marks, inside, species, w.t, texel, mx, my);
       continue;
     }
-    alignas(64) uint32_t at[16];
-    _mm512_store_si512(at, _mm512_add_epi32(mark_base, texel));
-    for (unsigned bits = inside; bits; bits &= bits - 1) MTX_MARK(marks, at[__builtin_ctz(bits)]);
+    mark_lanes(marks, _mm512_add_epi32(mark_base, texel), inside);
   }
-  const __m512 b1_out = w.b1, b2_out = w.b2;
-  hx = w.hx;
-  hy = w.hy;
   if (moved) _mm512_mask_storeu_epi32(agents.triangle.data() + i, moved & inside, w.t);
-  _mm512_mask_storeu_ps(agents.b1.data() + i, inside, b1_out);
-  _mm512_mask_storeu_ps(agents.b2.data() + i, inside, b2_out);
-  _mm512_mask_storeu_ps(agents.hx.data() + i, inside, hx);
-  _mm512_mask_storeu_ps(agents.hy.data() + i, inside, hy);
+  _mm512_mask_storeu_ps(agents.b1.data() + i, inside, w.b1);
+  _mm512_mask_storeu_ps(agents.b2.data() + i, inside, w.b2);
+  _mm512_mask_storeu_ps(agents.hx.data() + i, inside, w.hx);
+  _mm512_mask_storeu_ps(agents.hy.data() + i, inside, w.hy);
   return inside;
 }
 

@@ -279,12 +279,12 @@ MOLDTEX_AVX2_FN unsigned step8(const mtx_surface_tables& s, const mtx_momas_cons
   for (int q = 0; q < 6; ++q) uv[q] = zero;
   gather_uvs8(s.corner_uvs, tri, all, uv);
   const __m256i tf = _mm256_mullo_epi32(tri, _mm256_set1_epi32(kFrameFloats));
-  const __m256 inv_a = _mm256_i32gather_ps(frames, _mm256_add_epi32(tf, _mm256_set1_epi32(kInvA)), 4);
-  const __m256 bx = _mm256_i32gather_ps(frames, _mm256_add_epi32(tf, _mm256_set1_epi32(kBx)), 4);
-  const __m256 inv_by = _mm256_i32gather_ps(frames, _mm256_add_epi32(tf, _mm256_set1_epi32(kInvBy)), 4);
-  const __m256 alt0 = _mm256_i32gather_ps(frames, _mm256_add_epi32(tf, _mm256_set1_epi32(kAltitude)), 4);
-  const __m256 alt1 = _mm256_i32gather_ps(frames, _mm256_add_epi32(tf, _mm256_set1_epi32(kAltitude + 1)), 4);
-  const __m256 alt2 = _mm256_i32gather_ps(frames, _mm256_add_epi32(tf, _mm256_set1_epi32(kAltitude + 2)), 4);
+  const __m256 inv_a = gather8(frames, _mm256_add_epi32(tf, _mm256_set1_epi32(kInvA)), all, zero);
+  const __m256 bx = gather8(frames, _mm256_add_epi32(tf, _mm256_set1_epi32(kBx)), all, zero);
+  const __m256 inv_by = gather8(frames, _mm256_add_epi32(tf, _mm256_set1_epi32(kInvBy)), all, zero);
+  const __m256 alt0 = gather8(frames, _mm256_add_epi32(tf, _mm256_set1_epi32(kAltitude)), all, zero);
+  const __m256 alt1 = gather8(frames, _mm256_add_epi32(tf, _mm256_set1_epi32(kAltitude + 1)), all, zero);
+  const __m256 alt2 = gather8(frames, _mm256_add_epi32(tf, _mm256_set1_epi32(kAltitude + 2)), all, zero);
 
   const Texture8 tx = texture8(c);
   __m256 x, y;

@@ -1,11 +1,12 @@
 // What MoMaS' lanes of both widths share (agents/momas_lanes16.cpp: AVX-512,
-// agents/momas_lanes8.cpp: AVX2; the dispatch in agents/momas_lanes.cpp): the scalar
-// step for the agents they leave, and where a triangle's frame values lie.
+// agents/momas_lanes8.cpp: AVX2; the dispatch in agents/momas_lanes.cpp): the agents
+// they leave to the scalar step, and where a triangle's frame values lie.
 #pragma once
 #include <cstddef>
 #include <cstdint>
 
 #include "agents/agents.h"
+#include "agents/momas_rules.h"
 #include "shared/momas.h"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
@@ -21,14 +22,8 @@
 
 namespace moldtex {
 
-// Agents idx[0..n) (n <= kPending) through the scalar code as momas_update_agents' batches
-// run it: every probe first, with its texels asked for, then the rest of each step.
-constexpr size_t kPending = 32;
-void momas_agents_scalar(const mtx_surface_tables& s, const mtx_momas_constants& c, const float* pheromone,
-                         const float* field, uint8_t* marks, Agents& agents, const size_t* idx, size_t n);
-
 // The agents the lanes leave (a trace or move that must be walked): they gather here and
-// run in scalar batches of 16 or more. Agents are independent within a step (each reads
+// run through the scalar step (momas_update_listed) once 16 or more wait. Agents are independent within a step (each reads
 // the step's field and its own state, and marks are the same byte from every writer).
 struct Leftovers {
   const mtx_surface_tables& s;
@@ -37,7 +32,7 @@ struct Leftovers {
   const float* field;
   uint8_t* marks;
   Agents& agents;
-  size_t pending[kPending];
+  size_t pending[2 * kMomasBatch];  // 15 waiting and a group of 16 at most
   size_t waiting = 0, stepped = 0;
 
   // A group of agents from `first` (lanes `all`), of which the lanes `done` were stepped.
@@ -45,8 +40,8 @@ struct Leftovers {
     stepped += static_cast<size_t>(__builtin_popcount(done));
     for (unsigned rest = ~done & all; rest; rest &= rest - 1)
       pending[waiting++] = first + static_cast<size_t>(__builtin_ctz(rest));
-    if (waiting >= 16) {
-      momas_agents_scalar(s, c, pheromone, field, marks, agents, pending, waiting);
+    if (waiting >= kMomasBatch) {
+      momas_update_listed(s, c, pheromone, field, marks, agents, pending, waiting);
       waiting = 0;
     }
   }
@@ -54,7 +49,7 @@ struct Leftovers {
   // the lanes stepped.
   size_t finish(size_t i, size_t end) {
     for (; i < end; ++i) pending[waiting++] = i;
-    momas_agents_scalar(s, c, pheromone, field, marks, agents, pending, waiting);
+    momas_update_listed(s, c, pheromone, field, marks, agents, pending, waiting);
     return stepped;
   }
 };

@@ -1,5 +1,6 @@
 #include "agents/momas_rules.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -72,47 +73,65 @@ mtx_surface_tables surface_tables(const Surface& s, const TextureDomain& d) {
                             nullptr, nullptr, d.interior_reach.data(), s.unfolded.data()};
 }
 
+namespace {
+
+// Agents agent(0) .. agent(n - 1) (n <= kMomasBatch), all of a step. In a batch: trace every
+// agent's sensors first and ask for the texels they end on, so the batch's reads travel
+// from memory together instead of one after another.
+template <class Agent>
+void update_batch(const mtx_surface_tables& tables, const MomasStepConstants& c, const float* pheromone,
+                  const float* field, uint8_t* marks, Agents& agents, size_t n, Agent agent) {
+  Walker w[kMomasBatch];
+  mtx_momas_probes probes[kMomasBatch];
+  const size_t plane = size_t(c.width) * c.height;
+  for (size_t j = 0; j < n; ++j) {
+    const size_t i = agent(j);
+    w[j] = agents.load(i);
+    const uint32_t species = agents.species[i];
+    mtx_momas_probe(tables, &w[j], species, &c, &probes[j]);
+    const float* own = pheromone + species * plane;
+    for (int k = 0; k < 3; ++k) __builtin_prefetch(own + probes[j].texel[k]);
+    // Surface units read a footprint around each probe texel: the rows above and
+    // below, and whether the block there is all one island.
+    if (c.surface_mode && !c.coast)
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t t = probes[j].texel[k];
+        __builtin_prefetch(own + (t >= c.width ? t - c.width : t));
+        __builtin_prefetch(own + (t + c.width < plane ? t + c.width : t));
+        __builtin_prefetch(tables.interior_reach + t);
+        __builtin_prefetch(tables.texel_island + t);
+      }
+    // Where it moves and marks: the mark's byte (texel units) or, in surface units,
+    // the class there first.
+    if (c.surface_mode)
+      __builtin_prefetch(tables.classes + probes[j].here);
+    else
+      __builtin_prefetch(marks + species * plane + probes[j].here, 1);
+  }
+  for (size_t j = 0; j < n; ++j) {
+    const size_t i = agent(j);
+    float hunger = agents.hunger[i];
+    mtx_momas_agent_finish(tables, pheromone, field, marks, &w[j], &hunger, agents.species[i], i, &c, &probes[j]);
+    agents.store(i, w[j]);
+    agents.hunger[i] = hunger;
+  }
+}
+
+}  // namespace
+
 void momas_update_agents(const mtx_surface_tables& tables, const MomasStepConstants& c,
                          const float* pheromone, const float* field, uint8_t* marks,
                          Agents& agents, size_t begin, size_t end) {
-  // In batches: trace every agent's sensors first and ask for the texels they end on,
-  // so the batch's reads travel from memory together instead of one after another.
-  constexpr size_t kBatch = 16;
-  Walker w[kBatch];
-  mtx_momas_probes probes[kBatch];
-  const size_t plane = size_t(c.width) * c.height;
-  for_each_in_batches<kBatch>(
-      begin, end,
-      [&](size_t i, size_t j) {
-        w[j] = agents.load(i);
-        const uint32_t species = agents.species[i];
-        mtx_momas_probe(tables, &w[j], species, &c, &probes[j]);
-        const float* own = pheromone + species * plane;
-        for (int k = 0; k < 3; ++k) __builtin_prefetch(own + probes[j].texel[k]);
-        // Surface units read a footprint around each probe texel: the rows above and
-        // below, and whether the block there is all one island.
-        if (c.surface_mode && !c.coast)
-          for (int k = 0; k < 3; ++k) {
-            const uint32_t t = probes[j].texel[k];
-            __builtin_prefetch(own + (t >= c.width ? t - c.width : t));
-            __builtin_prefetch(own + (t + c.width < plane ? t + c.width : t));
-            __builtin_prefetch(tables.interior_reach + t);
-            __builtin_prefetch(tables.texel_island + t);
-          }
-        // Where it moves and marks: the mark's byte (texel units) or, in surface units,
-        // the class there first.
-        if (c.surface_mode)
-          __builtin_prefetch(tables.classes + probes[j].here);
-        else
-          __builtin_prefetch(marks + species * plane + probes[j].here, 1);
-      },
-      [&](size_t i, size_t j) {
-        float hunger = agents.hunger[i];
-        mtx_momas_agent_finish(tables, pheromone, field, marks, &w[j], &hunger, agents.species[i], i, &c,
-                               &probes[j]);
-        agents.store(i, w[j]);
-        agents.hunger[i] = hunger;
-      });
+  for (size_t b = begin; b < end; b += kMomasBatch)
+    update_batch(tables, c, pheromone, field, marks, agents, std::min(kMomasBatch, end - b),
+                 [b](size_t j) { return b + j; });
+}
+
+void momas_update_listed(const mtx_surface_tables& tables, const MomasStepConstants& c, const float* pheromone,
+                         const float* field, uint8_t* marks, Agents& agents, const size_t* listed, size_t n) {
+  for (size_t b = 0; b < n; b += kMomasBatch)
+    update_batch(tables, c, pheromone, field, marks, agents, std::min(kMomasBatch, n - b),
+                 [listed, b](size_t j) { return listed[b + j]; });
 }
 
 }  // namespace moldtex

@@ -50,9 +50,14 @@ MomasStepConstants momas_constants(const StepSettings& settings, const TextureDo
 mtx_surface_tables surface_tables(const Surface& surface, const TextureDomain& domain);
 
 // Updates agents [begin, end); see shared/momas.h for why this is thread-safe and
-// deterministic.
+// deterministic. In batches of kMomasBatch agents (every probe first, its texels asked for).
+constexpr size_t kMomasBatch = 16;
 void momas_update_agents(const mtx_surface_tables& tables, const MomasStepConstants& c,
                          const float* pheromone, const float* field, uint8_t* marks,
                          Agents& agents, size_t begin, size_t end);
+
+// ... or the agents listed[0 .. n) (the ones MoMaS' SIMD lanes leave, agents/momas_lanes.h).
+void momas_update_listed(const mtx_surface_tables& tables, const MomasStepConstants& c, const float* pheromone,
+                         const float* field, uint8_t* marks, Agents& agents, const size_t* listed, size_t n);
 
 }  // namespace moldtex
