@@ -80,11 +80,16 @@ MOLDTEX_MOMAS_LANES_FN __m512i texel_of(__m512 b0, __m512 b1, __m512 b2, const _
   return texel_at(x, y, tx.last_x, tx.last_y, tx.row);
 }
 
-// uv[0..5] replaced by triangle t's corner UVs in the lanes m.
+// uv[0..5] replaced by triangle t's corner UVs in the lanes m (each corner's u and v one
+// pair).
 MOLDTEX_MOMAS_LANES_FN void gather_uvs(const float* corner_uvs, __m512i t, __mmask16 m, __m512* uv) {
   const __m512i t6 = _mm512_mullo_epi32(t, _mm512_set1_epi32(6));
-  for (int q = 0; q < 6; ++q)
-    uv[q] = _mm512_mask_i32gather_ps(uv[q], m, _mm512_add_epi32(t6, _mm512_set1_epi32(q)), corner_uvs, 4);
+  for (int q = 0; q < 6; q += 2) {
+    __m512 u, v;
+    gather_pairs(corner_uvs, _mm512_add_epi32(t6, _mm512_set1_epi32(q)), m, u, v);
+    uv[q] = _mm512_mask_mov_ps(uv[q], m, u);
+    uv[q + 1] = _mm512_mask_mov_ps(uv[q + 1], m, v);
+  }
 }
 
 // mtx_min(a, b) (b < a ? b : a) in lanes: vminps returns its first operand where it is
@@ -130,9 +135,10 @@ MOLDTEX_MOMAS_LANES_FN void clamp_bary(__m512& b0, __m512& b1, __m512& b2) {
   b2 = _mm512_mask_mul_ps(third, scaled, z, inv);
 }
 
-// floats[base + offset] in each lane.
-MOLDTEX_MOMAS_LANES_FN __m512 gather_at(const float* floats, __m512i base, int offset) {
-  return _mm512_i32gather_ps(_mm512_add_epi32(base, _mm512_set1_epi32(offset)), floats, 4);
+// floats[base + offset] and floats[base + offset + 1] in each lane.
+MOLDTEX_MOMAS_LANES_FN void gather_pair_at(const float* floats, __m512i base, int offset, __m512& first,
+                                           __m512& second) {
+  gather_pairs(floats, _mm512_add_epi32(base, _mm512_set1_epi32(offset)), 0xffff, first, second);
 }
 
 // A triangle's map from frame directions to texel offsets, J = dUV/dq in texels.
@@ -255,8 +261,8 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 walk_across(const mtx_surface_tables& s, Walk& 
     const __m512 bk = _mm512_mask_mov_ps(_mm512_mask_mov_ps(b1, x1, b0), x0, b2);
     const __m512i tf = _mm512_mullo_epi32(w.t, _mm512_set1_epi32(kFrameFloats));
     const __m512i at_edge = _mm512_add_epi32(_mm512_add_epi32(tf, _mm512_set1_epi32(kEdge)), _mm512_add_epi32(exit, exit));
-    const __m512 ex = _mm512_mask_i32gather_ps(zero, live, at_edge, frames, 4);
-    const __m512 ey = _mm512_mask_i32gather_ps(zero, live, _mm512_add_epi32(at_edge, i1), frames, 4);
+    __m512 ex, ey;
+    gather_pairs(frames, at_edge, live, ex, ey);
     const __m512 along = _mm512_add_ps(_mm512_mul_ps(w.hx, ex), _mm512_mul_ps(w.hy, ey));
     const __m512 across = _mm512_max_ps(  // mtx_max(|...|, MTX_MIN_CROSSING_SINE)
         _mm512_set1_ps(MTX_MIN_CROSSING_SINE),
@@ -282,16 +288,18 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 walk_across(const mtx_surface_tables& s, Walk& 
     // the other way round) and across it.
     const __m512i nf = _mm512_mullo_epi32(next, _mm512_set1_epi32(kFrameFloats));
     const __m512i at_ccw = _mm512_add_epi32(_mm512_add_epi32(nf, _mm512_set1_epi32(kEdge)), _mm512_add_epi32(edge, edge));
-    const __m512 cx = _mm512_mask_i32gather_ps(zero, live, at_ccw, frames, 4);
-    const __m512 cy = _mm512_mask_i32gather_ps(zero, live, _mm512_add_epi32(at_ccw, i1), frames, 4);
+    __m512 cx, cy;
+    gather_pairs(frames, at_ccw, live, cx, cy);
     const __m512 sign = _mm512_mask_mov_ps(_mm512_set1_ps(-1.0f), same, _mm512_set1_ps(1.0f));
     const __m512 signed_along = _mm512_mul_ps(along, sign);
     w.hx = _mm512_mask_mov_ps(w.hx, live, _mm512_sub_ps(_mm512_mul_ps(signed_along, cx), _mm512_mul_ps(across, cy)));
     w.hy = _mm512_mask_mov_ps(w.hy, live, _mm512_add_ps(_mm512_mul_ps(signed_along, cy), _mm512_mul_ps(across, cx)));
     w.t = _mm512_mask_mov_epi32(w.t, live, next);
-    w.inv_a = _mm512_mask_i32gather_ps(w.inv_a, live, _mm512_add_epi32(nf, _mm512_set1_epi32(kInvA)), frames, 4);
+    __m512 inv_a, inv_by;
+    gather_pairs(frames, _mm512_add_epi32(nf, _mm512_set1_epi32(kInvA)), live, inv_a, inv_by);
+    w.inv_a = _mm512_mask_mov_ps(w.inv_a, live, inv_a);
+    w.inv_by = _mm512_mask_mov_ps(w.inv_by, live, inv_by);
     w.bx = _mm512_mask_i32gather_ps(w.bx, live, _mm512_add_epi32(nf, _mm512_set1_epi32(kBx)), frames, 4);
-    w.inv_by = _mm512_mask_i32gather_ps(w.inv_by, live, _mm512_add_epi32(nf, _mm512_set1_epi32(kInvBy)), frames, 4);
   }
   return ended;
 }
@@ -572,14 +580,17 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 step16(const mtx_surface_tables& s, const mtx_m
   __m512 b0 = _mm512_sub_ps(_mm512_sub_ps(one, b1_in), b2_in), b1 = b1_in, b2 = b2_in;
 
   // The triangle's UVs and frame.
-  const __m512i t6 = _mm512_mullo_epi32(tri, _mm512_set1_epi32(6));
   __m512 uv[6];
-  for (int k = 0; k < 6; ++k) uv[k] = gather_at(s.corner_uvs, t6, k);
+  gather_uvs(s.corner_uvs, tri, 0xffff, uv);
+  // The frame's values in pairs of neighbours (mtx_frame: a bx by inv_a inv_by edge[3]
+  // altitude[3]).
+  static_assert(kBx == 1 && kInvBy == kInvA + 1 && kAltitude == kEdge + 6, "mtx_frame's layout");
   const __m512i tf = _mm512_mullo_epi32(tri, _mm512_set1_epi32(kFrameFloats));
-  const __m512 inv_a = gather_at(frames, tf, kInvA), bx = gather_at(frames, tf, kBx);
-  const __m512 inv_by = gather_at(frames, tf, kInvBy);
-  const __m512 alt0 = gather_at(frames, tf, kAltitude), alt1 = gather_at(frames, tf, kAltitude + 1);
-  const __m512 alt2 = gather_at(frames, tf, kAltitude + 2);
+  __m512 unused_a, bx, inv_a, inv_by, unused_edge, alt0, alt1, alt2;
+  gather_pair_at(frames, tf, 0, unused_a, bx);
+  gather_pair_at(frames, tf, kInvA, inv_a, inv_by);
+  gather_pair_at(frames, tf, kAltitude - 1, unused_edge, alt0);
+  gather_pair_at(frames, tf, kAltitude + 1, alt1, alt2);
 
   // mtx_momas_probe: the texel under the agent and its clearance.
   const TextureLanes tx = texture_lanes(c);

@@ -43,29 +43,32 @@ MOLDTEX_CROSSING_LANES_FN __m512i exit_edge(__m512 s0, __m512 s1, __m512 s2, __m
   return edge;
 }
 
+// Two neighbouring floats of a table per lane, table[index] and table[index + 1], for the
+// lanes `live` (zero elsewhere): one 64-bit gather per eight lanes, half the loads of a
+// gather per float, split into its two floats.
+MOLDTEX_CROSSING_LANES_FN void gather_pairs(const float* table, __m512i index, __mmask16 live, __m512& first,
+                                            __m512& second) {
+  const __m256i low = _mm512_maskz_extracti64x4_epi64(__mmask8(0xff), index, 0);
+  const __m256i high = _mm512_maskz_extracti64x4_epi64(__mmask8(0xff), index, 1);  // (maskz: GCC 12 warns on the others)
+  const __m512 a = _mm512_castsi512_ps(
+      _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), static_cast<__mmask8>(live), low, table, 4));
+  const __m512 b = _mm512_castsi512_ps(
+      _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), static_cast<__mmask8>(live >> 8), high, table, 4));
+  first = _mm512_permutex2var_ps(a, _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30), b);
+  second = _mm512_permutex2var_ps(a, _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31), b);
+}
+
 // Start and end weights (s*, e*) of the lanes `live` carried across the edge `slot`
 // (3 t + edge) into the neighbour, in its own weights (mtx_trace_hops' step). The
-// unfolding's six floats are gathered as three pairs: each pair one 64-bit gather per
-// eight lanes (half the loads of a gather per float), split into its two floats.
+// unfolding's six floats are gathered as three pairs (gather_pairs).
 MOLDTEX_CROSSING_LANES_FN void carry_across(__m512i slot, __mmask16 live, const float* unfolded, __m512& s0,
                                             __m512& s1, __m512& s2, __m512& e0, __m512& e1, __m512& e2) {
-  static_assert(MTX_UNFOLDED_FLOATS == 6, "an unfolding is read as three 64-bit pairs at slot * 3");
-  const __m512i slot3 = _mm512_add_epi32(_mm512_add_epi32(slot, slot), slot);  // pairs: slot * 3
-  const __m256i low = _mm512_maskz_extracti64x4_epi64(__mmask8(0xff), slot3, 0);
-  const __m256i high = _mm512_maskz_extracti64x4_epi64(__mmask8(0xff), slot3, 1);
-  const __mmask8 live_low = static_cast<__mmask8>(live), live_high = static_cast<__mmask8>(live >> 8);
-  const __m512i first = _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
-  const __m512i second = _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31);
+  static_assert(MTX_UNFOLDED_FLOATS == 6, "an unfolding is read as three pairs at slot * 6");
+  const __m512i slot2 = _mm512_add_epi32(slot, slot);
+  const __m512i slot6 = _mm512_add_epi32(_mm512_add_epi32(slot2, slot2), slot2);
   __m512 u[6];
-  for (int k = 0; k < 3; ++k) {
-    const __m256i add = _mm256_set1_epi32(k);
-    const __m512 a = _mm512_castsi512_ps(
-        _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), live_low, _mm256_add_epi32(low, add), unfolded, 8));
-    const __m512 b = _mm512_castsi512_ps(
-        _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), live_high, _mm256_add_epi32(high, add), unfolded, 8));
-    u[2 * k] = _mm512_permutex2var_ps(a, first, b);
-    u[2 * k + 1] = _mm512_permutex2var_ps(a, second, b);
-  }
+  for (int k = 0; k < 3; ++k)
+    gather_pairs(unfolded, _mm512_add_epi32(slot6, _mm512_set1_epi32(2 * k)), live, u[2 * k], u[2 * k + 1]);
   const __m512 one = _mm512_set1_ps(1.0f);
   const __m512 s1n = _mm512_add_ps(_mm512_add_ps(u[0], _mm512_mul_ps(u[1], s1)), _mm512_mul_ps(u[2], s2));
   const __m512 s2n = _mm512_add_ps(_mm512_add_ps(u[3], _mm512_mul_ps(u[4], s1)), _mm512_mul_ps(u[5], s2));
