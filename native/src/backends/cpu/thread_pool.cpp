@@ -72,8 +72,10 @@ void ThreadPool::parallel_for_threads(size_t count, size_t min_chunk,
                                       const std::function<void(size_t, size_t, unsigned)>& body) {
   if (count == 0) return;
   size_t threads = size();
-  // Several chunks per thread balance uneven work (agents crossing many edges).
-  size_t chunk = std::max<size_t>(std::max<size_t>(min_chunk, 1), count / (threads * 8) + 1);
+  // Many chunks per thread balance uneven work (agents crossing many edges) and keep
+  // short the wait for the last chunk at the end: with 8 per thread instead of 32, the
+  // MoMaS step on two threads took 3-8% longer (docs/PERFORMANCE.md).
+  size_t chunk = std::max<size_t>(std::max<size_t>(min_chunk, 1), count / (threads * 32) + 1);
   if (threads == 1 || count <= chunk) {
     body(0, count, 0);
     return;
