@@ -27,7 +27,8 @@ std::atomic<unsigned> g_limit{initial_limit()};
 #ifdef MOLDTEX_MOMAS_LANES_X86
 bool detect_lanes() {
   __builtin_cpu_init();
-  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
+  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+         __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("bmi2");
 }
 
 #endif

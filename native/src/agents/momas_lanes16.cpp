@@ -12,7 +12,7 @@ namespace moldtex {
 
 namespace {
 
-#define MOLDTEX_MOMAS_LANES_FN __attribute__((target("avx512f,avx512dq"), always_inline)) inline
+#define MOLDTEX_MOMAS_LANES_FN __attribute__((target("avx512f,avx512dq,avx512bw,bmi2"), always_inline)) inline
 
 // shared/rng.h's mtx_mix64 in eight 64-bit lanes.
 MOLDTEX_MOMAS_LANES_FN __m512i mix64(__m512i x) {
@@ -466,17 +466,20 @@ MOLDTEX_MOMAS_LANES_FN void mark_footprints(const mtx_surface_tables& s, const m
       const Box b = centres_within(x, y, ex, ey, c);
       const __mmask16 filled = _mm512_cmple_epi32_mask(b.x0, b.x1) & _mm512_cmple_epi32_mask(b.y0, b.y1);
       fast = boxed & filled & box_within_island(s, c, texel, b, 1, t);
-      if (fast) {
-        const __m512i w = _mm512_sub_epi32(b.x1, b.x0), hgt = _mm512_sub_epi32(b.y1, b.y0);
-        const int most_w = _mm512_mask_reduce_max_epi32(fast, w), most_h = _mm512_mask_reduce_max_epi32(fast, hgt);
-        const __m512i width = _mm512_set1_epi32(static_cast<int>(c.width));
-        for (int dy = 0; dy <= most_h; ++dy) {
-          const __mmask16 row_in = fast & _mm512_cmple_epi32_mask(_mm512_set1_epi32(dy), hgt);
-          const __m512i row = _mm512_add_epi32(base, _mm512_mullo_epi32(_mm512_add_epi32(b.y0, _mm512_set1_epi32(dy)), width));
-          for (int dx = 0; dx <= most_w; ++dx) {
-            mark_lanes(marks, _mm512_add_epi32(row, _mm512_add_epi32(b.x0, _mm512_set1_epi32(dx))),
-                       row_in & _mm512_cmple_epi32_mask(_mm512_set1_epi32(dx), w));
-          }
+      if (fast) {  // each lane's box row by row, a row's bytes in one masked store
+        static_assert(2 * MTX_MAX_FOOTPRINT_TEXELS + 1 <= 64, "a box row within one 64-byte store");
+        alignas(64) int32_t first[16], last_x[16], top[16], bottom[16], offset[16];
+        _mm512_store_si512(first, b.x0);
+        _mm512_store_si512(last_x, b.x1);
+        _mm512_store_si512(top, b.y0);
+        _mm512_store_si512(bottom, b.y1);
+        _mm512_store_si512(offset, base);
+        const __m512i ones = _mm512_set1_epi8(1);
+        for (unsigned bits = fast; bits; bits &= bits - 1) {
+          const int q = __builtin_ctz(bits);
+          const __mmask64 row_bytes = _bzhi_u64(~0ull, static_cast<unsigned>(last_x[q] - first[q] + 1));
+          uint8_t* at = marks + static_cast<uint32_t>(offset[q]) + size_t(top[q]) * c.width + first[q];
+          for (int yy = top[q]; yy <= bottom[q]; ++yy, at += c.width) _mm512_mask_storeu_epi8(at, row_bytes, ones);
         }
       }
     }
@@ -533,14 +536,23 @@ MOLDTEX_MOMAS_LANES_FN void sense_footprints(const mtx_surface_tables& s, const 
           const __mmask16 row_in = fast & _mm512_cmple_epi32_mask(_mm512_set1_epi32(dy), hgt);
           if (!row_in) continue;
           const __m512i row = _mm512_mullo_epi32(_mm512_add_epi32(b.y0, _mm512_set1_epi32(dy)), width);
-          for (int dx = 0; dx <= most_w; ++dx) {
+          // Two texels of the row at a time where the box holds both (one 64-bit gather per
+          // eight lanes), added in the row's order.
+          for (int dx = 0; dx <= most_w; dx += 2) {
             const __m512i i = _mm512_add_epi32(row, _mm512_add_epi32(b.x0, _mm512_set1_epi32(dx)));
-            const __mmask16 m = row_in & _mm512_cmple_epi32_mask(_mm512_set1_epi32(dx), w) &
-                                _mm512_cmpneq_epi32_mask(i, p[k].texel);
-            if (!m) continue;
-            const __m512 v = _mm512_mask_i32gather_ps(zero, m, i, pheromone, 4);
-            sum = _mm512_mask_add_ps(sum, m, sum, _mm512_mul_ps(a, v));
-            count = _mm512_mask_add_ps(count, m, count, one);
+            const __mmask16 first = row_in & _mm512_cmple_epi32_mask(_mm512_set1_epi32(dx), w);
+            const __mmask16 both = row_in & _mm512_cmple_epi32_mask(_mm512_set1_epi32(dx + 1), w);
+            __m512 v0 = zero, v1 = zero;
+            if (both) gather_pairs(pheromone, i, both, v0, v1);
+            const __mmask16 single = first & static_cast<__mmask16>(~both);
+            if (single) v0 = _mm512_mask_i32gather_ps(v0, single, i, pheromone, 4);
+            const __mmask16 m0 = first & _mm512_cmpneq_epi32_mask(i, p[k].texel);
+            sum = _mm512_mask_add_ps(sum, m0, sum, _mm512_mul_ps(a, v0));
+            count = _mm512_mask_add_ps(count, m0, count, one);
+            const __mmask16 m1 =
+                both & _mm512_cmpneq_epi32_mask(_mm512_add_epi32(i, _mm512_set1_epi32(1)), p[k].texel);
+            sum = _mm512_mask_add_ps(sum, m1, sum, _mm512_mul_ps(a, v1));
+            count = _mm512_mask_add_ps(count, m1, count, one);
           }
         }
       }
@@ -765,7 +777,7 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 step16(const mtx_surface_tables& s, const mtx_m
 
 }  // namespace
 
-__attribute__((target("avx512f,avx512dq"))) size_t momas_lanes16(const mtx_surface_tables& s,
+__attribute__((target("avx512f,avx512dq,avx512bw,bmi2"))) size_t momas_lanes16(const mtx_surface_tables& s,
                                                                 const mtx_momas_constants& c, const float* pheromone,
                                                                 const float* field, uint8_t* marks, Agents& agents,
                                                                 size_t begin, size_t end) {
