@@ -336,7 +336,8 @@ std::vector<double> PolarBandShares(const Mesh& m, const double* bands, int nb) 
 // to the rest of the sphere, (a) for agents that do not steer (vision angle 0: the three
 // sensors read the same point, every step is a random turn), which shows whether the
 // same agent density leaves the same pheromone near a pole, and (b) with the defaults.
-// MOLDTEX_POLE_W, MOLDTEX_POLE_STEPS, MOLDTEX_POLE_SEEDS override size, steps, seeds.
+// MOLDTEX_POLE_W, MOLDTEX_POLE_STEPS, MOLDTEX_POLE_SEEDS override size, steps, seeds;
+// MOLDTEX_POLE_VISION the vision distance (small cells, 0.4, unless set).
 // Measured at 256^2 (seed 1 unless said), by band 0-4 / 4-5.6 / 5.6-8 / 8-11.2 / 11.2-15 /
 // 15-20 / 20-30 / 30-45 / 45-60 / 60-90 degrees from a UV pole, relative to > 15 degrees:
 // - deposit per agent (MOLDTEX_POLE_EVAPORATION=30 MOLDTEX_POLE_DIFFUSION=0
@@ -421,6 +422,13 @@ std::vector<double> PolarBandShares(const Mesh& m, const double* bands, int nb) 
 //   read caps 0.928 (placebo caps 0.96-1.03), within the 15%; one seed reads
 //   0.59-1.17 (seeds 1-6, MOLDTEX_POLE_FIRST_SEED), so asserting it would take many
 //   more seeds than CI can afford.
+// - 2026-12-06, the default vision distance (MOLDTEX_POLE_VISION=1.0, ten units: the
+//   cells the add-on grows by default, where the figures above use the small cells of
+//   UvSpherePolesAreAlive) at 512^2, one texel per unit as the add-on's default 512^2
+//   gives (MOLDTEX_POLE_W=512): caps 0.841 / 0.648 / 0.708 for seeds 1-3 / 4-6 / 7-9
+//   (placebo caps 0.81-1.14), the ring at 8-11 degrees 0.57-0.67. At two texels per unit
+//   (MOLDTEX_POLE_W=1024 MOLDTEX_POLE_UNIT_W=512) seeds 1-3 / 4-6 / 7-9 read 0.905 /
+//   0.841 / 0.928 (mean 0.89; placebo caps 0.96-1.19).
 TEST(SurfaceUnits, DISABLED_UvSpherePoleDiagnostics) {
   Mesh m = make_uv_sphere(EnvInt("MOLDTEX_POLE_SEGMENTS", 64), EnvInt("MOLDTEX_POLE_RINGS", 32), 1.0);
   if (EnvInt("MOLDTEX_POLE_CUBE_UV", 0)) UseCubeUvs(m);
@@ -447,6 +455,7 @@ TEST(SurfaceUnits, DISABLED_UvSpherePoleDiagnostics) {
     if (const char* v = std::getenv("MOLDTEX_POLE_DIFFUSION")) p.diffusion_rate = float(std::atof(v));
     if (const char* v = std::getenv("MOLDTEX_POLE_EVAPORATION")) p.evaporation_rate = float(std::atof(v));
     if (const char* v = std::getenv("MOLDTEX_POLE_TURN")) p.turn_speed = float(std::atof(v));
+    if (const char* v = std::getenv("MOLDTEX_POLE_VISION")) p.vision_distance = float(std::atof(v));
     if (EnvInt("MOLDTEX_POLE_ONLY_WALK", 0) && steer) break;
     if (EnvInt("MOLDTEX_POLE_ONLY_STEER", 0) && !steer) continue;
     std::vector<double> pooled(size_t(W) * W, 0.0);

@@ -15,7 +15,7 @@
 
 namespace moldtex {
 
-// The lanes this processor has (found at run time): 16 (AVX-512 F and DQ), 8 (AVX2) or
+// The lanes this processor has (found at run time): 16 (AVX-512 F, DQ and BW, with BMI2), 8 (AVX2) or
 // 0 (none: every step runs the scalar code).
 unsigned momas_lane_width();
 
