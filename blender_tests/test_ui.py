@@ -187,6 +187,29 @@ class PanelTests(unittest.TestCase):
         obj.moldtex.seed += 1
         self.assertIn("press Reset", labels(draw_all(self, obj)))
 
+    def test_texels_per_unit_is_shown_and_a_coarse_texture_is_flagged(self):
+        # Blender's plane: UVs fill [0, 1]², so a texel's side is √(area) / resolution and
+        # the pattern unit, Pattern Scale × √(area) / 512, spans Scale × resolution / 512
+        # texels (h.configure's scale makes that 1 at any resolution): known answers.
+        from moldtex import live
+        obj = h.plane(resolution="128")
+        entry = h.run(obj, 1)
+        self.assertAlmostEqual(live.texels_per_unit(entry, obj.moldtex), 1.0, places=4)
+        text = labels(draw_all(self, obj))
+        self.assertIn("Texels / Unit 1.0", text)
+        self.assertNotIn("coarser than the pattern", text)
+        obj.moldtex.pattern_scale = 2.0  # a unit of half a texel: flagged
+        self.assertAlmostEqual(live.texels_per_unit(entry, obj.moldtex), 0.5, places=4)
+        text = labels(draw_all(self, obj))
+        self.assertIn("Texels / Unit 0.5", text)
+        self.assertIn("Under one texel per pattern unit", text)
+        obj.moldtex.pattern_scale = 8.0
+        self.assertAlmostEqual(live.texels_per_unit(entry, obj.moldtex), 2.0, places=4)
+        # Texel units and the continuous model have no pattern unit in texels to show.
+        obj.moldtex.pattern_units = 'TEXELS'
+        self.assertIsNone(live.texels_per_unit(entry, obj.moldtex))
+        self.assertNotIn("Texels / Unit", labels(draw_all(self, obj)))
+
     def test_brush_panel_follows_the_target(self):
         obj = h.add_primitive("torus")
         h.configure(obj, agents=2000)

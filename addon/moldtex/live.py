@@ -322,6 +322,24 @@ def length_unit(settings, area):
     return pattern_unit(settings, area)
 
 
+def texels_per_unit(entry, settings):
+    """How many texels of entry's texture span one pattern unit (MoMaS in surface units):
+    the unit over the side of the mean texel, √(3D area / (UV area × width × height)).
+    Under about two, detail finer than a unit and a UV sphere's poles come out thin
+    (README, "pattern units"). None where it does not apply or is not known yet."""
+    if sim_model(entry) != engine.MODEL_MOMAS or not entry.has_sim:
+        return None
+    if _enum(settings, "pattern_units", 'SURFACE') != 'SURFACE':
+        return None
+    area = entry.surface_info.get("area") or 0.0
+    uv_area = entry.surface_info.get("uv_area") or 0.0
+    width, height = entry.config.get("width", 0), entry.config.get("height", 0)
+    unit = pattern_unit(settings, area)
+    if not (area > 0.0 and uv_area > 0.0 and width > 0 and height > 0 and unit > 0.0):
+        return None
+    return unit / math.sqrt(area / (uv_area * width * height))
+
+
 def _enum(settings, name, default):
     try:
         return getattr(settings, name) or default  # "" for a value it does not know

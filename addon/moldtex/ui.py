@@ -98,6 +98,9 @@ def _split(layout):
 # a box (seen in Blender 3.4; blender_tests/panel_fit.py checks every line drawn);
 # longer lines would be cut with an ellipsis.
 WIDTH = 21
+# Below this many texels per pattern unit the panel suggests a higher Resolution (the
+# default, 512² at Pattern Scale 1 on a layout that fills the texture, gives 1).
+COARSE_TEXELS_PER_UNIT = 0.95
 
 
 def _char_width(ch):
@@ -344,8 +347,17 @@ class MOLDTEX_PT_main(bpy.types.Panel):
                 grid.label(text=f"{100.0 * stats['coverage']:.1f} %")
                 grid.label(text="Presence")
                 grid.label(text=f"{100.0 * stats['presence']:.1f} %")
+            per_unit = live.texels_per_unit(entry, obj.moldtex)
+            if per_unit is not None:
+                grid.label(text="Texels / Unit")
+                grid.label(text=f"{per_unit:.1f}")
             grid.label(text="Memory")
             grid.label(text=f"{stats['bytes_in_use'] / 2**20:.1f} MiB")
+            if per_unit is not None and per_unit < COARSE_TEXELS_PER_UNIT:
+                _wrapped(box, "Under one texel per pattern unit: the texture is coarser "
+                              "than the pattern. A higher Resolution keeps the pattern and "
+                              "resolves it (two or more texels per unit also keep a UV "
+                              "sphere's poles full)", icon='INFO')
             # e.g. "OpenCL: <device> (<platform>)", or for Auto "CPU (2 threads);
             # OpenCL not used: <why>".
             text = _domain_text(entry.domain_info)
