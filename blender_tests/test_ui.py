@@ -197,7 +197,7 @@ class PanelTests(unittest.TestCase):
         self.assertAlmostEqual(live.texels_per_unit(entry, obj.moldtex), 1.0, places=4)
         text = labels(draw_all(self, obj))
         self.assertIn("Texels / Unit 1.0", text)
-        self.assertNotIn("coarser than the pattern", text)
+        self.assertNotIn("Under one texel per pattern unit", text)
         obj.moldtex.pattern_scale = 2.0  # a unit of half a texel: flagged
         self.assertAlmostEqual(live.texels_per_unit(entry, obj.moldtex), 0.5, places=4)
         text = labels(draw_all(self, obj))

@@ -354,10 +354,9 @@ class MOLDTEX_PT_main(bpy.types.Panel):
             grid.label(text="Memory")
             grid.label(text=f"{stats['bytes_in_use'] / 2**20:.1f} MiB")
             if per_unit is not None and per_unit < COARSE_TEXELS_PER_UNIT:
-                _wrapped(box, "Under one texel per pattern unit: the texture is coarser "
-                              "than the pattern. A higher Resolution keeps the pattern and "
-                              "resolves it (two or more texels per unit also keep a UV "
-                              "sphere's poles full)", icon='INFO')
+                _wrapped(box, "Under one texel per pattern unit: a higher Resolution "
+                              "sharpens the same pattern (two or more texels per unit also "
+                              "keep a UV sphere's poles full)", icon='INFO')
             # e.g. "OpenCL: <device> (<platform>)", or for Auto "CPU (2 threads);
             # OpenCL not used: <why>".
             text = _domain_text(entry.domain_info)
