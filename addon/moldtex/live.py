@@ -326,7 +326,7 @@ def texels_per_unit(entry, settings):
     """How many texels of entry's texture span one pattern unit (MoMaS in surface units):
     the unit over the side of the mean texel, √(3D area / (UV area × width × height)).
     Under about two, detail finer than a unit and a UV sphere's poles come out thin
-    (README, "pattern units"). None where it does not apply or is not known yet."""
+    (README, "Units: Surface"). None where it does not apply or is not known yet."""
     if sim_model(entry) != engine.MODEL_MOMAS or not entry.has_sim:
         return None
     if _enum(settings, "pattern_units", 'SURFACE') != 'SURFACE':
