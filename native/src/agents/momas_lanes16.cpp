@@ -310,67 +310,86 @@ struct Trace {
   __m512 s0, s1, s2, e0, e1, e2;
 };
 
-// mtx_trace_hops for the lanes `todo` of g: returns those located (g.t and g.e* then say
-// where their traces end); the rest must be walked, for the reasons mtx_trace_hops gives
-// up at the same crossing.
-MOLDTEX_MOMAS_LANES_FN __mmask16 trace_hops(Trace& g, __mmask16 todo, const uint32_t* adjacency,
-                                           const float* unfolded) {
+// mtx_trace_hops for the lanes `todo` of each of the three traces g[k]: returns in
+// located[k] those located (g[k].t and g[k].e* then say where their traces end); the rest
+// must be walked, for the reasons mtx_trace_hops gives up at the same crossing. The three
+// probes hop together, so that the reads of one crossing are issued beside the others'
+// instead of after them (each lane's hops are those of a trace alone).
+MOLDTEX_MOMAS_LANES_FN void trace_hops(Trace* g, __mmask16 todo, const uint32_t* adjacency, const float* unfolded,
+                                      __mmask16* located) {
   const __m512 zero = _mm512_setzero_ps();
   const __m512i none = _mm512_set1_epi32(static_cast<int>(MTX_NO_NEIGHBOUR));
-  __mmask16 live = todo, located = 0;
+  __mmask16 live[3] = {todo, todo, todo};
   for (int hop = 0;; ++hop) {
-    const __mmask16 n0 = _mm512_mask_cmp_ps_mask(live, g.e0, zero, _CMP_LT_OQ);
-    const __mmask16 n1 = _mm512_mask_cmp_ps_mask(live, g.e1, zero, _CMP_LT_OQ);
-    const __mmask16 n2 = _mm512_mask_cmp_ps_mask(live, g.e2, zero, _CMP_LT_OQ);
-    const __mmask16 out = n0 | n1 | n2;
-    located |= live & ~out;
-    live = out;
-    if (!live || hop == MTX_UNFOLDED_HOPS) break;
-    // The edge it leaves by, and a neighbour there.
-    const __m512i edge = exit_edge(g.s0, g.s1, g.s2, g.e0, g.e1, g.e2, n0, n1, n2, live);
-    const __m512i slot = _mm512_add_epi32(_mm512_add_epi32(_mm512_add_epi32(g.t, g.t), g.t), edge);
-    const __m512i code = _mm512_mask_i32gather_epi32(none, live, slot, adjacency, 4);
-    live &= ~_mm512_mask_cmpeq_epi32_mask(live, code, none);
-    if (!live) break;
-    // Both points carried into the neighbour.
-    carry_across(slot, live, unfolded, g.s0, g.s1, g.s2, g.e0, g.e1, g.e2);
-    g.t = _mm512_mask_mov_epi32(g.t, live, _mm512_srli_epi32(code, 3));
+    __mmask16 n0[3], n1[3], n2[3];
+    for (int k = 0; k < 3; ++k) {
+      n0[k] = _mm512_mask_cmp_ps_mask(live[k], g[k].e0, zero, _CMP_LT_OQ);
+      n1[k] = _mm512_mask_cmp_ps_mask(live[k], g[k].e1, zero, _CMP_LT_OQ);
+      n2[k] = _mm512_mask_cmp_ps_mask(live[k], g[k].e2, zero, _CMP_LT_OQ);
+      const __mmask16 out = n0[k] | n1[k] | n2[k];
+      located[k] |= live[k] & ~out;
+      live[k] = out;
+    }
+    if (!(live[0] | live[1] | live[2]) || hop == MTX_UNFOLDED_HOPS) break;
+    // The edge each leaves by, the neighbour there and its unfolding (load_sixes: every
+    // lane's slot is a valid one), then both points carried into the neighbour.
+    for (int k = 0; k < 3; ++k) {
+      if (!live[k]) continue;
+      const __m512i edge = exit_edge(g[k].s0, g[k].s1, g[k].s2, g[k].e0, g[k].e1, g[k].e2, n0[k], n1[k], n2[k], live[k]);
+      const __m512i slot = _mm512_add_epi32(_mm512_add_epi32(_mm512_add_epi32(g[k].t, g[k].t), g[k].t), edge);
+      __m512 u[6];
+      __m512i code;
+      load_sixes(unfolded, adjacency, slot, u, &code);
+      live[k] &= ~_mm512_mask_cmpeq_epi32_mask(live[k], code, none);
+      if (!live[k]) continue;
+      carry_unfolded(u, live[k], g[k].s0, g[k].s1, g[k].s2, g[k].e0, g[k].e1, g[k].e2);
+      g[k].t = _mm512_mask_mov_epi32(g[k].t, live[k], _mm512_srli_epi32(code, 3));
+    }
   }
-  return located;
 }
 
-// Where a sensor trace from the agents' points (weights b*, triangle tri) along heading
-// (hx, hy) ends, for the lanes `todo` that leave their triangle (mtx_momas_probe:
-// mtx_walk_trace, then mtx_walker_texel_at), written into p; clears from *ok the lanes
-// whose trace must be walked.
-MOLDTEX_MOMAS_LANES_FN void trace_probe(const mtx_surface_tables& s, __mmask16 todo, __mmask16* ok, __m512i tri,
-                                        __m512 b0, __m512 b1, __m512 b2, __m512 hx, __m512 hy, __m512 length,
-                                        __m512 inv_a, __m512 bx, __m512 inv_by, const __m512* own_uv,
-                                        const TextureLanes& tx, Probe& p) {
+// Where the sensor traces from the agents' points (weights b*, triangle tri) along the
+// three headings (hx[k], hy[k]) end, for the lanes `todo` that leave their triangle
+// (mtx_momas_probe: mtx_walk_trace, then mtx_walker_texel_at), written into p[k]; clears
+// from *ok the lanes whose trace must be walked.
+MOLDTEX_MOMAS_LANES_FN void trace_probes(const mtx_surface_tables& s, __mmask16 todo, __mmask16* ok, __m512i tri,
+                                         __m512 b0, __m512 b1, __m512 b2, const __m512* hx, const __m512* hy,
+                                         __m512 length, __m512 inv_a, __m512 bx, __m512 inv_by, const __m512* own_uv,
+                                         const TextureLanes& tx, Probe* p) {
   // mtx_trace_ends.
-  const __m512 d2 = _mm512_mul_ps(hy, inv_by);
-  const __m512 d1 = _mm512_mul_ps(_mm512_sub_ps(hx, _mm512_mul_ps(bx, d2)), inv_a);
-  Trace g{tri,
-          b0,
-          b1,
-          b2,
-          _mm512_sub_ps(b0, _mm512_mul_ps(length, _mm512_add_ps(d1, d2))),
-          _mm512_add_ps(b1, _mm512_mul_ps(length, d1)),
-          _mm512_add_ps(b2, _mm512_mul_ps(length, d2))};
-  const __mmask16 located = trace_hops(g, todo, s.adjacency, s.unfolded);
-  *ok &= static_cast<__mmask16>(~(todo & ~located));
-  if (!located) return;
-  // The UVs of the triangle where each trace ends: the agent's own unless it crossed.
-  __m512 uv[6];
-  for (int k = 0; k < 6; ++k) uv[k] = own_uv[k];
-  const __mmask16 elsewhere = _mm512_mask_cmpneq_epi32_mask(located, g.t, tri);
-  if (elsewhere) gather_uvs(s.corner_uvs, g.t, elsewhere, uv);
-  __m512 x, y;
-  point_in_texels(g.e0, g.e1, g.e2, uv, tx, x, y);
-  p.texel = _mm512_mask_mov_epi32(p.texel, located, texel_at(x, y, tx.last_x, tx.last_y, tx.row));
-  p.triangle = _mm512_mask_mov_epi32(p.triangle, located, g.t);
-  p.x = _mm512_mask_mov_ps(p.x, located, x);
-  p.y = _mm512_mask_mov_ps(p.y, located, y);
+  Trace g[3];
+  for (int k = 0; k < 3; ++k) {
+    const __m512 d2 = _mm512_mul_ps(hy[k], inv_by);
+    const __m512 d1 = _mm512_mul_ps(_mm512_sub_ps(hx[k], _mm512_mul_ps(bx, d2)), inv_a);
+    g[k] = Trace{tri,
+                 b0,
+                 b1,
+                 b2,
+                 _mm512_sub_ps(b0, _mm512_mul_ps(length, _mm512_add_ps(d1, d2))),
+                 _mm512_add_ps(b1, _mm512_mul_ps(length, d1)),
+                 _mm512_add_ps(b2, _mm512_mul_ps(length, d2))};
+  }
+  __mmask16 located[3] = {0, 0, 0};
+  trace_hops(g, todo, s.adjacency, s.unfolded, located);
+  for (int k = 0; k < 3; ++k) {
+    *ok &= static_cast<__mmask16>(~(todo & ~located[k]));
+    if (!located[k]) continue;
+    // The UVs of the triangle where each trace ends: the agent's own unless it crossed.
+    __m512 uv[6];
+    for (int q = 0; q < 6; ++q) uv[q] = own_uv[q];
+    const __mmask16 elsewhere = _mm512_mask_cmpneq_epi32_mask(located[k], g[k].t, tri);
+    if (elsewhere) {
+      __m512 end_uv[6];
+      load_sixes(s.corner_uvs, nullptr, g[k].t, end_uv, nullptr);
+      for (int q = 0; q < 6; ++q) uv[q] = _mm512_mask_mov_ps(uv[q], elsewhere, end_uv[q]);
+    }
+    __m512 x, y;
+    point_in_texels(g[k].e0, g[k].e1, g[k].e2, uv, tx, x, y);
+    p[k].texel = _mm512_mask_mov_epi32(p[k].texel, located[k], texel_at(x, y, tx.last_x, tx.last_y, tx.row));
+    p[k].triangle = _mm512_mask_mov_epi32(p[k].triangle, located[k], g[k].t);
+    p[k].x = _mm512_mask_mov_ps(p[k].x, located[k], x);
+    p[k].y = _mm512_mask_mov_ps(p[k].y, located[k], y);
+  }
 }
 
 // table[index] for a byte table, in lanes: the last of four bytes read from
@@ -647,9 +666,7 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 step16(const mtx_surface_tables& s, const mtx_m
     Probe probe[3];
     for (int k = 0; k < 3; ++k) probe[k] = probe_at(x, y, tri, sensor_length, j, px[k], py[k], tx);
     if (traced) {
-      for (int k = 0; k < 3; ++k)
-        trace_probe(s, traced, &inside, tri, b0, b1, b2, px[k], py[k], sensor_length, inv_a, bx, inv_by, uv, tx,
-                    probe[k]);
+      trace_probes(s, traced, &inside, tri, b0, b1, b2, px, py, sensor_length, inv_a, bx, inv_by, uv, tx, probe);
       if (!inside) return 0;
     }
     __m512 value[3];

@@ -58,9 +58,52 @@ MOLDTEX_CROSSING_LANES_FN void gather_pairs(const float* table, __m512i index, _
   second = _mm512_permutex2var_ps(a, _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31), b);
 }
 
+// Six floats per lane, table[6 index .. 6 index + 5], as six vectors (rows[k]: float k
+// of every lane), and codes[index] per lane as a seventh (its bits). Read row by row (a
+// masked load of the six floats over the code broadcast, per lane) and transposed in
+// registers: on some processors a gather costs about as much for one lane as for
+// sixteen (AMD Zen 4: about 6 ns for sixteen floats, 3 ns for eight pairs), where the
+// sixteen rows and their transpose take about half the seven gathers' time. Every lane
+// reads (an index of a valid row is needed in each); the values are those a gather reads.
+// table[6 i .. 6 i + 5], then codes[i] twice (zeros without codes), in the low half.
+MOLDTEX_CROSSING_LANES_FN __m512 six_and_code(const float* table, const uint32_t* codes, size_t i) {
+  const __m512 fill = codes ? _mm512_castsi512_ps(_mm512_set1_epi32(static_cast<int>(codes[i]))) : _mm512_setzero_ps();
+  return _mm512_mask_loadu_ps(fill, __mmask16(0x3f), table + 6 * i);
+}
+MOLDTEX_CROSSING_LANES_FN void load_sixes(const float* table, const uint32_t* codes, __m512i index, __m512* rows,
+                                          __m512i* code) {
+  alignas(64) uint32_t at[16];
+  _mm512_store_si512(at, index);
+  __m512 r[8];
+  for (unsigned j = 0; j < 8; ++j)
+    r[j] = _mm512_castpd_ps(_mm512_insertf64x4(_mm512_castps_pd(six_and_code(table, codes, at[j])),
+                                               _mm256_castps_pd(_mm512_castps512_ps256(six_and_code(table, codes, at[j + 8]))), 1));
+  // An 8 x 8 transpose in each 256-bit half: lanes 0-7 in the low halves, 8-15 in the high.
+  __m512 t[8], u[8];
+  for (int j = 0; j < 4; ++j) {
+    t[2 * j] = _mm512_unpacklo_ps(r[2 * j], r[2 * j + 1]);
+    t[2 * j + 1] = _mm512_unpackhi_ps(r[2 * j], r[2 * j + 1]);
+  }
+  for (int h = 0; h < 2; ++h) {
+    u[4 * h + 0] = _mm512_shuffle_ps(t[4 * h + 0], t[4 * h + 2], 0x44);
+    u[4 * h + 1] = _mm512_shuffle_ps(t[4 * h + 0], t[4 * h + 2], 0xee);
+    u[4 * h + 2] = _mm512_shuffle_ps(t[4 * h + 1], t[4 * h + 3], 0x44);
+    u[4 * h + 3] = _mm512_shuffle_ps(t[4 * h + 1], t[4 * h + 3], 0xee);
+  }
+  const __m512i low = _mm512_setr_epi32(0, 1, 2, 3, 16, 17, 18, 19, 8, 9, 10, 11, 24, 25, 26, 27);
+  const __m512i high = _mm512_setr_epi32(4, 5, 6, 7, 20, 21, 22, 23, 12, 13, 14, 15, 28, 29, 30, 31);
+  for (int k = 0; k < 4; ++k) {
+    rows[k] = _mm512_permutex2var_ps(u[k], low, u[k + 4]);
+    if (k < 2) rows[k + 4] = _mm512_permutex2var_ps(u[k], high, u[k + 4]);
+  }
+  if (code) *code = _mm512_castps_si512(_mm512_permutex2var_ps(u[2], high, u[6]));
+}
+
 // Start and end weights (s*, e*) of the lanes `live` carried across the edge `slot`
 // (3 t + edge) into the neighbour, in its own weights (mtx_trace_hops' step). The
 // unfolding's six floats are gathered as three pairs (gather_pairs).
+MOLDTEX_CROSSING_LANES_FN void carry_unfolded(const __m512* u, __mmask16 live, __m512& s0, __m512& s1, __m512& s2,
+                                              __m512& e0, __m512& e1, __m512& e2);
 MOLDTEX_CROSSING_LANES_FN void carry_across(__m512i slot, __mmask16 live, const float* unfolded, __m512& s0,
                                             __m512& s1, __m512& s2, __m512& e0, __m512& e1, __m512& e2) {
   static_assert(MTX_UNFOLDED_FLOATS == 6, "an unfolding is read as three pairs at slot * 6");
@@ -69,6 +112,12 @@ MOLDTEX_CROSSING_LANES_FN void carry_across(__m512i slot, __mmask16 live, const 
   __m512 u[6];
   for (int k = 0; k < 3; ++k)
     gather_pairs(unfolded, _mm512_add_epi32(slot6, _mm512_set1_epi32(2 * k)), live, u[2 * k], u[2 * k + 1]);
+  carry_unfolded(u, live, s0, s1, s2, e0, e1, e2);
+}
+
+// carry_across with the unfolding's six floats u already read.
+MOLDTEX_CROSSING_LANES_FN void carry_unfolded(const __m512* u, __mmask16 live, __m512& s0, __m512& s1, __m512& s2,
+                                              __m512& e0, __m512& e1, __m512& e2) {
   const __m512 one = _mm512_set1_ps(1.0f);
   const __m512 s1n = _mm512_add_ps(_mm512_add_ps(u[0], _mm512_mul_ps(u[1], s1)), _mm512_mul_ps(u[2], s2));
   const __m512 s2n = _mm512_add_ps(_mm512_add_ps(u[3], _mm512_mul_ps(u[4], s1)), _mm512_mul_ps(u[5], s2));
