@@ -331,12 +331,13 @@ MOLDTEX_MOMAS_LANES_FN void trace_hops(Trace* g, __mmask16 todo, const uint32_t*
       live[k] = out;
     }
     if (!(live[0] | live[1] | live[2]) || hop == MTX_UNFOLDED_HOPS) break;
-    // The edge each leaves by, the neighbour there and its unfolding (load_sixes: every
-    // lane's slot is a valid one), then both points carried into the neighbour.
+    // The edge each leaves by, the neighbour there and its unfolding (load_sixes reads
+    // every lane: the others read slot 0), then both points carried into the neighbour.
     for (int k = 0; k < 3; ++k) {
       if (!live[k]) continue;
       const __m512i edge = exit_edge(g[k].s0, g[k].s1, g[k].s2, g[k].e0, g[k].e1, g[k].e2, n0[k], n1[k], n2[k], live[k]);
-      const __m512i slot = _mm512_add_epi32(_mm512_add_epi32(_mm512_add_epi32(g[k].t, g[k].t), g[k].t), edge);
+      const __m512i slot =
+          _mm512_maskz_mov_epi32(live[k], _mm512_add_epi32(_mm512_add_epi32(_mm512_add_epi32(g[k].t, g[k].t), g[k].t), edge));
       __m512 u[6];
       __m512i code;
       load_sixes(unfolded, adjacency, slot, u, &code);

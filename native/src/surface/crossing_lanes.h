@@ -1,5 +1,6 @@
 // One crossing of shared/walk.h's mtx_trace_hops in sixteen AVX-512 lanes: which edge each
-// trace leaves its triangle by. Shared by the continuous model's trace lanes
+// trace leaves its triangle by, the neighbour and unfolding read there, and the trace
+// carried across. Shared by the continuous model's trace lanes
 // (surface/trace_lanes.cpp) and MoMaS' step in lanes (agents/momas_lanes.cpp), which must
 // both choose as mtx_trace_hops does, bit for bit.
 #pragma once
@@ -76,13 +77,13 @@ MOLDTEX_CROSSING_LANES_FN void load_sixes(const float* table, const uint32_t* co
   _mm512_store_si512(at, index);
   __m512 r[8];
   for (unsigned j = 0; j < 8; ++j)
-    r[j] = _mm512_castpd_ps(_mm512_insertf64x4(_mm512_castps_pd(six_and_code(table, codes, at[j])),
-                                               _mm256_castps_pd(_mm512_castps512_ps256(six_and_code(table, codes, at[j + 8]))), 1));
+    r[j] = _mm512_maskz_shuffle_f32x4(__mmask16(0xffff), six_and_code(table, codes, at[j]),
+                                      six_and_code(table, codes, at[j + 8]), 0x44);
   // An 8 x 8 transpose in each 256-bit half: lanes 0-7 in the low halves, 8-15 in the high.
   __m512 t[8], u[8];
   for (int j = 0; j < 4; ++j) {
-    t[2 * j] = _mm512_unpacklo_ps(r[2 * j], r[2 * j + 1]);
-    t[2 * j + 1] = _mm512_unpackhi_ps(r[2 * j], r[2 * j + 1]);
+    t[2 * j] = _mm512_maskz_unpacklo_ps(__mmask16(0xffff), r[2 * j], r[2 * j + 1]);  // (maskz: GCC 12 warns
+    t[2 * j + 1] = _mm512_maskz_unpackhi_ps(__mmask16(0xffff), r[2 * j], r[2 * j + 1]);  // on the others)
   }
   for (int h = 0; h < 2; ++h) {
     u[4 * h + 0] = _mm512_shuffle_ps(t[4 * h + 0], t[4 * h + 2], 0x44);
@@ -99,23 +100,9 @@ MOLDTEX_CROSSING_LANES_FN void load_sixes(const float* table, const uint32_t* co
   if (code) *code = _mm512_castps_si512(_mm512_permutex2var_ps(u[2], high, u[6]));
 }
 
-// Start and end weights (s*, e*) of the lanes `live` carried across the edge `slot`
-// (3 t + edge) into the neighbour, in its own weights (mtx_trace_hops' step). The
-// unfolding's six floats are gathered as three pairs (gather_pairs).
-MOLDTEX_CROSSING_LANES_FN void carry_unfolded(const __m512* u, __mmask16 live, __m512& s0, __m512& s1, __m512& s2,
-                                              __m512& e0, __m512& e1, __m512& e2);
-MOLDTEX_CROSSING_LANES_FN void carry_across(__m512i slot, __mmask16 live, const float* unfolded, __m512& s0,
-                                            __m512& s1, __m512& s2, __m512& e0, __m512& e1, __m512& e2) {
-  static_assert(MTX_UNFOLDED_FLOATS == 6, "an unfolding is read as three pairs at slot * 6");
-  const __m512i slot2 = _mm512_add_epi32(slot, slot);
-  const __m512i slot6 = _mm512_add_epi32(_mm512_add_epi32(slot2, slot2), slot2);
-  __m512 u[6];
-  for (int k = 0; k < 3; ++k)
-    gather_pairs(unfolded, _mm512_add_epi32(slot6, _mm512_set1_epi32(2 * k)), live, u[2 * k], u[2 * k + 1]);
-  carry_unfolded(u, live, s0, s1, s2, e0, e1, e2);
-}
-
-// carry_across with the unfolding's six floats u already read.
+// Start and end weights (s*, e*) of the lanes `live` carried across an edge into the
+// neighbour, in its own weights (mtx_trace_hops' step), given the edge's unfolding u
+// (its six floats, load_sixes).
 MOLDTEX_CROSSING_LANES_FN void carry_unfolded(const __m512* u, __mmask16 live, __m512& s0, __m512& s1, __m512& s2,
                                               __m512& e0, __m512& e1, __m512& e2) {
   const __m512 one = _mm512_set1_ps(1.0f);

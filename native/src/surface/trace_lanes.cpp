@@ -106,13 +106,16 @@ MOLDTEX_LANES_FN void cross(LaneGroup& g, const uint32_t* adjacency, const float
   if (!live) return;
   const __m512i edge = exit_edge(g.s0, g.s1, g.s2, g.e0, g.e1, g.e2, n0, n1, n2, live);
   // The neighbour there, unless the edge is open.
-  const __m512i slot = _mm512_add_epi32(_mm512_add_epi32(_mm512_add_epi32(g.t, g.t), g.t), edge);
-  const __m512i code = _mm512_mask_i32gather_epi32(none, live, slot, adjacency, 4);
+  // (load_sixes reads every lane: the others read slot 0.)
+  const __m512i slot = _mm512_maskz_mov_epi32(live, _mm512_add_epi32(_mm512_add_epi32(_mm512_add_epi32(g.t, g.t), g.t), edge));
+  __m512 u[6];
+  __m512i code;
+  load_sixes(unfolded, adjacency, slot, u, &code);
   live &= ~_mm512_mask_cmpeq_epi32_mask(live, code, none);
   g.live = live;
   if (!live) return;
   // Both points carried into the neighbour.
-  carry_across(slot, live, unfolded, g.s0, g.s1, g.s2, g.e0, g.e1, g.e2);
+  carry_unfolded(u, live, g.s0, g.s1, g.s2, g.e0, g.e1, g.e2);
   g.t = _mm512_mask_mov_epi32(g.t, live, _mm512_maskz_srli_epi32(__mmask16(0xffff), code, 3));
   g.hop = _mm512_mask_add_epi32(g.hop, live, g.hop, i1);
 }
