@@ -80,16 +80,12 @@ MOLDTEX_MOMAS_LANES_FN __m512i texel_of(__m512 b0, __m512 b1, __m512 b2, const _
   return texel_at(x, y, tx.last_x, tx.last_y, tx.row);
 }
 
-// uv[0..5] replaced by triangle t's corner UVs in the lanes m (each corner's u and v one
-// pair).
+// The corner UVs of triangle t in the lanes m (uv kept elsewhere; every lane's t must be
+// a triangle): sixteen row loads and a transpose (load_sixes).
 MOLDTEX_MOMAS_LANES_FN void gather_uvs(const float* corner_uvs, __m512i t, __mmask16 m, __m512* uv) {
-  const __m512i t6 = _mm512_mullo_epi32(t, _mm512_set1_epi32(6));
-  for (int q = 0; q < 6; q += 2) {
-    __m512 u, v;
-    gather_pairs(corner_uvs, _mm512_add_epi32(t6, _mm512_set1_epi32(q)), m, u, v);
-    uv[q] = _mm512_mask_mov_ps(uv[q], m, u);
-    uv[q + 1] = _mm512_mask_mov_ps(uv[q + 1], m, v);
-  }
+  __m512 rows[6];
+  load_sixes(corner_uvs, nullptr, t, rows, nullptr);
+  for (int q = 0; q < 6; ++q) uv[q] = _mm512_mask_mov_ps(uv[q], m, rows[q]);
 }
 
 // mtx_min(a, b) (b < a ? b : a) in lanes: vminps returns its first operand where it is
@@ -379,11 +375,7 @@ MOLDTEX_MOMAS_LANES_FN void trace_probes(const mtx_surface_tables& s, __mmask16 
     __m512 uv[6];
     for (int q = 0; q < 6; ++q) uv[q] = own_uv[q];
     const __mmask16 elsewhere = _mm512_mask_cmpneq_epi32_mask(located[k], g[k].t, tri);
-    if (elsewhere) {
-      __m512 end_uv[6];
-      load_sixes(s.corner_uvs, nullptr, g[k].t, end_uv, nullptr);
-      for (int q = 0; q < 6; ++q) uv[q] = _mm512_mask_mov_ps(uv[q], elsewhere, end_uv[q]);
-    }
+    if (elsewhere) gather_uvs(s.corner_uvs, g[k].t, elsewhere, uv);
     __m512 x, y;
     point_in_texels(g[k].e0, g[k].e1, g[k].e2, uv, tx, x, y);
     p[k].texel = _mm512_mask_mov_epi32(p[k].texel, located[k], texel_at(x, y, tx.last_x, tx.last_y, tx.row));

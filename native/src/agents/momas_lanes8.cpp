@@ -95,9 +95,12 @@ MOLDTEX_AVX2_FN __m256i texel_of8(__m256 b0, __m256 b1, __m256 b2, const __m256*
   point_in_texels8(b0, b1, b2, uv, tx, x, y);
   return texel_at8(x, y, tx);
 }
+// The corner UVs of triangle t in the lanes m (uv kept elsewhere; every lane's t must be
+// a triangle): eight row loads and a transpose (load_sixes8).
 MOLDTEX_AVX2_FN void gather_uvs8(const float* corner_uvs, __m256i t, M8 m, __m256* uv) {
-  const __m256i t6 = _mm256_mullo_epi32(t, _mm256_set1_epi32(6));
-  for (int q = 0; q < 6; ++q) uv[q] = gather8(corner_uvs, _mm256_add_epi32(t6, _mm256_set1_epi32(q)), m, uv[q]);
+  __m256 rows[6];
+  load_sixes8(corner_uvs, nullptr, t, rows, nullptr);
+  for (int q = 0; q < 6; ++q) uv[q] = _mm256_blendv_ps(uv[q], rows[q], m);
 }
 MOLDTEX_AVX2_FN __m256 per_species8(const float* four, __m256i species) {
   return _mm256_permutevar8x32_ps(_mm256_broadcast_ps(reinterpret_cast<const __m128*>(four)), species);
@@ -144,12 +147,15 @@ MOLDTEX_AVX2_FN M8 trace_hops8(Trace8& g, M8 todo, const uint32_t* adjacency, co
     __m256i live_i = as_int(live);
     const __m256i edge = exit_edge8(g.s0, g.s1, g.s2, g.e0, g.e1, g.e2, as_int(n0), as_int(n1), as_int(n2), live_i);
     live = as_mask(live_i);
-    const __m256i slot = _mm256_add_epi32(_mm256_add_epi32(_mm256_add_epi32(g.t, g.t), g.t), edge);
-    const __m256i code =
-        _mm256_mask_i32gather_epi32(none, reinterpret_cast<const int*>(adjacency), slot, as_int(live), 4);
+    // (load_sixes8 reads every lane: the others read slot 0.)
+    const __m256i slot =
+        _mm256_and_si256(as_int(live), _mm256_add_epi32(_mm256_add_epi32(_mm256_add_epi32(g.t, g.t), g.t), edge));
+    __m256 u[6];
+    __m256i code;
+    load_sixes8(unfolded, adjacency, slot, u, &code);
     live = but8(live, eqi8(code, none));
     if (!bits8(live)) break;
-    carry_across8(slot, as_int(live), unfolded, g.s0, g.s1, g.s2, g.e0, g.e1, g.e2);
+    carry_unfolded8(u, as_int(live), g.s0, g.s1, g.s2, g.e0, g.e1, g.e2);
     g.t = seli8(g.t, live, _mm256_srli_epi32(code, 3));
   }
   return located;

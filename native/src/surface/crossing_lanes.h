@@ -146,26 +146,42 @@ MOLDTEX_CROSSING_LANES8_FN __m256i exit_edge8(__m256 s0, __m256 s1, __m256 s2, _
   return edge;
 }
 
-MOLDTEX_CROSSING_LANES8_FN void carry_across8(__m256i slot, __m256i live, const float* unfolded, __m256& s0,
-                                              __m256& s1, __m256& s2, __m256& e0, __m256& e1, __m256& e2) {
-  const __m256 one = _mm256_set1_ps(1.0f);
-  // The unfolding as three 64-bit pairs, four lanes per gather, split into floats.
-  const __m256i slot3 = _mm256_add_epi32(_mm256_add_epi32(slot, slot), slot);
-  const __m128i low = _mm256_castsi256_si128(slot3), high = _mm256_extracti128_si256(slot3, 1);
-  const __m256i live_low = _mm256_cvtepi32_epi64(_mm256_castsi256_si128(live));
-  const __m256i live_high = _mm256_cvtepi32_epi64(_mm256_extracti128_si256(live, 1));
-  const __m256i order = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
-  const long long* base = reinterpret_cast<const long long*>(unfolded);
-  __m256 u[6];
-  for (int k = 0; k < 3; ++k) {
-    const __m128i add = _mm_set1_epi32(k);
-    const __m256 a = _mm256_permutevar8x32_ps(
-        _mm256_castsi256_ps(_mm256_mask_i32gather_epi64(_mm256_setzero_si256(), base, _mm_add_epi32(low, add), live_low, 8)), order);
-    const __m256 b = _mm256_permutevar8x32_ps(
-        _mm256_castsi256_ps(_mm256_mask_i32gather_epi64(_mm256_setzero_si256(), base, _mm_add_epi32(high, add), live_high, 8)), order);
-    u[2 * k] = _mm256_permute2f128_ps(a, b, 0x20);
-    u[2 * k + 1] = _mm256_permute2f128_ps(a, b, 0x31);
+// load_sixes in eight lanes: table[6 index .. 6 index + 5] per lane as six vectors, and
+// codes[index] (its bits) as a seventh; eight row loads and an 8 x 8 transpose instead of
+// seven gathers. Every lane reads (each needs the index of a valid row).
+MOLDTEX_CROSSING_LANES8_FN void load_sixes8(const float* table, const uint32_t* codes, __m256i index, __m256* rows,
+                                            __m256i* code) {
+  alignas(32) uint32_t at[8];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(at), index);
+  const __m256i six = _mm256_setr_epi32(-1, -1, -1, -1, -1, -1, 0, 0);
+  __m256 r[8];
+  for (int j = 0; j < 8; ++j) {
+    const size_t i = at[j];
+    const __m256 row = _mm256_maskload_ps(table + 6 * i, six);  // (no fault past the six)
+    r[j] = codes ? _mm256_blend_ps(row, _mm256_castsi256_ps(_mm256_set1_epi32(static_cast<int>(codes[i]))), 0xc0) : row;
   }
+  __m256 t[8], u[8];
+  for (int j = 0; j < 4; ++j) {
+    t[2 * j] = _mm256_unpacklo_ps(r[2 * j], r[2 * j + 1]);
+    t[2 * j + 1] = _mm256_unpackhi_ps(r[2 * j], r[2 * j + 1]);
+  }
+  for (int h = 0; h < 2; ++h) {
+    u[4 * h + 0] = _mm256_shuffle_ps(t[4 * h + 0], t[4 * h + 2], 0x44);
+    u[4 * h + 1] = _mm256_shuffle_ps(t[4 * h + 0], t[4 * h + 2], 0xee);
+    u[4 * h + 2] = _mm256_shuffle_ps(t[4 * h + 1], t[4 * h + 3], 0x44);
+    u[4 * h + 3] = _mm256_shuffle_ps(t[4 * h + 1], t[4 * h + 3], 0xee);
+  }
+  for (int k = 0; k < 4; ++k) {
+    rows[k] = _mm256_permute2f128_ps(u[k], u[k + 4], 0x20);
+    if (k < 2) rows[k + 4] = _mm256_permute2f128_ps(u[k], u[k + 4], 0x31);
+  }
+  if (code) *code = _mm256_castps_si256(_mm256_permute2f128_ps(u[2], u[6], 0x31));
+}
+
+// carry_unfolded in eight lanes (live: all ones where set).
+MOLDTEX_CROSSING_LANES8_FN void carry_unfolded8(const __m256* u, __m256i live, __m256& s0, __m256& s1, __m256& s2,
+                                                __m256& e0, __m256& e1, __m256& e2) {
+  const __m256 one = _mm256_set1_ps(1.0f);
   const __m256 g0 = u[0], g1 = u[1], g2 = u[2], g3 = u[3], g4 = u[4], g5 = u[5];
   const __m256 s1n = _mm256_add_ps(_mm256_add_ps(g0, _mm256_mul_ps(g1, s1)), _mm256_mul_ps(g2, s2));
   const __m256 s2n = _mm256_add_ps(_mm256_add_ps(g3, _mm256_mul_ps(g4, s1)), _mm256_mul_ps(g5, s2));

@@ -195,13 +195,15 @@ MOLDTEX_AVX2_FN void cross8(LaneGroup8& g, const uint32_t* adjacency, const floa
   g.live = live;
   if (!any(live)) return;
   const __m256i edge = exit_edge8(g.s0, g.s1, g.s2, g.e0, g.e1, g.e2, n0, n1, n2, live);
-  const __m256i slot = _mm256_add_epi32(_mm256_add_epi32(_mm256_add_epi32(g.t, g.t), g.t), edge);
-  const __m256i code =
-      _mm256_mask_i32gather_epi32(none, reinterpret_cast<const int*>(adjacency), slot, live, 4);
+  // (load_sixes8 reads every lane: the others read slot 0.)
+  const __m256i slot = _mm256_and_si256(live, _mm256_add_epi32(_mm256_add_epi32(_mm256_add_epi32(g.t, g.t), g.t), edge));
+  __m256 u[6];
+  __m256i code;
+  load_sixes8(unfolded, adjacency, slot, u, &code);
   live = _mm256_andnot_si256(_mm256_cmpeq_epi32(code, none), live);
   g.live = live;
   if (!any(live)) return;
-  carry_across8(slot, live, unfolded, g.s0, g.s1, g.s2, g.e0, g.e1, g.e2);
+  carry_unfolded8(u, live, g.s0, g.s1, g.s2, g.e0, g.e1, g.e2);
   g.t = _mm256_blendv_epi8(g.t, _mm256_srli_epi32(code, 3), live);
   g.hop = _mm256_sub_epi32(g.hop, live);  // + 1 where live (all ones = -1)
 }
