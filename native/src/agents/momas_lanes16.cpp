@@ -173,6 +173,37 @@ MOLDTEX_MOMAS_LANES_FN __m512 negated(__m512 a) {
   return _mm512_castsi512_ps(_mm512_xor_si512(_mm512_castps_si512(a), _mm512_set1_epi32(static_cast<int>(0x80000000u))));
 }
 
+// mtx_cos_sin in lanes (shared/angle.h: the same operations in the same order).
+MOLDTEX_MOMAS_LANES_FN void cos_sin(__m512 a, __m512& c, __m512& s) {
+  const __m512 limit = _mm512_set1_ps(MTX_MAX_TURN_ANGLE);
+  a = lanes_min(_mm512_max_ps(negated(limit), a), limit);  // mtx_max(a, -limit): vmaxps' second operand on ties
+  const __m512 scaled = _mm512_mul_ps(a, _mm512_set1_ps(MTX_TWO_OVER_PI));
+  const __mmask16 negative = _mm512_cmp_ps_mask(scaled, _mm512_setzero_ps(), _CMP_LT_OQ);
+  const __m512i k = _mm512_cvttps_epi32(
+      _mm512_add_ps(scaled, _mm512_mask_mov_ps(_mm512_set1_ps(0.5f), negative, _mm512_set1_ps(-0.5f))));
+  const __m512 kf = _mm512_cvtepi32_ps(k);
+  const __m512 r = _mm512_sub_ps(_mm512_sub_ps(_mm512_sub_ps(a, _mm512_mul_ps(kf, _mm512_set1_ps(MTX_HALF_PI_A))),
+                                               _mm512_mul_ps(kf, _mm512_set1_ps(MTX_HALF_PI_B))),
+                                 _mm512_mul_ps(kf, _mm512_set1_ps(MTX_HALF_PI_C)));
+  const __m512 r2 = _mm512_mul_ps(r, r);
+  __m512 ps = _mm512_add_ps(_mm512_set1_ps(-1.98412701e-4f), _mm512_mul_ps(r2, _mm512_set1_ps(2.75573188e-6f)));
+  ps = _mm512_add_ps(_mm512_set1_ps(8.33333377e-3f), _mm512_mul_ps(r2, ps));
+  ps = _mm512_add_ps(_mm512_set1_ps(-1.66666672e-1f), _mm512_mul_ps(r2, ps));
+  const __m512 sin_r = _mm512_add_ps(r, _mm512_mul_ps(_mm512_mul_ps(r, r2), ps));
+  __m512 pc = _mm512_add_ps(_mm512_set1_ps(2.48015876e-5f), _mm512_mul_ps(r2, _mm512_set1_ps(-2.755732e-7f)));
+  pc = _mm512_add_ps(_mm512_set1_ps(-1.38888892e-3f), _mm512_mul_ps(r2, pc));
+  pc = _mm512_add_ps(_mm512_set1_ps(4.16666679e-2f), _mm512_mul_ps(r2, pc));
+  pc = _mm512_add_ps(_mm512_set1_ps(-0.5f), _mm512_mul_ps(r2, pc));
+  const __m512 cos_r = _mm512_add_ps(_mm512_set1_ps(1.0f), _mm512_mul_ps(r2, pc));
+  const __m512i q = _mm512_and_si512(k, _mm512_set1_epi32(3));
+  const __mmask16 odd = _mm512_test_epi32_mask(q, _mm512_set1_epi32(1));
+  const __m512 cq = _mm512_mask_mov_ps(cos_r, odd, sin_r), sq = _mm512_mask_mov_ps(sin_r, odd, cos_r);
+  const __mmask16 flip_c = _mm512_cmpeq_epi32_mask(q, _mm512_set1_epi32(1)) | _mm512_cmpeq_epi32_mask(q, _mm512_set1_epi32(2));
+  const __mmask16 flip_s = _mm512_cmpge_epi32_mask(q, _mm512_set1_epi32(2));
+  c = _mm512_mask_mov_ps(cq, flip_c, negated(cq));
+  s = _mm512_mask_mov_ps(sq, flip_s, negated(sq));
+}
+
 // mtx_clear_of_edge in lanes: (db >= 0) | ((b > 1e-30) & (b + length db >= 1e-6 b)).
 MOLDTEX_MOMAS_LANES_FN __mmask16 clear_of_edge(__m512 b, __m512 db, __m512 length) {
   const __mmask16 rising = _mm512_cmp_ps_mask(db, _mm512_setzero_ps(), _CMP_GE_OQ);
@@ -711,15 +742,8 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 step16(const mtx_surface_tables& s, const mtx_m
                                                                 _mm512_set1_ps(c.turn_jitter)))
             : r;
     const __m512 turn = _mm512_mul_ps(_mm512_mul_ps(side, amount), per_species(c.max_turn, species));
-    alignas(64) float turns[16], cosines[16], sines[16];
-    _mm512_store_ps(turns, turn);
-    for (unsigned bits = turning; bits; bits &= bits - 1) {
-      const int j = __builtin_ctz(bits);
-      cosines[j] = std::cos(turns[j]);
-      sines[j] = std::sin(turns[j]);
-    }
-    const __m512 tc = _mm512_mask_load_ps(one, turning, cosines);
-    const __m512 ts = _mm512_mask_load_ps(_mm512_setzero_ps(), turning, sines);
+    __m512 tc, ts;
+    cos_sin(turn, tc, ts);
     // mtx_renormalised(mtx_rotate(h, cos, sin)).
     const __m512 nx = _mm512_sub_ps(_mm512_mul_ps(tc, hx), _mm512_mul_ps(ts, hy));
     const __m512 ny = _mm512_add_ps(_mm512_mul_ps(ts, hx), _mm512_mul_ps(tc, hy));

@@ -43,6 +43,35 @@ MOLDTEX_AVX2_FN __m256 abs8(__m256 a) {
 MOLDTEX_AVX2_FN __m256 add8(__m256 a, __m256 b) { return _mm256_add_ps(a, b); }
 MOLDTEX_AVX2_FN __m256 sub8(__m256 a, __m256 b) { return _mm256_sub_ps(a, b); }
 MOLDTEX_AVX2_FN __m256 mul8(__m256 a, __m256 b) { return _mm256_mul_ps(a, b); }
+// mtx_cos_sin in eight lanes (shared/angle.h: the same operations in the same order).
+MOLDTEX_AVX2_FN void cos_sin8(__m256 a, __m256& c, __m256& s) {
+  const __m256 limit = _mm256_set1_ps(MTX_MAX_TURN_ANGLE);
+  a = _mm256_min_ps(limit, _mm256_max_ps(neg8(limit), a));  // mtx_min(mtx_max(a, -limit), limit)
+  const __m256 scaled = mul8(a, _mm256_set1_ps(MTX_TWO_OVER_PI));
+  const __m256i k = _mm256_cvttps_epi32(
+      add8(scaled, sel8(_mm256_set1_ps(0.5f), lt8(scaled, _mm256_setzero_ps()), _mm256_set1_ps(-0.5f))));
+  const __m256 kf = _mm256_cvtepi32_ps(k);
+  const __m256 r = sub8(sub8(sub8(a, mul8(kf, _mm256_set1_ps(MTX_HALF_PI_A))), mul8(kf, _mm256_set1_ps(MTX_HALF_PI_B))),
+                        mul8(kf, _mm256_set1_ps(MTX_HALF_PI_C)));
+  const __m256 r2 = mul8(r, r);
+  __m256 ps = add8(_mm256_set1_ps(-1.98412701e-4f), mul8(r2, _mm256_set1_ps(2.75573188e-6f)));
+  ps = add8(_mm256_set1_ps(8.33333377e-3f), mul8(r2, ps));
+  ps = add8(_mm256_set1_ps(-1.66666672e-1f), mul8(r2, ps));
+  const __m256 sin_r = add8(r, mul8(mul8(r, r2), ps));
+  __m256 pc = add8(_mm256_set1_ps(2.48015876e-5f), mul8(r2, _mm256_set1_ps(-2.755732e-7f)));
+  pc = add8(_mm256_set1_ps(-1.38888892e-3f), mul8(r2, pc));
+  pc = add8(_mm256_set1_ps(4.16666679e-2f), mul8(r2, pc));
+  pc = add8(_mm256_set1_ps(-0.5f), mul8(r2, pc));
+  const __m256 cos_r = add8(_mm256_set1_ps(1.0f), mul8(r2, pc));
+  const __m256i q = _mm256_and_si256(k, _mm256_set1_epi32(3));
+  const M8 odd = as_mask(_mm256_cmpeq_epi32(_mm256_and_si256(q, _mm256_set1_epi32(1)), _mm256_set1_epi32(1)));
+  const __m256 cq = sel8(cos_r, odd, sin_r), sq = sel8(sin_r, odd, cos_r);
+  const M8 flip_c = or8(eqi8(q, _mm256_set1_epi32(1)), eqi8(q, _mm256_set1_epi32(2)));
+  const M8 flip_s = as_mask(_mm256_cmpgt_epi32(q, _mm256_set1_epi32(1)));
+  c = sel8(cq, flip_c, neg8(cq));
+  s = sel8(sq, flip_s, neg8(sq));
+}
+
 MOLDTEX_AVX2_FN __m256 gather8(const float* base, __m256i index, M8 m, __m256 src) {
   return _mm256_mask_i32gather_ps(src, base, index, m, 4);
 }
@@ -366,15 +395,8 @@ MOLDTEX_AVX2_FN unsigned step8(const mtx_surface_tables& s, const mtx_momas_cons
     side = sel8(side, to_right, _mm256_set1_ps(-1.0f));
     side = sel8(side, to_left, one);
     const __m256 turn = mul8(mul8(side, r), per_species8(c.max_turn, species));
-    alignas(32) float turns[8], cosines[8], sines[8];
-    _mm256_store_ps(turns, turn);
-    const unsigned turn_bits = bits8(turning);
-    for (unsigned b = turn_bits; b; b &= b - 1) {
-      const int k = __builtin_ctz(b);
-      cosines[k] = std::cos(turns[k]);
-      sines[k] = std::sin(turns[k]);
-    }
-    const __m256 tc = _mm256_maskload_ps(cosines, as_int(turning)), ts = _mm256_maskload_ps(sines, as_int(turning));
+    __m256 tc, ts;
+    cos_sin8(turn, tc, ts);
     const __m256 nx = sub8(mul8(tc, hx), mul8(ts, hy)), ny = add8(mul8(ts, hx), mul8(tc, hy));
     const __m256 f = sub8(_mm256_set1_ps(1.5f), mul8(_mm256_set1_ps(0.5f), add8(mul8(nx, nx), mul8(ny, ny))));
     hx = sel8(hx, turning, mul8(nx, f));

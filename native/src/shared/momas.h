@@ -6,6 +6,7 @@
 #define MOLDTEX_SHARED_MOMAS_H
 
 #ifndef __OPENCL_C_VERSION__
+#include "shared/angle.h"
 #include "shared/constants.h"
 #include "shared/portable.h"
 #include "shared/rng.h"
@@ -568,7 +569,9 @@ MTX_FN void mtx_momas_decision(MTX_TABLES s, MTX_GLOBAL const float* pheromone,
     /* Surface units: mean r = 1/2 as MoMaS, the spread around it time-step independent. */
     const float amount = k->surface_mode ? 0.5f + (r - 0.5f) * k->turn_jitter : r;
     const float turn = side * amount * k->max_turn[species];
-    w->heading = mtx_renormalised(mtx_rotate(w->heading, cos(turn), sin(turn)));
+    float c, s_;
+    mtx_cos_sin(turn, &c, &s_);
+    w->heading = mtx_renormalised(mtx_rotate(w->heading, c, s_));
   }
   /* Hunger grows once a step (hunger_step is per step); eating and the pull toward food
    * come with each decision, as the turn does: per MoMaS tick in surface units, so an
