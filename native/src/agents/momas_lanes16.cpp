@@ -176,7 +176,9 @@ MOLDTEX_MOMAS_LANES_FN __m512 negated(__m512 a) {
 // mtx_cos_sin in lanes (shared/angle.h: the same operations in the same order).
 MOLDTEX_MOMAS_LANES_FN void cos_sin(__m512 a, __m512& c, __m512& s) {
   const __m512 limit = _mm512_set1_ps(MTX_MAX_TURN_ANGLE);
-  a = lanes_min(_mm512_max_ps(negated(limit), a), limit);  // mtx_max(a, -limit): vmaxps' second operand on ties
+  // mtx_max(a, -limit) (a < -limit ? -limit : a: vmaxps returns its second operand unless
+  // the first is greater), then mtx_min with limit.
+  a = lanes_min(_mm512_max_ps(negated(limit), a), limit);
   const __m512 scaled = _mm512_mul_ps(a, _mm512_set1_ps(MTX_TWO_OVER_PI));
   const __mmask16 negative = _mm512_cmp_ps_mask(scaled, _mm512_setzero_ps(), _CMP_LT_OQ);
   const __m512i k = _mm512_cvttps_epi32(

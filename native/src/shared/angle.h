@@ -3,7 +3,8 @@
  * same bits as this scalar code, sixteen turns at a time, instead of calling the math
  * library once per turning agent. Accurate to a few units in the last place of a float:
  * the angle is reduced to r in [-pi/4, pi/4] around the nearest multiple k of pi/2
- * (pi/2 split into three parts whose products with k are exact for |k| < 2^11), then
+ * (pi/2 split into three parts, the first two of whose products with k are exact for
+ * |k| < 2^11, angles up to 3200 rad), then
  * cos r and sin r are their Taylor series to the terms in r^10 and r^9 (truncation
  * below 2e-9 there), and k's quadrant swaps and signs them. */
 #ifndef MOLDTEX_SHARED_ANGLE_H

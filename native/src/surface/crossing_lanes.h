@@ -59,6 +59,12 @@ MOLDTEX_CROSSING_LANES_FN void gather_pairs(const float* table, __m512i index, _
   second = _mm512_permutex2var_ps(a, _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31), b);
 }
 
+// table[6 i .. 6 i + 5], then codes[i] twice (zeros without codes), in the low half.
+MOLDTEX_CROSSING_LANES_FN __m512 six_and_code(const float* table, const uint32_t* codes, size_t i) {
+  const __m512 fill = codes ? _mm512_castsi512_ps(_mm512_set1_epi32(static_cast<int>(codes[i]))) : _mm512_setzero_ps();
+  return _mm512_mask_loadu_ps(fill, __mmask16(0x3f), table + 6 * i);
+}
+
 // Six floats per lane, table[6 index .. 6 index + 5], as six vectors (rows[k]: float k
 // of every lane), and codes[index] per lane as a seventh (its bits). Read row by row (a
 // masked load of the six floats over the code broadcast, per lane) and transposed in
@@ -66,11 +72,6 @@ MOLDTEX_CROSSING_LANES_FN void gather_pairs(const float* table, __m512i index, _
 // sixteen (AMD Zen 4: about 6 ns for sixteen floats, 3 ns for eight pairs), where the
 // sixteen rows and their transpose take about half the seven gathers' time. Every lane
 // reads (an index of a valid row is needed in each); the values are those a gather reads.
-// table[6 i .. 6 i + 5], then codes[i] twice (zeros without codes), in the low half.
-MOLDTEX_CROSSING_LANES_FN __m512 six_and_code(const float* table, const uint32_t* codes, size_t i) {
-  const __m512 fill = codes ? _mm512_castsi512_ps(_mm512_set1_epi32(static_cast<int>(codes[i]))) : _mm512_setzero_ps();
-  return _mm512_mask_loadu_ps(fill, __mmask16(0x3f), table + 6 * i);
-}
 MOLDTEX_CROSSING_LANES_FN void load_sixes(const float* table, const uint32_t* codes, __m512i index, __m512* rows,
                                           __m512i* code) {
   alignas(64) uint32_t at[16];
@@ -79,11 +80,12 @@ MOLDTEX_CROSSING_LANES_FN void load_sixes(const float* table, const uint32_t* co
   for (unsigned j = 0; j < 8; ++j)
     r[j] = _mm512_maskz_shuffle_f32x4(__mmask16(0xffff), six_and_code(table, codes, at[j]),
                                       six_and_code(table, codes, at[j + 8]), 0x44);
-  // An 8 x 8 transpose in each 256-bit half: lanes 0-7 in the low halves, 8-15 in the high.
+  // An 8 x 8 transpose in each 256-bit half: lanes 0-7 in the low halves, 8-15 in the high
+  // (the maskz forms: GCC 12 warns on the others).
   __m512 t[8], u[8];
   for (int j = 0; j < 4; ++j) {
-    t[2 * j] = _mm512_maskz_unpacklo_ps(__mmask16(0xffff), r[2 * j], r[2 * j + 1]);  // (maskz: GCC 12 warns
-    t[2 * j + 1] = _mm512_maskz_unpackhi_ps(__mmask16(0xffff), r[2 * j], r[2 * j + 1]);  // on the others)
+    t[2 * j] = _mm512_maskz_unpacklo_ps(__mmask16(0xffff), r[2 * j], r[2 * j + 1]);
+    t[2 * j + 1] = _mm512_maskz_unpackhi_ps(__mmask16(0xffff), r[2 * j], r[2 * j + 1]);
   }
   for (int h = 0; h < 2; ++h) {
     u[4 * h + 0] = _mm512_shuffle_ps(t[4 * h + 0], t[4 * h + 2], 0x44);
