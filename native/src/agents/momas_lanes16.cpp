@@ -1,6 +1,5 @@
 // MoMaS' step in sixteen AVX-512 lanes (agents/momas_lanes.h): the same float operations
 // in the same order as shared/momas.h (built without fused multiply-adds), so the same bits.
-#include <cmath>
 #include <cstddef>
 
 #include "agents/momas_lanes_shared.h"
@@ -173,7 +172,8 @@ MOLDTEX_MOMAS_LANES_FN __m512 negated(__m512 a) {
   return _mm512_castsi512_ps(_mm512_xor_si512(_mm512_castps_si512(a), _mm512_set1_epi32(static_cast<int>(0x80000000u))));
 }
 
-// mtx_cos_sin in lanes (shared/angle.h: the same operations in the same order).
+// mtx_cos_sin in lanes (shared/angle.h: its rest and series macros on vectors, the
+// clamp, the nearest quarter turn and the quadrant as masks).
 MOLDTEX_MOMAS_LANES_FN void cos_sin(__m512 a, __m512& c, __m512& s) {
   const __m512 limit = _mm512_set1_ps(MTX_MAX_TURN_ANGLE);
   // mtx_max(a, -limit) (a < -limit ? -limit : a: vmaxps returns its second operand unless
@@ -184,19 +184,9 @@ MOLDTEX_MOMAS_LANES_FN void cos_sin(__m512 a, __m512& c, __m512& s) {
   const __m512i k = _mm512_cvttps_epi32(
       _mm512_add_ps(scaled, _mm512_mask_mov_ps(_mm512_set1_ps(0.5f), negative, _mm512_set1_ps(-0.5f))));
   const __m512 kf = _mm512_cvtepi32_ps(k);
-  const __m512 r = _mm512_sub_ps(_mm512_sub_ps(_mm512_sub_ps(a, _mm512_mul_ps(kf, _mm512_set1_ps(MTX_HALF_PI_A))),
-                                               _mm512_mul_ps(kf, _mm512_set1_ps(MTX_HALF_PI_B))),
-                                 _mm512_mul_ps(kf, _mm512_set1_ps(MTX_HALF_PI_C)));
-  const __m512 r2 = _mm512_mul_ps(r, r);
-  __m512 ps = _mm512_add_ps(_mm512_set1_ps(-1.98412701e-4f), _mm512_mul_ps(r2, _mm512_set1_ps(2.75573188e-6f)));
-  ps = _mm512_add_ps(_mm512_set1_ps(8.33333377e-3f), _mm512_mul_ps(r2, ps));
-  ps = _mm512_add_ps(_mm512_set1_ps(-1.66666672e-1f), _mm512_mul_ps(r2, ps));
-  const __m512 sin_r = _mm512_add_ps(r, _mm512_mul_ps(_mm512_mul_ps(r, r2), ps));
-  __m512 pc = _mm512_add_ps(_mm512_set1_ps(2.48015876e-5f), _mm512_mul_ps(r2, _mm512_set1_ps(-2.755732e-7f)));
-  pc = _mm512_add_ps(_mm512_set1_ps(-1.38888892e-3f), _mm512_mul_ps(r2, pc));
-  pc = _mm512_add_ps(_mm512_set1_ps(4.16666679e-2f), _mm512_mul_ps(r2, pc));
-  pc = _mm512_add_ps(_mm512_set1_ps(-0.5f), _mm512_mul_ps(r2, pc));
-  const __m512 cos_r = _mm512_add_ps(_mm512_set1_ps(1.0f), _mm512_mul_ps(r2, pc));
+  const __m512 r = MTX_QUARTER_TURN_REST(a, kf);
+  const __m512 r2 = r * r;
+  const __m512 sin_r = MTX_SIN_SERIES(r, r2), cos_r = MTX_COS_SERIES(r2);
   const __m512i q = _mm512_and_si512(k, _mm512_set1_epi32(3));
   const __mmask16 odd = _mm512_test_epi32_mask(q, _mm512_set1_epi32(1));
   const __m512 cq = _mm512_mask_mov_ps(cos_r, odd, sin_r), sq = _mm512_mask_mov_ps(sin_r, odd, cos_r);

@@ -1,6 +1,5 @@
 // MoMaS' step in eight AVX2 lanes (agents/momas_lanes.h), for processors without AVX-512:
 // the 16-lane code's float operations in its order, so the same bits.
-#include <cmath>
 #include <cstddef>
 
 #include "agents/momas_lanes_shared.h"
@@ -43,7 +42,8 @@ MOLDTEX_AVX2_FN __m256 abs8(__m256 a) {
 MOLDTEX_AVX2_FN __m256 add8(__m256 a, __m256 b) { return _mm256_add_ps(a, b); }
 MOLDTEX_AVX2_FN __m256 sub8(__m256 a, __m256 b) { return _mm256_sub_ps(a, b); }
 MOLDTEX_AVX2_FN __m256 mul8(__m256 a, __m256 b) { return _mm256_mul_ps(a, b); }
-// mtx_cos_sin in eight lanes (shared/angle.h: the same operations in the same order).
+// mtx_cos_sin in eight lanes (shared/angle.h: its rest and series macros on vectors,
+// the clamp, the nearest quarter turn and the quadrant as masks).
 MOLDTEX_AVX2_FN void cos_sin8(__m256 a, __m256& c, __m256& s) {
   const __m256 limit = _mm256_set1_ps(MTX_MAX_TURN_ANGLE);
   a = _mm256_min_ps(limit, _mm256_max_ps(neg8(limit), a));  // mtx_min(mtx_max(a, -limit), limit)
@@ -51,18 +51,9 @@ MOLDTEX_AVX2_FN void cos_sin8(__m256 a, __m256& c, __m256& s) {
   const __m256i k = _mm256_cvttps_epi32(
       add8(scaled, sel8(_mm256_set1_ps(0.5f), lt8(scaled, _mm256_setzero_ps()), _mm256_set1_ps(-0.5f))));
   const __m256 kf = _mm256_cvtepi32_ps(k);
-  const __m256 r = sub8(sub8(sub8(a, mul8(kf, _mm256_set1_ps(MTX_HALF_PI_A))), mul8(kf, _mm256_set1_ps(MTX_HALF_PI_B))),
-                        mul8(kf, _mm256_set1_ps(MTX_HALF_PI_C)));
-  const __m256 r2 = mul8(r, r);
-  __m256 ps = add8(_mm256_set1_ps(-1.98412701e-4f), mul8(r2, _mm256_set1_ps(2.75573188e-6f)));
-  ps = add8(_mm256_set1_ps(8.33333377e-3f), mul8(r2, ps));
-  ps = add8(_mm256_set1_ps(-1.66666672e-1f), mul8(r2, ps));
-  const __m256 sin_r = add8(r, mul8(mul8(r, r2), ps));
-  __m256 pc = add8(_mm256_set1_ps(2.48015876e-5f), mul8(r2, _mm256_set1_ps(-2.755732e-7f)));
-  pc = add8(_mm256_set1_ps(-1.38888892e-3f), mul8(r2, pc));
-  pc = add8(_mm256_set1_ps(4.16666679e-2f), mul8(r2, pc));
-  pc = add8(_mm256_set1_ps(-0.5f), mul8(r2, pc));
-  const __m256 cos_r = add8(_mm256_set1_ps(1.0f), mul8(r2, pc));
+  const __m256 r = MTX_QUARTER_TURN_REST(a, kf);
+  const __m256 r2 = r * r;
+  const __m256 sin_r = MTX_SIN_SERIES(r, r2), cos_r = MTX_COS_SERIES(r2);
   const __m256i q = _mm256_and_si256(k, _mm256_set1_epi32(3));
   const M8 odd = as_mask(_mm256_cmpeq_epi32(_mm256_and_si256(q, _mm256_set1_epi32(1)), _mm256_set1_epi32(1)));
   const __m256 cq = sel8(cos_r, odd, sin_r), sq = sel8(sin_r, odd, cos_r);

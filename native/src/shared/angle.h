@@ -26,18 +26,27 @@ MTX_BEGIN_NAMESPACE
  * still converts to an int; no parameter in range asks for more. */
 #define MTX_MAX_TURN_ANGLE 6.0e5f
 
+/* The rest of a after kf quarter turns, and the series of sin and cos at that rest r
+ * (r2 = r r): written once for this scalar code and for the SIMD lanes, whose vectors take
+ * the same operators (GCC's and Clang's vector extensions, a float constant standing for
+ * every lane), so each backend multiplies and adds in this order. */
+#define MTX_QUARTER_TURN_REST(a, kf) \
+  ((((a) - (kf) * MTX_HALF_PI_A) - (kf) * MTX_HALF_PI_B) - (kf) * MTX_HALF_PI_C)
+#define MTX_SIN_SERIES(r, r2) \
+  ((r) + (r) * (r2) * (-1.66666672e-1f + (r2) * (8.33333377e-3f + (r2) * (-1.98412701e-4f + (r2) * 2.75573188e-6f))))
+#define MTX_COS_SERIES(r2)                                                                                     \
+  (1.0f + (r2) * (-0.5f + (r2) * (4.16666679e-2f + (r2) * (-1.38888892e-3f + (r2) * (2.48015876e-5f + (r2) * \
+                                                                                            -2.755732e-7f)))))
+
 /* cos(a) and sin(a) of a turn angle a (radians). */
 MTX_FN void mtx_cos_sin(float a, float* c, float* s) {
   a = mtx_min(mtx_max(a, -MTX_MAX_TURN_ANGLE), MTX_MAX_TURN_ANGLE);
   const float scaled = a * MTX_TWO_OVER_PI;
   const int k = MTX_CAST(int, scaled + (scaled < 0.0f ? -0.5f : 0.5f)); /* nearest, halves away from 0 */
   const float kf = MTX_CAST(float, k);
-  const float r = ((a - kf * MTX_HALF_PI_A) - kf * MTX_HALF_PI_B) - kf * MTX_HALF_PI_C;
+  const float r = MTX_QUARTER_TURN_REST(a, kf);
   const float r2 = r * r;
-  const float sin_r =
-      r + r * r2 * (-1.66666672e-1f + r2 * (8.33333377e-3f + r2 * (-1.98412701e-4f + r2 * 2.75573188e-6f)));
-  const float cos_r =
-      1.0f + r2 * (-0.5f + r2 * (4.16666679e-2f + r2 * (-1.38888892e-3f + r2 * (2.48015876e-5f + r2 * -2.755732e-7f))));
+  const float sin_r = MTX_SIN_SERIES(r, r2), cos_r = MTX_COS_SERIES(r2);
   const int q = k & 3;
   const float cq = (q & 1) ? sin_r : cos_r, sq = (q & 1) ? cos_r : sin_r;
   *c = (q == 1 || q == 2) ? -cq : cq;
