@@ -72,13 +72,6 @@ MOLDTEX_MOMAS_LANES_FN void point_in_texels(__m512 b0, __m512 b1, __m512 b2, con
   y = _mm512_mul_ps(v, tx.height);
 }
 
-// The texel holding that point (mtx_walker_texel).
-MOLDTEX_MOMAS_LANES_FN __m512i texel_of(__m512 b0, __m512 b1, __m512 b2, const __m512* uv, const TextureLanes& tx) {
-  __m512 x, y;
-  point_in_texels(b0, b1, b2, uv, tx, x, y);
-  return texel_at(x, y, tx.last_x, tx.last_y, tx.row);
-}
-
 // The corner UVs of triangle t in the lanes m (uv kept elsewhere; every lane's t must be
 // a triangle): sixteen row loads and a transpose (load_sixes).
 MOLDTEX_MOMAS_LANES_FN void gather_uvs(const float* corner_uvs, __m512i t, __mmask16 m, __m512* uv) {
