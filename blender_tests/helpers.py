@@ -106,11 +106,13 @@ def mesh_object(name, vertices, faces, with_uvs=True):
 
 def configure(obj, resolution=RESOLUTION, agents=AGENTS, seed=SEED, **params):
     """Test settings. Surface units (the default) with a pattern scale that makes one
-    pattern texel about one texel at this (small, quick) resolution, the scale the
-    tests' step counts and thresholds were made for."""
+    pattern texel about one texel at this (small, quick) resolution, simulated on the
+    texture's own texels (Detail 1×, where Auto would take 2×): the scale and detail the
+    tests' step counts and thresholds were made for (Detail's own tests set it)."""
     from moldtex import live as live_module
     settings = obj.moldtex
     settings.pattern_scale = live_module.REFERENCE_RESOLUTION / int(resolution)
+    settings.detail = '1'
     settings.resolution = resolution
     settings.agent_count = agents
     settings.seed = seed

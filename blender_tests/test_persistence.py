@@ -13,7 +13,8 @@ NON_DEFAULTS = {
     "movement_speed": 1.75, "turn_speed": 33.0, "vision_distance": 1.6,
     "vision_angle": 41.5, "sensor_size": 2, "evaporation_rate": 0.3, "diffusion_rate": 25.0,
     "deposit": 0.8, "substeps": 5, "agent_count": 12345, "resolution": "1024",
-    "seed": 987654, "steps_per_update": 7, "update_time": 120, "uv_map": "UVMap", "thread_count": 1,
+    "seed": 987654, "detail": "4", "steps_per_update": 7, "update_time": 120,
+    "uv_map": "UVMap", "thread_count": 1,
     # What the Backend chooser stores (test_opencl checks the chooser itself).
     "backend_type": "CPU", "opencl_platform": 1, "opencl_device": 2,
     "opencl_device_name": "Imaginary GPU", "opencl_platform_name": "Imaginary Platform",

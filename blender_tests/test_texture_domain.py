@@ -85,5 +85,65 @@ class SuzanneTexelClassTests(unittest.TestCase):
         self.assertGreater(split_sum / count, 0.8)
 
 
+
+class DetailTests(unittest.TestCase):
+    """Detail (moldtex_sim_config.detail): at the add-on's defaults a UV sphere's texture
+    has about one texel per pattern unit, where its poles come out about 30% thin
+    (README, "Units: Surface"); Detail Auto simulates it at twice the resolution and
+    writes the texture at its own. The core's tests check that the image is then the
+    finer simulation seen smaller; here, that the add-on picks the detail the settings
+    ask for, shows it, and keeps the texture at its Resolution."""
+
+    def setUp(self):
+        h.clear_scene()
+
+    def tearDown(self):
+        h.clear_scene()
+
+    def test_auto_detail_follows_the_texels_per_unit(self):
+        from moldtex import live
+        bpy.ops.mesh.primitive_uv_sphere_add()
+        obj = bpy.context.active_object
+        obj.moldtex.agent_count = 20000  # otherwise the add-on's defaults
+        self.assertEqual(obj.moldtex.detail, 'AUTO')
+        self.assertEqual(obj.moldtex.resolution, '512')
+        entry = h.run(obj, 3)
+        # Its UVs fill the texture but for the poles' teeth: about 0.97 texels per unit,
+        # so Auto takes 2 (1.9 or more), and the core runs at 1024².
+        per_unit = live.texels_per_unit(entry, obj.moldtex)
+        self.assertAlmostEqual(per_unit, 0.97, delta=0.03)
+        self.assertEqual(entry.sim.get_config()["detail"], 2)
+        self.assertEqual(tuple(obj.moldtex.image.size), (512, 512))
+        self.assertEqual(len(entry.sim.read_texel_classes()), 512 * 512)
+        pixels = h.image_pixels(obj)
+        self.assertGreater(max(pixels[0::4]), 0.0, "the pattern reaches the image")
+        from test_ui import draw_all, labels
+        self.assertIn("Simulated 1024 × 1024 (2×)", labels(draw_all(self, obj)))
+        # Twice the pattern scale: two texels per unit already, so no detail.
+        obj.moldtex.pattern_scale = 2.0
+        self.assertTrue(live.needs_reset(obj))
+        entry = h.run(obj, 1)
+        self.assertEqual(entry.sim.get_config()["detail"], 1)
+        self.assertNotIn("Simulated", labels(draw_all(self, obj)))
+        # Texel units are MoMaS' own texels: never a detail, whatever the setting.
+        obj.moldtex.pattern_scale = 1.0
+        obj.moldtex.detail = '4'
+        obj.moldtex.pattern_units = 'TEXELS'
+        entry = h.run(obj, 1)
+        self.assertEqual(entry.sim.get_config()["detail"], 1)
+        # An explicit detail in surface units is taken as it is.
+        obj.moldtex.pattern_units = 'SURFACE'
+        obj.moldtex.resolution = '128'
+        self.assertTrue(live.needs_reset(obj))
+        entry = h.run(obj, 1)
+        self.assertEqual(entry.sim.get_config()["detail"], 4)
+        self.assertEqual(tuple(obj.moldtex.image.size), (128, 128))
+        # Auto never takes 4× (its cost: PERFORMANCE), even at a quarter texel per unit.
+        obj.moldtex.detail = 'AUTO'
+        entry = h.run(obj, 1)
+        self.assertAlmostEqual(live.texels_per_unit(entry, obj.moldtex), 0.24, delta=0.01)
+        self.assertEqual(entry.sim.get_config()["detail"], 2)
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -133,7 +133,8 @@ class PanelTests(unittest.TestCase):
                                  "vision_angle_ui", "sensor_size", "evaporation_rate",
                                  "diffusion_rate",
                                  "deposit", "substeps", "resolution", "agent_count",
-                                 "seed", "backend", "steps_per_update", "update_time",
+                                 "seed", "detail", "backend", "steps_per_update",
+                                 "update_time",
                                  "thread_count",
                                  "image", "bake_use_scene_range", "bake_frame_start",
                                  "bake_frame_end", "bake_steps_per_frame",
@@ -192,17 +193,24 @@ class PanelTests(unittest.TestCase):
         # the pattern unit, Pattern Scale × √(area) / 512, spans Scale × resolution / 512
         # texels (h.configure's scale makes that 1 at any resolution): known answers.
         from moldtex import live
-        obj = h.plane(resolution="128")
+        obj = h.plane(resolution="128")  # (Detail 1×)
         entry = h.run(obj, 1)
         self.assertAlmostEqual(live.texels_per_unit(entry, obj.moldtex), 1.0, places=4)
         text = labels(draw_all(self, obj))
         self.assertIn("Texels / Unit 1.0", text)
-        self.assertNotIn("Under one texel per pattern unit", text)
+        self.assertNotIn("Under one simulated texel per pattern unit", text)
         obj.moldtex.pattern_scale = 2.0  # a unit of half a texel: flagged
         self.assertAlmostEqual(live.texels_per_unit(entry, obj.moldtex), 0.5, places=4)
         text = labels(draw_all(self, obj))
         self.assertIn("Texels / Unit 0.5", text)
-        self.assertIn("Under one texel per pattern unit", text)
+        self.assertIn("Under one simulated texel per pattern unit", text)
+        # At Detail 2× the same texture simulates one texel per unit: not flagged.
+        obj.moldtex.detail = '2'
+        entry = h.run(obj, 1)
+        text = labels(draw_all(self, obj))
+        self.assertIn("Texels / Unit 0.5", text)
+        self.assertIn("Simulated 256 × 256 (2×)", text)
+        self.assertNotIn("Under one simulated texel per pattern unit", text)
         obj.moldtex.pattern_scale = 8.0
         self.assertAlmostEqual(live.texels_per_unit(entry, obj.moldtex), 2.0, places=4)
         # Texel units and the continuous model have no pattern unit in texels to show.

@@ -141,6 +141,8 @@ class SimConfig(ctypes.Structure):
         # appended for the intrinsic domain (a moldtex_domain; mesh units, 0 = auto)
         ("domain", ctypes.c_uint32),
         ("intrinsic_bound", ctypes.c_float),
+        # appended for a simulation finer than its image (1, 2 or 4)
+        ("detail", ctypes.c_uint32),
     ]
 
 

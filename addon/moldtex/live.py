@@ -277,7 +277,9 @@ def domain_of(settings):
     return DOMAINS.get(enum_value(settings, "domain"), engine.DOMAIN_TEXTURE)
 
 
-def config_from_settings(settings):
+def config_from_settings(settings, surface_info=None):
+    """The core's config for settings; `surface_info` (the surface's area and UV area,
+    engine.Surface.info) decides Detail: Auto, which is 1 where it is not given."""
     from .properties import enum_value  # (properties imports this module)
     size = int(enum_value(settings, "resolution"))
     domain = domain_of(settings)
@@ -288,9 +290,39 @@ def config_from_settings(settings):
               "seed": int(settings.seed), "species_count": int(settings.species_count),
               "seed_shape": SEED_SHAPES[enum_value(settings, "seed_shape")],
               "seed_radius": float(settings.seed_radius),
-              "seed_rays": int(settings.seed_rays)}
+              "seed_rays": int(settings.seed_rays),
+              "detail": detail_for(settings, size, surface_info)}
     config.update(backend_from_settings(settings)[0])
     return config
+
+
+# Detail: Auto simulates at 2x where the texture has fewer texels per pattern unit than
+# this (a UV sphere's poles need two: README, "Units: Surface"), if that stays within
+# AUTO_DETAIL_MAX_SIZE texels per side. Never 4x: on Suzanne (Subdivision 2, 512^2, the
+# defaults) a step takes 4.8 ms at 1x, 11 ms at 2x and 32-41 ms at 4x (PERFORMANCE).
+AUTO_DETAIL_TEXELS_PER_UNIT = 1.9
+AUTO_DETAIL_MAX_SIZE = 4096
+
+
+def detail_for(settings, size, surface_info=None):
+    """Simulated texels per image texel and axis (the core's config.detail): 1 except for
+    MoMaS in surface units; there the Detail setting, or for Auto 2 where the texture
+    has under AUTO_DETAIL_TEXELS_PER_UNIT texels per pattern unit and 2 × size is at
+    most AUTO_DETAIL_MAX_SIZE (1 where the surface is not known)."""
+    if model_of(settings) != engine.MODEL_MOMAS or \
+            _enum(settings, "pattern_units", 'SURFACE') != 'SURFACE':
+        return 1
+    choice = _enum(settings, "detail", 'AUTO')
+    if choice != 'AUTO':
+        return int(choice)
+    info = surface_info or {}
+    area, uv_area = info.get("area") or 0.0, info.get("uv_area") or 0.0
+    unit = pattern_unit(settings, area)
+    if not (area > 0.0 and uv_area > 0.0 and unit > 0.0 and size > 0):
+        return 1
+    per_unit = unit / math.sqrt(area / (uv_area * size * size))
+    coarse = per_unit < AUTO_DETAIL_TEXELS_PER_UNIT
+    return 2 if coarse and 2 * size <= AUTO_DETAIL_MAX_SIZE else 1
 
 
 # Surface units: a pattern scale of 1 makes one pattern "texel" the side of a square of
@@ -794,7 +826,7 @@ def needs_reset(obj):
     if entry is None or not entry.has_sim:  # (drawn by the panel: never waits)
         return False
     settings = obj.moldtex
-    return (entry.config != config_from_settings(settings)
+    return (entry.config != config_from_settings(settings, entry.surface_info)
             or entry.uv_map_setting != settings.uv_map
             or entry.reaction_seeds != reaction_seeds(settings))
 
@@ -827,6 +859,9 @@ def _build(entry, obj, mesh, depsgraph=None):
         _check_spawn_map(settings, fields)
         surface_info = surface.info()
         area = surface_info.get("area")
+        # Detail: Auto follows the surface's texels per pattern unit.
+        config["detail"] = create_config["detail"] = detail_for(settings, config["width"],
+                                                                surface_info)
         continuous = reaction = None
         if config["model"] == engine.MODEL_CONTINUOUS:
             continuous = continuous_params_from_settings(settings, area)

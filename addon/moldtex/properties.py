@@ -46,6 +46,17 @@ RESOLUTION_ITEMS = [
      5),
 ]
 
+# Simulated texels per texture texel and axis (moldtex_sim_config.detail).
+DETAIL_ITEMS = [
+    ("AUTO", "Auto",
+     "2× where the texture has under about two texels per pattern unit (at most 4096² "
+     "simulated), else 1×: at one texel per unit a UV sphere's poles come out thin", 0),
+    ("1", "1×", "Simulate on the texture's own texels", 1),
+    ("2", "2×", "Simulate at twice the resolution; the texture is its mean, 2 × 2 texels "
+     "per texel", 2),
+    ("4", "4×", "Simulate at four times the resolution (16 × the memory and more time)", 3),
+]
+
 
 # ---- path options -----------------------------------------------------------------
 # Blender 5.0 warns about a path property holding a blend-relative "//" path unless it
@@ -780,6 +791,15 @@ class MoldtexSettings(bpy.types.PropertyGroup):
     resolution: EnumProperty(
         name="Resolution", items=RESOLUTION_ITEMS, default="512",
         description="Resolution: size of the pheromone texture." + _RESET_NOTE,
+        update=_config_changed)
+    detail: EnumProperty(
+        name="Detail", items=DETAIL_ITEMS, default="AUTO",
+        description="Detail (MoMaS in Units: Surface): how many simulated texels span one "
+                    "texture texel along each axis. The texture keeps its Resolution and "
+                    "shows their mean; the pattern is the same, computed more finely (and "
+                    "more slowly). Auto takes 2× under about two texels per pattern unit, "
+                    "which a UV sphere's poles need (one texel per unit leaves them about "
+                    "30% thin)." + _RESET_NOTE,
         update=_config_changed)
     seed: IntProperty(
         name="Seed", default=0, min=0,

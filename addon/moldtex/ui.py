@@ -286,8 +286,8 @@ class MOLDTEX_PT_main(bpy.types.Panel):
         row.operator("moldtex.reset", icon='FILE_REFRESH')
 
         if live.needs_reset(obj):
-            _wrapped(layout, "Model, domain, resolution, agents, seed, backend, UV map, species "
-                             "or start changed: press Reset (or Start) to apply.",
+            _wrapped(layout, "Model, domain, resolution, detail, agents, seed, backend, UV map, "
+                             "species or start changed: press Reset (or Start) to apply.",
                      icon='INFO')
         if entry is not None and entry.notice:
             _wrapped(layout, entry.notice, icon='INFO')
@@ -348,15 +348,21 @@ class MOLDTEX_PT_main(bpy.types.Panel):
                 grid.label(text="Presence")
                 grid.label(text=f"{100.0 * stats['presence']:.1f} %")
             per_unit = live.texels_per_unit(entry, obj.moldtex)
+            detail = int(entry.config.get("detail", 1) or 1) if entry.config else 1
             if per_unit is not None:
                 grid.label(text="Texels / Unit")
                 grid.label(text=f"{per_unit:.1f}")
+            if detail > 1:
+                grid.label(text="Simulated")
+                grid.label(text=f"{entry.config.get('width', 0) * detail} × "
+                                f"{entry.config.get('height', 0) * detail} ({detail}×)")
             grid.label(text="Memory")
             grid.label(text=f"{stats['bytes_in_use'] / 2**20:.1f} MiB")
-            if per_unit is not None and per_unit < COARSE_TEXELS_PER_UNIT:
-                _wrapped(box, "Under one texel per pattern unit: a higher Resolution "
-                              "sharpens the same pattern (two or more texels per unit also "
-                              "keep a UV sphere's poles full)", icon='INFO')
+            if per_unit is not None and per_unit * detail < COARSE_TEXELS_PER_UNIT:
+                _wrapped(box, "Under one simulated texel per pattern unit: Detail Auto or a "
+                              "higher Resolution computes the same pattern more finely (two "
+                              "or more texels per unit keep a UV sphere's poles full)",
+                         icon='INFO')
             # e.g. "OpenCL: <device> (<platform>)", or for Auto "CPU (2 threads);
             # OpenCL not used: <why>".
             text = _domain_text(entry.domain_info)
@@ -685,6 +691,8 @@ class MOLDTEX_PT_setup(_SubPanel, bpy.types.Panel):
         column = _split(layout)
         column.label(text="Applied on Reset", icon='FILE_REFRESH')
         _prop(column, settings, "seed")
+        if settings.model == 'MOMAS' and settings.pattern_units == 'SURFACE':
+            _prop(column, settings, "detail")  # (MoMaS' surface units only)
         if settings.model != 'MOMAS' and settings.domain == 'INTRINSIC':
             _prop(column, settings, "intrinsic_size")
         _prop(column, settings, "backend")

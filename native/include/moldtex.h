@@ -202,6 +202,17 @@ typedef struct moldtex_sim_config {
                                 3D spacing of the island texels, so both domains resolve
                                 the same detail (a mesh without UVs: the spacing of
                                 width * height texels spread over its area) */
+  /* Added for a simulation finer than its image (issue 9); older callers get 1. The
+   * texture domain then runs at detail * width by detail * height texels, and every
+   * texel array of this API stays width x height: moldtex_sim_read_rgba, the image
+   * files and the texel classes give each image texel the mean of its detail^2
+   * simulated texels (those on or beside an island), and fields and maps given per image
+   * texel apply to all of them. A simulation at detail 2 is the one at twice the size
+   * (the same agents, seed and length unit) seen at this size. 0 or 1 (none), 2 or 4;
+   * above 1 MoMaS only, and detail * width and detail * height at most 16384. In
+   * surface units, where a pattern unit spans under about two image texels, detail 2
+   * keeps what one texel per unit cannot: a UV sphere's poles (README, "Units: Surface"). */
+  uint32_t detail;
 } moldtex_sim_config;
 
 /* Where concentrations live (a config field: changing it needs a new simulation). Both

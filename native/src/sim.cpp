@@ -16,6 +16,7 @@
 #endif
 #include "common/error.h"
 #include "domain/reaction_diffusion.h"
+#include "domain/texture_detail.h"
 #include "io/image_writer.h"
 
 namespace moldtex {
@@ -30,7 +31,8 @@ constexpr uint32_t kMaxAgents = 1u << 26;
 // classes, the texel -> triangle raster, and roughly one gutter entry per texel along the
 // island borders.
 double estimated_bytes(const moldtex_sim_config& c) {
-  double texels = static_cast<double>(c.width) * c.height;
+  const double detail = c.detail > 1 ? c.detail : 1;
+  double texels = static_cast<double>(c.width) * c.height * detail * detail;
   const double planes = c.species_count;
   double bytes = static_cast<double>(c.agent_count) * 86.0 + texels * (planes * 9 + 4 + 4 + 1) + texels * 0.5;
   // The continuous model: the deposit sums and the PDE's operator (CSR with reverse
@@ -69,6 +71,20 @@ void validate_config(const moldtex_sim_config& c, const Surface& surface) {
     fail(c.width > kMaxTextureSize || c.height > kMaxTextureSize ? MOLDTEX_ERROR_TOO_LARGE
                                                                   : MOLDTEX_ERROR_INVALID_ARGUMENT,
          m.str());
+  }
+  if (c.detail != 1 && c.detail != 2 && c.detail != 4)
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "The detail must be 1, 2 or 4 simulated texels per image texel and axis, got " + std::to_string(c.detail));
+  if (c.detail > 1 && (c.model != MOLDTEX_MODEL_MOMAS || c.domain != MOLDTEX_DOMAIN_TEXTURE))
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
+         "A detail above 1 is for MoMaS on the texture domain: set detail to 1 for the continuous model and "
+         "Gray-Scott");
+  if (size_t(c.width) * c.detail > kMaxTextureSize || size_t(c.height) * c.detail > kMaxTextureSize) {
+    std::ostringstream m;
+    m << "Texture size " << c.width << " x " << c.height << " at detail " << c.detail << " would simulate "
+      << size_t(c.width) * c.detail << " x " << size_t(c.height) * c.detail << " texels, over " << kMaxTextureSize
+      << " per side: lower the resolution or the detail";
+    fail(MOLDTEX_ERROR_TOO_LARGE, m.str());
   }
   if (c.backend > MOLDTEX_BACKEND_OPENCL)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Unknown backend: use 0 (auto), 1 (CPU) or 2 (OpenCL)");
@@ -314,8 +330,8 @@ Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim
   moldtex_reaction_params_init(&settings_.reaction);
   {
     ThreadPool pool(params.thread_count);
-    domain_ = std::make_shared<const TextureDomain>(
-        build_texture_domain(*uv_surface, config.width, config.height, pool));
+    domain_ = std::make_shared<const TextureDomain>(build_texture_domain(
+        *uv_surface, config_.width * config_.detail, config_.height * config_.detail, pool));
   }
   const TextureDomain& d = *domain_;
   for (size_t i = 0; i < d.texel_count(); ++i)
@@ -424,7 +440,9 @@ void Simulation::set_fields(const float* rgba) {
     update_field_plane();
     return;
   }
-  for (size_t i = 0; i < texels; ++i) {
+  // Validated as given (per image texel), then spread over the domain's texels.
+  const size_t given = image_texel_count();
+  for (size_t i = 0; i < given; ++i) {
     const float r = rgba[4 * i], g = rgba[4 * i + 1], b = rgba[4 * i + 2];
     if (!std::isfinite(r) || !std::isfinite(g) || !std::isfinite(b) || !std::isfinite(rgba[4 * i + 3]))
       fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The fields contain a NaN or infinite value at texel " +
@@ -433,6 +451,12 @@ void Simulation::set_fields(const float* rgba) {
       fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Spawn weights (red) must be >= 0");
     if (b < 0.f || b > 1.f)
       fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Attractor strengths (blue) must be between 0 and 1");
+  }
+  const float* const image = rgba;
+  std::vector<float> finer;
+  if (config_.detail > 1) {
+    finer = finer_texels(image, config_.width, config_.height, 4, config_.detail);
+    rgba = finer.data();
   }
   std::vector<uint8_t> obstacle(texels);
   for (size_t i = 0; i < texels; ++i) obstacle[i] = rgba[4 * i + 1] > 0.5f;
@@ -463,7 +487,7 @@ void Simulation::set_fields(const float* rgba) {
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
          "The spawn map is empty (or lies entirely under obstacles): paint a spawn region "
          "(red channel) on the mesh");
-  fields_rgba_.assign(rgba, rgba + 4 * texels);
+  fields_rgba_.assign(image, image + 4 * given);
   fields_only_plane_ = any ? std::move(plane) : std::vector<float>{};
   spawn_weights_ = std::move(spawn);
   free_weights_ = std::move(free);
@@ -486,6 +510,12 @@ void Simulation::update_field_plane() {
 }
 
 void Simulation::set_map(uint32_t kind, const float* values) {
+  std::vector<float> finer;
+  if (values && config_.detail > 1) {
+    validate_map(kind, values, image_texel_count(), image_texel_count());  // messages per image texel
+    finer = finer_texels(values, config_.width, config_.height, 1, config_.detail);
+    values = finer.data();
+  }
   set_parameter_map(*maps_, kind, values, *surface_, *domain_);
   if (kind == MOLDTEX_MAP_READ_STIMULUS) update_field_plane();
   // Clocks start in the local steady state (§3.3): restart them for a new lifetime or
@@ -588,6 +618,7 @@ void Simulation::set_reaction_params(const moldtex_reaction_params& p) {
 
 moldtex_sim_config reaction_config(const moldtex_sim_config& config) {
   moldtex_sim_config c = config;
+  if (c.detail == 0) c.detail = 1;  // a caller that zeroed the struct
   if (c.model == MOLDTEX_MODEL_GRAY_SCOTT) {  // two planes (V, U), no agents
     c.agent_count = 0;
     c.species_count = kReactionPlanes;
@@ -836,23 +867,52 @@ void encode_rgba(const std::vector<float>& field, size_t cells, uint32_t planes,
 }  // namespace
 
 void Simulation::read_rgba(float* rgba) const {
+  if (config_.detail > 1) {
+    const std::vector<uint8_t> classes = image_classes(*domain_, config_.detail);
+    encode_rgba(image_field(), image_texel_count(), settings_.species_count,
+                [&](size_t i) { return classes[i] == MOLDTEX_TEXEL_OUTSIDE ? 0.f : 1.f; }, rgba);
+    return;
+  }
   const auto& classes = domain_->classes;
   encode_rgba(read_display_field(), domain_->texel_count(), settings_.species_count,
               [&](size_t i) { return classes[i] == MOLDTEX_TEXEL_OUTSIDE ? 0.f : 1.f; },  // the island mask
               rgba);
 }
 
+std::vector<float> Simulation::image_field() const {
+  std::vector<float> field = read_display_field();
+  if (config_.detail == 1) return field;
+  return image_planes(field, settings_.species_count, *domain_, config_.detail);
+}
+
+void Simulation::read_texel_classes(uint8_t* classes) const {
+  if (config_.detail == 1) {
+    std::copy(domain_->classes.begin(), domain_->classes.end(), classes);
+    return;
+  }
+  const std::vector<uint8_t> image = image_classes(*domain_, config_.detail);
+  std::copy(image.begin(), image.end(), classes);
+}
+
+void Simulation::read_map(uint32_t kind, float* values) const {
+  const std::vector<float>& m = maps_->given[kind];
+  const uint32_t k = config_.detail, fine_width = domain_->width;
+  // At detail above 1 each image texel reads its first fine texel: the value given there.
+  for (size_t y = 0; y < config_.height; ++y)
+    for (size_t x = 0; x < config_.width; ++x) values[y * config_.width + x] = m[(y * k) * fine_width + x * k];
+}
+
 void Simulation::write_image(const std::string& path, moldtex_image_format format) const {
-  const size_t texels = domain_->texel_count();
+  const size_t texels = image_texel_count();
   const uint32_t planes = settings_.species_count;
-  const std::vector<float> field = read_display_field();
+  const std::vector<float> field = image_field();
   static const char* const kOne[] = {"Y"};
   static const char* const kMany[] = {"R", "G", "B", "A"};
   std::vector<float> interleaved(texels * planes);
   for (size_t i = 0; i < texels; ++i)
     for (uint32_t k = 0; k < planes; ++k) interleaved[i * planes + k] = field[k * texels + i];
   write_image_atomically(path,
-                         ImageData{domain_->width, domain_->height, planes, interleaved.data(),
+                         ImageData{config_.width, config_.height, planes, interleaved.data(),
                                    planes == 1 ? kOne : kMany},
                          format);
 }
@@ -889,9 +949,10 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
   if (c.config.width != config_.width || c.config.height != config_.height ||
       c.config.agent_count != config_.agent_count || c.config.seed != config_.seed ||
       c.config.species_count != config_.species_count || c.config.model != config_.model ||
-      c.config.domain != config_.domain || c.config.intrinsic_bound != config_.intrinsic_bound)
+      c.config.domain != config_.domain || c.config.intrinsic_bound != config_.intrinsic_bound ||
+      std::max(c.config.detail, 1u) != config_.detail)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
-         "The checkpoint " + path + " was made with another resolution, agent count, seed, "
+         "The checkpoint " + path + " was made with another resolution, detail, agent count, seed, "
          "number of species, model, domain or triangle size: bake from the start");
   const Agents& a = c.state.agents;
   const uint32_t planes = config_.species_count;
@@ -905,7 +966,7 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
       c.state.pheromone.size() != domain_->texel_count() * planes ||
       c.state.cells.size() != (intrinsic_ ? size_t(intrinsic_->vertex_count()) * planes : 0) ||
       c.species.size() != MTX_MAX_SPECIES ||
-      (!c.fields_rgba.empty() && c.fields_rgba.size() != domain_->texel_count() * 4) ||
+      (!c.fields_rgba.empty() && c.fields_rgba.size() != image_texel_count() * 4) ||
       (!c.bias.empty() && c.bias.size() != static_cast<size_t>(surface_->triangle_count()) * 3) ||
       c.map_kinds.size() > MOLDTEX_MAP_COUNT || c.maps.size() != c.map_kinds.size() * domain_->texel_count())
     fail(MOLDTEX_ERROR_IO, "The checkpoint " + path + " is damaged");

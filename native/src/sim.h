@@ -22,7 +22,8 @@ void validate_params(const moldtex_sim_params& params);
 void check_length_unit(const moldtex_sim_params& params, const Surface& surface);
 void validate_species_params(const moldtex_species_params& params);
 void validate_continuous_params(const moldtex_continuous_params& params);
-// The config a simulation keeps: for Gray-Scott, no agents and two planes (V, U).
+// The config a simulation keeps: for Gray-Scott, no agents and two planes (V, U); detail
+// 0 read as 1.
 moldtex_sim_config reaction_config(const moldtex_sim_config& config);
 // The intrinsic domain a simulation of `config` (as kept: reaction_config, validated) on
 // `surface` with texture domain `texture` runs on: the config's bound or the texture's
@@ -53,8 +54,9 @@ class Simulation {
   // The continuous model's bias vectors (3 per triangle, see moldtex_sim_set_bias), or
   // nullptr to clear; validated here.
   void set_bias(const float* vectors);
-  // Parameter map or stimulus `kind` (moldtex_map), width * height values or nullptr to
-  // clear; validated here. map() gives it as kept (empty = not set).
+  // Parameter map or stimulus `kind` (moldtex_map), width * height values (per image
+  // texel) or nullptr to clear; validated here. map() gives it as kept, per domain texel
+  // (empty = not set).
   void set_map(uint32_t kind, const float* values);
   const std::vector<float>& map(uint32_t kind) const { return maps_->given[kind]; }
   const moldtex_continuous_params& continuous_params() const { return settings_.continuous; }
@@ -65,6 +67,14 @@ class Simulation {
   const moldtex_reaction_params& reaction_params() const { return settings_.reaction; }
   const moldtex_sim_config& config() const { return config_; }
   const TextureDomain& domain() const { return *domain_; }
+  // The image this API exchanges per texel: config width * height texels, each over
+  // detail^2 texels of the domain (moldtex_sim_config.detail).
+  uint32_t detail() const { return config_.detail; }
+  size_t image_texel_count() const { return size_t(config_.width) * config_.height; }
+  // See moldtex_sim_read_texel_classes (count checked there).
+  void read_texel_classes(uint8_t* classes) const;
+  // Map `kind` as set, per image texel (image_texel_count floats; set: see map()).
+  void read_map(uint32_t kind, float* values) const;
   // The intrinsic domain (null on the texture domain) and what moldtex_sim_get_domain_info
   // reports.
   const IntrinsicDomain* intrinsic() const { return intrinsic_.get(); }
@@ -84,6 +94,8 @@ class Simulation {
   // display_field takes species planes of `cells` values (0: the texture's texels).
   std::vector<float> read_display_field() const;
   std::vector<float> display_field(std::vector<float> field, size_t cells = 0) const;
+  // read_display_field per image texel (texture_detail.h's image_planes at detail > 1).
+  std::vector<float> image_field() const;
   void read_agents(moldtex_surface_point* out, size_t count) const { backend_->read_agents(out, count); }
   moldtex_sim_stats stats() const;
   std::string backend_name() const {

@@ -132,6 +132,8 @@ moldtex_sim_config read_config(const moldtex_sim_config* in) {
     c.domain = MOLDTEX_DOMAIN_TEXTURE;
     c.intrinsic_bound = 0.f;
   }
+  // detail lies in what was the previous release's tail padding: 0 there means none.
+  if (c.detail == 0) c.detail = 1;
   if (in->struct_size <= kSimConfigV2Size) {
     moldtex_sim_config defaults;
     moldtex_sim_config_init(&defaults);
@@ -301,6 +303,7 @@ void moldtex_sim_config_init(moldtex_sim_config* c) {
   c->seed_rays = 8;
   c->fields_rgba = nullptr;
   c->model = MOLDTEX_MODEL_MOMAS;
+  c->detail = 1;
 }
 
 void moldtex_continuous_params_init(moldtex_continuous_params* p) {
@@ -418,7 +421,7 @@ moldtex_status moldtex_sim_set_bias(moldtex_sim sim, const float* vectors, size_
 moldtex_status moldtex_sim_set_map(moldtex_sim sim, uint32_t map, const float* values, size_t count) {
   return guarded([&] {
     moldtex::Simulation& s = use(sim);
-    moldtex::validate_map(map, values, count, s.domain().texel_count());
+    moldtex::validate_map(map, values, count, s.image_texel_count());
     s.set_map(map, values);
   });
 }
@@ -432,10 +435,10 @@ moldtex_status moldtex_sim_get_map(moldtex_sim sim, uint32_t map, float* values,
     const std::vector<float>& m = s.map(map);
     *is_set = m.empty() ? 0u : 1u;
     if (m.empty()) return;
-    if (!values || count != m.size())
+    if (!values || count != s.image_texel_count())
       moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The map needs a buffer of width * height = " +
-                                                        std::to_string(m.size()) + " floats");
-    std::copy(m.begin(), m.end(), values);
+                                                        std::to_string(s.image_texel_count()) + " floats");
+    s.read_map(map, values);
   });
 }
 
@@ -474,7 +477,7 @@ moldtex_status moldtex_sim_set_fields(moldtex_sim sim, const float* rgba, size_t
   return guarded([&] {
     moldtex::Simulation& s = use(sim);
     if (rgba) {
-      const size_t need = s.domain().texel_count() * 4;
+      const size_t need = s.image_texel_count() * 4;
       if (float_count != need)
         moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
                       "The fields need width * height * 4 floats (" + std::to_string(need) +
@@ -592,7 +595,7 @@ moldtex_status moldtex_sim_run_stop(moldtex_sim sim, moldtex_run_progress* progr
 moldtex_status moldtex_sim_read_rgba(moldtex_sim sim, float* rgba, size_t float_count) {
   return guarded([&] {
     require(rgba != nullptr, "NULL argument");
-    size_t need = use(sim).domain().texel_count() * 4;
+    size_t need = use(sim).image_texel_count() * 4;
     if (float_count < need)
       moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
                     "The RGBA buffer is too small: it needs width * height * 4 floats (" +
@@ -615,10 +618,10 @@ moldtex_status moldtex_sim_read_vertex_rgba(moldtex_sim sim, float* rgba, size_t
 moldtex_status moldtex_sim_read_texel_classes(moldtex_sim sim, uint8_t* classes, size_t count) {
   return guarded([&] {
     require(classes != nullptr, "NULL argument");
-    const auto& d = use(sim).domain();
-    if (count < d.texel_count())
+    const moldtex::Simulation& s = use(sim);
+    if (count < s.image_texel_count())
       moldtex::fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The class buffer needs width * height bytes");
-    std::memcpy(classes, d.classes.data(), d.texel_count());
+    s.read_texel_classes(classes);
   });
 }
 
