@@ -250,8 +250,9 @@ def fresh_sim(obj):
     surface = eng.Surface(mesh.positions, mesh.triangles, mesh.uvs, mesh.triangle_uvs)
     try:
         settings = obj.moldtex
-        area = surface.info()["area"]
-        config = live_module.config_from_settings(settings)
+        info = surface.info()
+        area = info["area"]
+        config = live_module.config_from_settings(settings, info)  # (Detail: Auto needs it)
         continuous = (live_module.continuous_params_from_settings(settings, area)
                       if config["model"] == eng.MODEL_CONTINUOUS else None)
         reaction = (live_module.reaction_params_from_settings(settings, area)

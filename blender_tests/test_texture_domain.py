@@ -138,10 +138,16 @@ class DetailTests(unittest.TestCase):
         entry = h.run(obj, 1)
         self.assertEqual(entry.sim.get_config()["detail"], 4)
         self.assertEqual(tuple(obj.moldtex.image.size), (128, 128))
-        # Auto never takes 4× (its cost: PERFORMANCE), even at a quarter texel per unit.
+        # Auto takes 4× where that simulates at most 1024² (here 512²: 0.97 texels per
+        # unit, as close to two as it gets), and at most 2× above (its cost: PERFORMANCE).
         obj.moldtex.detail = 'AUTO'
         entry = h.run(obj, 1)
         self.assertAlmostEqual(live.texels_per_unit(entry, obj.moldtex), 0.24, delta=0.01)
+        self.assertEqual(entry.sim.get_config()["detail"], 4)
+        obj.moldtex.resolution = '512'
+        obj.moldtex.pattern_scale = 0.5
+        entry = h.run(obj, 1)
+        self.assertAlmostEqual(live.texels_per_unit(entry, obj.moldtex), 0.48, delta=0.02)
         self.assertEqual(entry.sim.get_config()["detail"], 2)
 
 

@@ -296,19 +296,20 @@ def config_from_settings(settings, surface_info=None):
     return config
 
 
-# Detail: Auto simulates at 2x where the texture has fewer texels per pattern unit than
-# this (a UV sphere's poles need two: README, "Units: Surface"), if that stays within
-# AUTO_DETAIL_MAX_SIZE texels per side. Never 4x: on Suzanne (Subdivision 2, 512^2, the
-# defaults) a step takes 4.8 ms at 1x, 11 ms at 2x and 32-41 ms at 4x (PERFORMANCE).
+# Detail: Auto doubles the detail while the simulation has fewer texels per pattern unit
+# than this (a UV sphere's poles need two: README, "Units: Surface") and its size stays
+# within AUTO_DETAIL_MAX_SIZE[detail] texels per side: 4x only up to 1024^2 simulated,
+# since on Suzanne (Subdivision 2, 512^2, the defaults) a step takes 4.8 ms at 1x, 11 ms
+# at 2x (1024^2) and 32-41 ms at 4x (2048^2; PERFORMANCE).
 AUTO_DETAIL_TEXELS_PER_UNIT = 1.9
-AUTO_DETAIL_MAX_SIZE = 4096
+AUTO_DETAIL_MAX_SIZE = {2: 4096, 4: 1024}
 
 
 def detail_for(settings, size, surface_info=None):
     """Simulated texels per image texel and axis (the core's config.detail): 1 except for
-    MoMaS in surface units; there the Detail setting, or for Auto 2 where the texture
-    has under AUTO_DETAIL_TEXELS_PER_UNIT texels per pattern unit and 2 × size is at
-    most AUTO_DETAIL_MAX_SIZE (1 where the surface is not known)."""
+    MoMaS in surface units; there the Detail setting, or for Auto the smallest of 1, 2
+    and 4 that gives AUTO_DETAIL_TEXELS_PER_UNIT simulated texels per pattern unit, as
+    far as AUTO_DETAIL_MAX_SIZE allows (1 where the surface is not known)."""
     if model_of(settings) != engine.MODEL_MOMAS or \
             _enum(settings, "pattern_units", 'SURFACE') != 'SURFACE':
         return 1
@@ -321,8 +322,11 @@ def detail_for(settings, size, surface_info=None):
     if not (area > 0.0 and uv_area > 0.0 and unit > 0.0 and size > 0):
         return 1
     per_unit = unit / math.sqrt(area / (uv_area * size * size))
-    coarse = per_unit < AUTO_DETAIL_TEXELS_PER_UNIT
-    return 2 if coarse and 2 * size <= AUTO_DETAIL_MAX_SIZE else 1
+    detail = 1
+    while (detail < 4 and per_unit * detail < AUTO_DETAIL_TEXELS_PER_UNIT
+           and 2 * detail * size <= AUTO_DETAIL_MAX_SIZE[2 * detail]):
+        detail *= 2
+    return detail
 
 
 # Surface units: a pattern scale of 1 makes one pattern "texel" the side of a square of

@@ -49,8 +49,9 @@ RESOLUTION_ITEMS = [
 # Simulated texels per texture texel and axis (moldtex_sim_config.detail).
 DETAIL_ITEMS = [
     ("AUTO", "Auto",
-     "2× where the texture has under about two texels per pattern unit (at most 4096² "
-     "simulated), else 1×: at one texel per unit a UV sphere's poles come out thin", 0),
+     "2× or 4× while the simulation has under about two texels per pattern unit (2× up "
+     "to 4096² simulated, 4× up to 1024²): at one texel per unit a UV sphere's poles "
+     "come out thin", 0),
     ("1", "1×", "Simulate on the texture's own texels", 1),
     ("2", "2×", "Simulate at twice the resolution; the texture is its mean, 2 × 2 texels "
      "per texel", 2),
@@ -797,9 +798,9 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         description="Detail (MoMaS in Units: Surface): how many simulated texels span one "
                     "texture texel along each axis. The texture keeps its Resolution and "
                     "shows their mean; the pattern is the same, computed more finely (and "
-                    "more slowly). Auto takes 2× under about two texels per pattern unit, "
-                    "which a UV sphere's poles need (one texel per unit leaves them about "
-                    "30% thin)." + _RESET_NOTE,
+                    "more slowly). Auto aims at about two simulated texels per pattern "
+                    "unit, which a UV sphere's poles need (one texel per unit leaves them "
+                    "about 30% thin)." + _RESET_NOTE,
         update=_config_changed)
     seed: IntProperty(
         name="Seed", default=0, min=0,
