@@ -181,6 +181,14 @@ TEST(SurfaceUnits, NoTrailAlongATextureBorderSeam) {
   }
 }
 
+// The mean pheromone (3D-area weighted) of field f over the UV sphere's two 15-degree
+// caps around its poles (z), over the mean elsewhere.
+double PoleCapRatio(const TexelGeometry& g, const std::vector<double>& f) {
+  const double cap = std::cos(15.0 * kPi / 180.0);
+  auto in_cap = [&](uint32_t x, uint32_t y) { return std::fabs(g.position[size_t(y) * g.width + x][2]) > cap; };
+  return Mean(g, f, in_cap) / Mean(g, f, [&](uint32_t x, uint32_t y) { return !in_cap(x, y); });
+}
+
 // History: before surface-unit deposits covered the teeth of the pole fans, the caps read
 // 0.09-0.44 (surface units, small cells, 256^2, 3 seeds), texel units 0.23-0.38. The pole
 // fan's UV triangles are teeth with gutter between them, narrower than a texel near the
@@ -229,9 +237,6 @@ TEST(SurfaceUnits, UvSpherePolesAreAlive) {
   const Mesh m = make_uv_sphere(64, 32, 1.0);
   const uint32_t W = 256;
   const TexelGeometry g = Texels(m, W, W);
-  const double cap = std::cos(15.0 * kPi / 180.0);
-  auto in_cap = [&](uint32_t x, uint32_t y) { return std::fabs(g.position[size_t(y) * W + x][2]) > cap; };
-  auto outside = [&](uint32_t x, uint32_t y) { return !in_cap(x, y); };
   for (double unit : {0.0, TexelLength(m, W)}) {
     const int seeds = unit > 0 ? 3 : 1;
     std::vector<double> pooled(size_t(W) * W, 0.0);
@@ -239,9 +244,9 @@ TEST(SurfaceUnits, UvSpherePolesAreAlive) {
       const std::vector<double> f = Grow(m, W, W, W * W, seed, SmallCells(unit), 400, 150);
       for (size_t i = 0; i < f.size(); ++i) pooled[i] += f[i] / seeds;
       std::printf("    %s units, seed %d: pole caps / elsewhere = %.3f\n", unit > 0 ? "surface" : "texel", seed,
-                  Mean(g, f, in_cap) / Mean(g, f, outside));
+                  PoleCapRatio(g, f));
     }
-    const double ratio = Mean(g, pooled, in_cap) / Mean(g, pooled, outside);
+    const double ratio = PoleCapRatio(g, pooled);
     std::printf("  %s units: pole caps / elsewhere = %.3f\n", unit > 0 ? "surface" : "texel", ratio);
     if (unit > 0) {
       // A guard against dead poles, not the bound: over 18 seeds the caps read
@@ -271,9 +276,6 @@ TEST(SurfaceUnits, UvSpherePolesAreFullAtDetailTwo) {
   const Mesh m = make_uv_sphere(64, 32, 1.0);
   const uint32_t W = 512;
   const TexelGeometry g = Texels(m, W, W);
-  const double cap = std::cos(15.0 * kPi / 180.0);
-  auto in_cap = [&](uint32_t x, uint32_t y) { return std::fabs(g.position[size_t(y) * W + x][2]) > cap; };
-  auto outside = [&](uint32_t x, uint32_t y) { return !in_cap(x, y); };
   double ratio[3] = {0, 0, 0};
   for (uint32_t detail : {1u, 2u}) {
     moldtex_sim_config c = make_config(W, W, 1, 0);
@@ -283,7 +285,7 @@ TEST(SurfaceUnits, UvSpherePolesAreFullAtDetailTwo) {
       const std::vector<double> f = Grow(m, W, W, W * W, seed, SurfaceParams(TexelLength(m, W)), 400, 150, &c);
       for (size_t i = 0; i < f.size(); ++i) pooled[i] += f[i] / 3;
     }
-    ratio[detail] = Mean(g, pooled, in_cap) / Mean(g, pooled, outside);
+    ratio[detail] = PoleCapRatio(g, pooled);
     std::printf("  detail %u: pole caps / elsewhere = %.3f\n", detail, ratio[detail]);
   }
   // The contrast: detail 1 read 0.68-0.72 per group of three seeds; 0.80 is far enough

@@ -63,6 +63,34 @@ size_t Differing(const std::vector<float>& a, const std::vector<float>& b) {
   return n;
 }
 
+// A UV sphere (32 x 16) simulated at detail 2 in surface units (one image texel per
+// unit), `steps` stepped.
+struct GrownAtDetailTwo {
+  SurfacePtr surface;
+  moldtex_sim_config config;
+  moldtex_sim_params params;
+  SimPtr sim;
+};
+GrownAtDetailTwo SphereAtDetailTwo(uint32_t W, uint32_t H, uint32_t agents, uint64_t seed, uint32_t steps) {
+  static const Mesh m = make_uv_sphere(32, 16, 1.0);
+  GrownAtDetailTwo g{create_surface(m), make_config(W, H, agents, seed), default_params(), nullptr};
+  EXPECT_TRUE(g.surface) << LastError();
+  g.params.length_unit = float(UnitOf(m, W));
+  g.config.detail = 2;
+  if (g.surface) g.sim = create_sim(g.surface.get(), g.config, g.params);
+  EXPECT_TRUE(g.sim) << LastError();
+  if (g.sim) {
+    EXPECT_EQ(moldtex_sim_step(g.sim.get(), steps), MOLDTEX_OK) << LastError();
+  }
+  return g;
+}
+
+// A file name in the temporary folder, unique to this process.
+std::string TempPath(const std::string& extension) {
+  return (std::filesystem::temp_directory_path() / ("moldtex_detail_" + std::to_string(::getpid()) + extension))
+      .string();
+}
+
 class TextureDetailBackends : public ::testing::TestWithParam<Backend> {};
 
 // The image at detail 2 (one species) and 4 (two) is, bit for bit, the simulation at 2x and 4x the size (the
@@ -191,20 +219,12 @@ TEST(TextureDetail, FieldsAndMapsReachEverySimulatedTexel) {
 // The image file holds the image's texels (the same as moldtex_sim_read_rgba), not the
 // simulation's.
 TEST(TextureDetail, ImageFilesHoldTheImage) {
-  const Mesh m = make_uv_sphere(32, 16, 1.0);
-  auto s = create_surface(m);
-  ASSERT_TRUE(s) << LastError();
   const uint32_t W = 32, H = 16;
-  moldtex_sim_params p = default_params();
-  p.length_unit = float(UnitOf(m, W));
-  moldtex_sim_config c = make_config(W, H, 3000, 2);
-  c.detail = 2;
-  auto sim = create_sim(s.get(), c, p);
-  ASSERT_TRUE(sim) << LastError();
-  ASSERT_EQ(moldtex_sim_step(sim.get(), 20), MOLDTEX_OK) << LastError();
-  const std::string path =
-      (std::filesystem::temp_directory_path() / ("moldtex_detail_" + std::to_string(::getpid()) + ".exr")).string();
-  ASSERT_EQ(moldtex_sim_write_image(sim.get(), path.c_str(), MOLDTEX_IMAGE_EXR_FLOAT), MOLDTEX_OK) << LastError();
+  const GrownAtDetailTwo g = SphereAtDetailTwo(W, H, 3000, 2, 20);
+  ASSERT_TRUE(g.sim);
+  moldtex_sim sim = g.sim.get();
+  const std::string path = TempPath(".exr");
+  ASSERT_EQ(moldtex_sim_write_image(sim, path.c_str(), MOLDTEX_IMAGE_EXR_FLOAT), MOLDTEX_OK) << LastError();
   auto in = OIIO::ImageInput::open(path);
   ASSERT_TRUE(in) << OIIO::geterror();
   const OIIO::ImageSpec spec = in->spec();
@@ -215,7 +235,7 @@ TEST(TextureDetail, ImageFilesHoldTheImage) {
   ASSERT_TRUE(in->read_image(0, 0, 0, 1, OIIO::TypeDesc::FLOAT, img.data()));
   in->close();
   std::filesystem::remove(path);
-  const std::vector<float> rgba = read_rgba(sim.get(), W, H);
+  const std::vector<float> rgba = read_rgba(sim, W, H);
   for (uint32_t y = 0; y < H; ++y)  // the file's first row is the top, read_rgba's the bottom
     for (uint32_t x = 0; x < W; ++x)
       ASSERT_EQ(img[size_t(y) * W + x], rgba[4 * (size_t(H - 1 - y) * W + x)]) << x << ", " << y;
@@ -257,28 +277,21 @@ TEST(TextureDetail, RefusedWithAMessage) {
 // A checkpoint restores a detail-2 simulation exactly, and one of another detail is
 // refused (its state has another size).
 TEST(TextureDetail, CheckpointKeepsTheDetail) {
-  const Mesh m = make_uv_sphere(32, 16, 1.0);
-  auto s = create_surface(m);
-  ASSERT_TRUE(s) << LastError();
   const uint32_t W = 32;
-  moldtex_sim_params p = default_params();
-  p.length_unit = float(UnitOf(m, W));
-  moldtex_sim_config c = make_config(W, W, 2000, 4);
-  c.detail = 2;
-  auto a = create_sim(s.get(), c, p);
-  ASSERT_TRUE(a) << LastError();
-  ASSERT_EQ(moldtex_sim_step(a.get(), 20), MOLDTEX_OK) << LastError();
-  const std::string path =
-      (std::filesystem::temp_directory_path() / ("moldtex_detail_" + std::to_string(::getpid()) + ".ckpt")).string();
-  ASSERT_EQ(moldtex_sim_save_checkpoint(a.get(), path.c_str()), MOLDTEX_OK) << LastError();
-  ASSERT_EQ(moldtex_sim_step(a.get(), 10), MOLDTEX_OK) << LastError();
-  auto b = create_sim(s.get(), c, p);
+  GrownAtDetailTwo g = SphereAtDetailTwo(W, W, 2000, 4, 20);
+  ASSERT_TRUE(g.sim);
+  moldtex_sim a = g.sim.get();
+  moldtex_sim_config c = g.config;
+  const std::string path = TempPath(".ckpt");
+  ASSERT_EQ(moldtex_sim_save_checkpoint(a, path.c_str()), MOLDTEX_OK) << LastError();
+  ASSERT_EQ(moldtex_sim_step(a, 10), MOLDTEX_OK) << LastError();
+  auto b = create_sim(g.surface.get(), c, g.params);
   ASSERT_TRUE(b) << LastError();
   ASSERT_EQ(moldtex_sim_load_checkpoint(b.get(), path.c_str()), MOLDTEX_OK) << LastError();
   ASSERT_EQ(moldtex_sim_step(b.get(), 10), MOLDTEX_OK) << LastError();
-  EXPECT_EQ(Differing(read_rgba(a.get(), W, W), read_rgba(b.get(), W, W)), 0u);
+  EXPECT_EQ(Differing(read_rgba(a, W, W), read_rgba(b.get(), W, W)), 0u);
   c.detail = 1;
-  auto other = create_sim(s.get(), c, p);
+  auto other = create_sim(g.surface.get(), c, g.params);
   ASSERT_TRUE(other) << LastError();
   EXPECT_EQ(moldtex_sim_load_checkpoint(other.get(), path.c_str()), MOLDTEX_ERROR_INVALID_ARGUMENT);
   EXPECT_NE(LastError().find("detail"), std::string::npos) << LastError();
