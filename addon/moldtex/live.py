@@ -316,12 +316,9 @@ def detail_for(settings, size, surface_info=None):
     choice = _enum(settings, "detail", 'AUTO')
     if choice != 'AUTO':
         return int(choice)
-    info = surface_info or {}
-    area, uv_area = info.get("area") or 0.0, info.get("uv_area") or 0.0
-    unit = pattern_unit(settings, area)
-    if not (area > 0.0 and uv_area > 0.0 and unit > 0.0 and size > 0):
+    per_unit = _per_unit(settings, surface_info or {}, size, size)
+    if per_unit is None:
         return 1
-    per_unit = unit / math.sqrt(area / (uv_area * size * size))
     detail = 1
     while (detail < 4 and per_unit * detail < AUTO_DETAIL_TEXELS_PER_UNIT
            and 2 * detail * size <= AUTO_DETAIL_MAX_SIZE[2 * detail]):
@@ -367,9 +364,16 @@ def texels_per_unit(entry, settings):
         return None
     if _enum(settings, "pattern_units", 'SURFACE') != 'SURFACE':
         return None
-    area = entry.surface_info.get("area") or 0.0
-    uv_area = entry.surface_info.get("uv_area") or 0.0
-    width, height = entry.config.get("width", 0), entry.config.get("height", 0)
+    return _per_unit(settings, entry.surface_info,
+                     entry.config.get("width", 0), entry.config.get("height", 0))
+
+
+def _per_unit(settings, surface_info, width, height):
+    """Texels of a width × height texture per pattern unit on a surface of
+    surface_info's area and UV area: the unit over the side of the mean texel,
+    √(3D area / (UV area × width × height)); None where any of them is unknown."""
+    area = surface_info.get("area") or 0.0
+    uv_area = surface_info.get("uv_area") or 0.0
     unit = pattern_unit(settings, area)
     if not (area > 0.0 and uv_area > 0.0 and width > 0 and height > 0 and unit > 0.0):
         return None

@@ -31,8 +31,7 @@ constexpr uint32_t kMaxAgents = 1u << 26;
 // classes, the texel -> triangle raster, and roughly one gutter entry per texel along the
 // island borders.
 double estimated_bytes(const moldtex_sim_config& c) {
-  const double detail = c.detail > 1 ? c.detail : 1;
-  double texels = static_cast<double>(c.width) * c.height * detail * detail;
+  double texels = static_cast<double>(c.width) * c.height * c.detail * c.detail;
   const double planes = c.species_count;
   double bytes = static_cast<double>(c.agent_count) * 86.0 + texels * (planes * 9 + 4 + 4 + 1) + texels * 0.5;
   // The continuous model: the deposit sums and the PDE's operator (CSR with reverse
@@ -510,9 +509,8 @@ void Simulation::update_field_plane() {
 }
 
 void Simulation::set_map(uint32_t kind, const float* values) {
-  std::vector<float> finer;
+  std::vector<float> finer;  // (values validated per image texel by the C API)
   if (values && config_.detail > 1) {
-    validate_map(kind, values, image_texel_count(), image_texel_count());  // messages per image texel
     finer = finer_texels(values, config_.width, config_.height, 1, config_.detail);
     values = finer.data();
   }
@@ -618,7 +616,9 @@ void Simulation::set_reaction_params(const moldtex_reaction_params& p) {
 
 moldtex_sim_config reaction_config(const moldtex_sim_config& config) {
   moldtex_sim_config c = config;
-  if (c.detail == 0) c.detail = 1;  // a caller that zeroed the struct
+  // detail lies in what was the previous release's tail padding: 0 there (a caller from
+  // before the field, or one that zeroed the struct) means none.
+  if (c.detail == 0) c.detail = 1;
   if (c.model == MOLDTEX_MODEL_GRAY_SCOTT) {  // two planes (V, U), no agents
     c.agent_count = 0;
     c.species_count = kReactionPlanes;
@@ -867,14 +867,10 @@ void encode_rgba(const std::vector<float>& field, size_t cells, uint32_t planes,
 }  // namespace
 
 void Simulation::read_rgba(float* rgba) const {
-  if (config_.detail > 1) {
-    const std::vector<uint8_t> classes = image_classes(*domain_, config_.detail);
-    encode_rgba(image_field(), image_texel_count(), settings_.species_count,
-                [&](size_t i) { return classes[i] == MOLDTEX_TEXEL_OUTSIDE ? 0.f : 1.f; }, rgba);
-    return;
-  }
-  const auto& classes = domain_->classes;
-  encode_rgba(read_display_field(), domain_->texel_count(), settings_.species_count,
+  const std::vector<uint8_t> coarse = config_.detail > 1 ? image_classes(*domain_, config_.detail)
+                                                         : std::vector<uint8_t>{};
+  const std::vector<uint8_t>& classes = config_.detail > 1 ? coarse : domain_->classes;
+  encode_rgba(image_field(), image_texel_count(), settings_.species_count,
               [&](size_t i) { return classes[i] == MOLDTEX_TEXEL_OUTSIDE ? 0.f : 1.f; },  // the island mask
               rgba);
 }

@@ -5,6 +5,10 @@
 
 namespace mtx {
 
+double TexelLength(const Mesh& m, uint32_t size) {
+  return std::sqrt(m.total_area() / (m.total_uv_area() * double(size) * size));
+}
+
 TexelGeometry Texels(const Mesh& m, uint32_t W, uint32_t H) {
   TexelGeometry g;
   g.width = W;

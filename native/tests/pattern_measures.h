@@ -21,6 +21,10 @@ struct TexelGeometry {
 
 TexelGeometry Texels(const Mesh& m, uint32_t W, uint32_t H);
 
+// The mean 3D side of a texel of a size x size texture on m's UV layout: the length unit
+// of one texel per pattern unit.
+double TexelLength(const Mesh& m, uint32_t size);
+
 // Area-weighted mean of `field` over the texels inside islands where in(x, y).
 double Mean(const TexelGeometry& g, const std::vector<double>& field,
             const std::function<bool(uint32_t x, uint32_t y)>& in);

@@ -102,10 +102,6 @@ const Mesh& Torus() {
   return m;
 }
 
-double TexelLength(const Mesh& m, uint32_t size) {
-  return std::sqrt(m.total_area() / (m.total_uv_area() * double(size) * size));
-}
-
 // The seam and placebo measures of the torus run at u = 0 (columns W-1 | 0). Local
 // measures compare a line with the lines beside it (2 each side), so the pattern's
 // large-scale variation cancels; the other lines (placebos) give the measures' spread

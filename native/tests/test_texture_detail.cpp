@@ -10,16 +10,12 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include "pattern_measures.h"
 #include "test_backends.h"
 #include "test_util.h"
 
 namespace mtx {
 namespace {
-
-// Pattern unit of one image texel of `size` on mesh m (surface units).
-double UnitOf(const Mesh& m, uint32_t size) {
-  return std::sqrt(m.total_area() / (m.total_uv_area() * double(size) * size));
-}
 
 // What the image of a simulation at `detail` must be, from the RGBA and the classes of
 // the simulation at `detail` times its size: each image texel the mean of its simulated
@@ -75,7 +71,7 @@ GrownAtDetailTwo SphereAtDetailTwo(uint32_t W, uint32_t H, uint32_t agents, uint
   static const Mesh m = make_uv_sphere(32, 16, 1.0);
   GrownAtDetailTwo g{create_surface(m), make_config(W, H, agents, seed), default_params(), nullptr};
   EXPECT_TRUE(g.surface) << LastError();
-  g.params.length_unit = float(UnitOf(m, W));
+  g.params.length_unit = float(TexelLength(m, W));
   g.config.detail = 2;
   if (g.surface) g.sim = create_sim(g.surface.get(), g.config, g.params);
   EXPECT_TRUE(g.sim) << LastError();
@@ -103,7 +99,7 @@ TEST_P(TextureDetailBackends, ImageIsTheSimulationAtDetailTimesTheSizeSeenSmalle
   ASSERT_TRUE(s) << LastError();
   const uint32_t W = 16;
   moldtex_sim_params p = default_params();
-  p.length_unit = float(UnitOf(m, W));
+  p.length_unit = float(TexelLength(m, W));
   for (uint32_t detail : {2u, 4u}) {
     moldtex_sim_config coarse = make_config(W, W, 3000, 11);
     MTX_PIN_BACKEND(coarse);
@@ -157,7 +153,7 @@ TEST(TextureDetail, FieldsAndMapsReachEverySimulatedTexel) {
   ASSERT_TRUE(s) << LastError();
   const uint32_t W = 32, D = 2;
   moldtex_sim_params p = default_params();
-  p.length_unit = float(UnitOf(m, W));
+  p.length_unit = float(TexelLength(m, W));
   std::vector<float> fields(size_t(W) * W * 4, 0.f), stimulus(size_t(W) * W, 0.f);
   for (uint32_t y = 0; y < W; ++y)
     for (uint32_t x = 0; x < W; ++x) {

@@ -132,8 +132,6 @@ moldtex_sim_config read_config(const moldtex_sim_config* in) {
     c.domain = MOLDTEX_DOMAIN_TEXTURE;
     c.intrinsic_bound = 0.f;
   }
-  // detail lies in what was the previous release's tail padding: 0 there means none.
-  if (c.detail == 0) c.detail = 1;
   if (in->struct_size <= kSimConfigV2Size) {
     moldtex_sim_config defaults;
     moldtex_sim_config_init(&defaults);
