@@ -36,6 +36,9 @@
 // 12 triangles: refinement from almost nothing, cone vertices of 270 degrees).
 //   IntrinsicDomainBuild/torus100k/<size>   the simulation's intrinsic domain of a
 //                                 100k-triangle torus at the bound of a size^2 texture
+//   TextureDomainBuild/{sphere,torus100k}/<size>   moldtex_sim_create of MoMaS on the
+//                                 texture domain (what a Reset costs the core): the UV
+//                                 sphere 64 x 32 or the 100k-triangle torus, 1000 agents
 //   SphereDomain/{texture,intrinsic}/1024x1024/{1M,PDE}   the continuous model on the
 //                                 UV sphere on each domain (CPU); PDE: 1 agent
 //   IntrinsicScaling/<segments>/<side>/<kagents>/<threads>   the continuous model on the
@@ -336,6 +339,23 @@ void BM_IntrinsicDomainBuild(benchmark::State& state) {
   state.counters["domain_build_s"] = info.build_seconds;
 }
 
+// Creating a MoMaS simulation on the texture domain at size^2 (its classes, gutter, seam
+// correspondence and reach tables; 1000 agents): what a Reset costs the core.
+void BM_TextureDomainBuild(benchmark::State& state, bool torus) {
+  const uint32_t size = uint32_t(state.range(0));
+  static const mtx::Mesh sphere_mesh = mtx::make_uv_sphere(64, 32, 1.0);
+  static const mtx::Mesh torus_mesh = mtx::make_torus(256, 196, 1.0, 0.35);
+  moldtex_status st;
+  mtx::SurfacePtr surface = mtx::create_surface(torus ? torus_mesh : sphere_mesh, &st);
+  for (auto _ : state) {
+    mtx::SimPtr sim = mtx::create_sim(surface.get(), mtx::make_config(size, size, 1000, 1), mtx::default_params(), &st);
+    if (!sim) {
+      state.SkipWithError(moldtex_last_error());
+      break;
+    }
+  }
+}
+
 // The add-on's defaults (512^2, 60k agents) on the UV sphere, whose pole fans make the
 // PDE stiff: AUTO (backward Euler here) against forward Euler with its sub-steps.
 void BM_SphereContinuousSmall(benchmark::State& state, uint32_t integrator, const char* key) {
@@ -613,5 +633,10 @@ BENCHMARK(BM_IntrinsicScaling)->Name("IntrinsicScaling")->ArgNames({"segments", 
     ->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_IntrinsicDomainBuild)->Name("IntrinsicDomainBuild/torus100k")->Arg(1024)->Arg(2048)
     ->Iterations(1)->UseRealTime()->Unit(benchmark::kSecond);
+
+BENCHMARK_CAPTURE(BM_TextureDomainBuild, sphere, false)->Name("TextureDomainBuild/sphere")->Arg(1024)->Arg(4096)
+    ->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_TextureDomainBuild, torus, true)->Name("TextureDomainBuild/torus100k")->Arg(2048)
+    ->UseRealTime()->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

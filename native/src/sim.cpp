@@ -33,7 +33,7 @@ constexpr uint32_t kMaxAgents = 1u << 26;
 double estimated_bytes(const moldtex_sim_config& c) {
   double texels = static_cast<double>(c.width) * c.height * c.detail * c.detail;
   const double planes = c.species_count;
-  double bytes = static_cast<double>(c.agent_count) * 86.0 + texels * (planes * 9 + 4 + 4 + 1) + texels * 0.5;
+  double bytes = static_cast<double>(c.agent_count) * 86.0 + texels * (planes * 9 + 4 + 4 + 1 + 1) + texels * 0.5;
   // The continuous model: the deposit sums and the PDE's operator (CSR with reverse
   // entries, rates, local time stepping's scratch; backward Euler's matrix and vectors
   // when it runs): about 200 bytes per texel.

@@ -152,5 +152,109 @@ TEST(TextureDomain, FootprintsWithinTheReachMatchTheGeneralPath) {
   }
 }
 
+// Many small triangles, each its own UV island, scattered over the texture and past its
+// border, overlapping one another, some under a texel across (they cover no texel
+// centre, so no texel is theirs): the hardest case for TextureDomain::sole_reach.
+Mesh ScatteredIslands(int count, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<float> uniform(0.f, 1.f);
+  Mesh m;
+  for (int t = 0; t < count; ++t) {
+    const float u = -0.1f + 1.2f * uniform(rng), v = -0.1f + 1.2f * uniform(rng);
+    const float size = (t % 4 == 0 ? 0.005f : 0.06f) * (0.3f + uniform(rng));  // every 4th under a texel of 64
+    for (int k = 0; k < 3; ++k) {
+      m.positions.insert(m.positions.end(), {float(t) + uniform(rng), uniform(rng), float(k == 2) + uniform(rng)});
+      m.triangles.push_back(uint32_t(3 * t + k));
+      m.uvs.push_back(u + size * uniform(rng));
+      m.uvs.push_back(v + size * uniform(rng));
+    }
+  }
+  return m;
+}
+
+// MoMaS' lanes take a footprint box within a texel's sole reach as all of the lane's
+// island without looking up the texel's island (agents/momas_lanes16.cpp): that holds if
+// every point of any triangle that lies in a texel with a sole reach is of the texel's
+// island, and if the reach's block holds only such texels of that island. Checked by
+// definition: random points (a tenth on edges or corners) of every triangle of a UV
+// sphere, a torus, a cube (six islands, gutters between) and scattered, overlapping
+// islands; and on one island the sole reach is the interior reach plus one.
+TEST(TextureDomain, SoleReachIsOnlyWhereNoOtherIslandReaches) {
+  const Textured cases[] = {{"uv sphere", make_uv_sphere(32, 16, 1.0), 96, 80},
+                            {"torus", make_torus(24, 12, 1.0, 0.3), 96, 80},
+                            {"cube", make_cube(), 96, 80},
+                            {"scattered islands", ScatteredIslands(400, 3), 64, 64}};
+  for (const Textured& c : cases) {
+    const moldtex::Surface& surface = c.surface;
+    const moldtex::TextureDomain& d = c.domain;
+    ASSERT_EQ(d.sole_reach.size(), d.texel_count()) << c.name;
+    const bool one_island = *std::max_element(surface.island.begin(), surface.island.end()) == 0;
+    size_t island_texels = 0, sole_texels = 0, block_errors = 0;
+    for (int y = 0; y < int(d.height); ++y)
+      for (int x = 0; x < int(d.width); ++x) {
+        const size_t i = size_t(y) * d.width + x;
+        const int sole = d.sole_reach[i];
+        island_texels += d.texel_island[i] >= 0;
+        sole_texels += sole > 0;
+        if (d.texel_island[i] < 0) {
+          EXPECT_EQ(sole, 0) << c.name << " texel " << i << " is no island's";
+          continue;
+        }
+        if (one_island) {
+          EXPECT_EQ(sole, std::min(d.interior_reach[i] + 1, 255)) << c.name << " texel " << i;
+        }
+        // The block of radius sole - 1: inside the texture, texels of the same island with
+        // a sole reach only.
+        for (int dy = -(sole - 1); dy <= sole - 1; ++dy)
+          for (int dx = -(sole - 1); dx <= sole - 1; ++dx) {
+            const int bx = x + dx, by = y + dy;
+            const bool ok = bx >= 0 && by >= 0 && bx < int(d.width) && by < int(d.height) &&
+                            d.texel_island[size_t(by) * d.width + bx] == d.texel_island[i] &&
+                            d.sole_reach[size_t(by) * d.width + bx] > 0;
+            block_errors += !ok;
+          }
+      }
+    EXPECT_EQ(block_errors, 0u) << c.name;
+    // Points of every triangle: where one lies in a texel with a sole reach, the texel is
+    // of the triangle's island (the texel found as the lanes find it: x = u W in float,
+    // truncated and clamped).
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<float> uniform(0.f, 1.f);
+    size_t points = 0, on_sole = 0, wrong = 0;
+    for (uint32_t t = 0; t < surface.triangle_count(); ++t) {
+      for (int n = 0; n < 200; ++n) {
+        float b[3] = {uniform(rng), uniform(rng), uniform(rng)};
+        if (n % 10 == 0) b[n / 10 % 3] = 0.f;                      // on an edge
+        if (n % 40 == 0) b[(n / 40 + 1) % 3] = 0.f;                // at a corner
+        const float sum = b[0] + b[1] + b[2];
+        if (!(sum > 0.f)) continue;
+        for (float& w : b) w /= sum;
+        moldtex::mtx_walker w{};
+        w.triangle = t;
+        w.bary[0] = b[0];
+        w.bary[1] = b[1];
+        w.bary[2] = b[2];
+        float px, py;
+        const uint32_t texel = moldtex::mtx_walker_texel_at(surface.corner_uvs.data(), &w, d.width, d.height, &px, &py);
+        ++points;
+        if (d.sole_reach[texel] == 0) continue;
+        ++on_sole;
+        if (d.texel_island[texel] != int32_t(surface.island[t]) && ++wrong <= 5)
+          ADD_FAILURE() << c.name << ": a point of triangle " << t << " (island " << surface.island[t]
+                        << ") lies in texel " << texel << " of island " << d.texel_island[texel]
+                        << " with sole reach " << int(d.sole_reach[texel]);
+      }
+    }
+    EXPECT_EQ(wrong, 0u) << c.name;
+    std::printf("  %s: %zu of %zu island texels their island's alone; %zu of %zu points in them\n", c.name,
+                sole_texels, island_texels, on_sole, points);
+    // Not vacuous: most island texels are their island's alone, even among the scattered
+    // islands (their overlaps and near misses leave the rest).
+    EXPECT_GT(double(sole_texels), (one_island ? 0.999 : (std::string(c.name) == "cube" ? 0.95 : 0.3)) *
+                                       double(island_texels))
+        << c.name;
+  }
+}
+
 }  // namespace
 }  // namespace mtx

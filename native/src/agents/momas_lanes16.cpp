@@ -439,10 +439,21 @@ MOLDTEX_MOMAS_LANES_FN Box centres_within(__m512 x, __m512 y, __m512 ex, __m512 
 
 // mtx_box_within_island for the box grown by `grow` texels each side: within the block
 // around `texel` that its interior reach says is all of its island, that island being
-// the lane's triangle t's.
+// the lane's triangle t's. With the sole reach (TextureDomain::sole_reach) one table
+// read says both: a texel that is its island's alone is the island of every point in
+// it, so of t's (the texel holds the lane's point, a point of t).
 MOLDTEX_MOMAS_LANES_FN __mmask16 box_within_island(const mtx_surface_tables& s, const mtx_momas_constants& c,
                                                    __m512i texel, const Box& b, int grow, __m512i t) {
-  const __m512i r = byte_at(s.interior_reach, texel);
+  __m512i r;
+  __mmask16 known;
+  if (s.sole_reach) {
+    const __m512i sole = byte_at(s.sole_reach, texel);
+    known = _mm512_test_epi32_mask(sole, sole);
+    r = _mm512_sub_epi32(sole, _mm512_set1_epi32(1));
+  } else {
+    r = byte_at(s.interior_reach, texel);
+    known = _mm512_cmpeq_epi32_mask(_mm512_i32gather_epi32(texel, s.texel_island, 4), _mm512_i32gather_epi32(t, s.island, 4));
+  }
   // The texel's column and row: a float quotient, corrected by one where it rounded
   // across a row.
   const __m512i width = _mm512_set1_epi32(static_cast<int>(c.width));
@@ -455,12 +466,10 @@ MOLDTEX_MOMAS_LANES_FN __mmask16 box_within_island(const mtx_surface_tables& s, 
   cy = _mm512_mask_add_epi32(cy, over, cy, _mm512_set1_epi32(1));
   cx = _mm512_mask_sub_epi32(cx, over, cx, width);
   const __m512i g = _mm512_set1_epi32(grow);
-  const __m512i island = _mm512_i32gather_epi32(t, s.island, 4);
-  return _mm512_cmpge_epi32_mask(_mm512_sub_epi32(b.x0, g), _mm512_sub_epi32(cx, r)) &
+  return known & _mm512_cmpge_epi32_mask(_mm512_sub_epi32(b.x0, g), _mm512_sub_epi32(cx, r)) &
          _mm512_cmple_epi32_mask(_mm512_add_epi32(b.x1, g), _mm512_add_epi32(cx, r)) &
          _mm512_cmpge_epi32_mask(_mm512_sub_epi32(b.y0, g), _mm512_sub_epi32(cy, r)) &
-         _mm512_cmple_epi32_mask(_mm512_add_epi32(b.y1, g), _mm512_add_epi32(cy, r)) &
-         _mm512_cmpeq_epi32_mask(_mm512_i32gather_epi32(texel, s.texel_island, 4), island);
+         _mm512_cmple_epi32_mask(_mm512_add_epi32(b.y1, g), _mm512_add_epi32(cy, r));
 }
 
 // Surface units: each lane of `lanes` marks its footprint around (x, y) (texels; the

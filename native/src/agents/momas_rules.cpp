@@ -70,7 +70,7 @@ mtx_surface_tables surface_tables(const Surface& s, const TextureDomain& d) {
                             d.classes.data(), s.frame3d.data(), nullptr, nullptr,
                             d.texels_per_unit.data(), s.island.data(),
                             d.texel_island.data(), d.interior_bits.data(), nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, 0u,
-                            nullptr, nullptr, d.interior_reach.data(), s.unfolded.data()};
+                            nullptr, nullptr, d.interior_reach.data(), s.unfolded.data(), d.sole_reach.data()};
 }
 
 namespace {

@@ -17,7 +17,7 @@ size_t TextureDomain::bytes() const {
          gutter_source.capacity() * 4 + triangle_area_scale.capacity() * 4 +
          texels_per_unit.capacity() * 4 + seam_texel.capacity() * 4 + seam_neighbour.capacity() * 4 +
          texel_island.capacity() * 4 + interior_bits.capacity() * 4 +
-         interior_reach.capacity();
+         interior_reach.capacity() + sole_reach.capacity();
 }
 
 namespace {
@@ -171,19 +171,23 @@ void build_gutter(const Surface& s, TextureDomain& d, ThreadPool& pool) {
 // texture's outside counting as another island. Two chamfer passes, each texel taking the
 // distance of its same-island neighbours plus one: the straight chessboard path to the
 // nearest other texel runs through texels of the same island only, so this is exact.
-std::vector<uint8_t> interior_reach_of(const std::vector<int32_t>& island, uint32_t width, uint32_t height) {
+// Texels where `left_out` is set count as no island's (none when it is null).
+std::vector<uint8_t> interior_reach_of(const std::vector<int32_t>& island_of, uint32_t width, uint32_t height,
+                                       const std::vector<uint8_t>* left_out = nullptr) {
   const int w = static_cast<int>(width), h = static_cast<int>(height);
-  std::vector<int> dist(island.size(), 0);
+  auto island = [&](size_t i) { return left_out && (*left_out)[i] ? -1 : island_of[i]; };
+  std::vector<int> dist(island_of.size(), 0);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
-      if (island[size_t(y) * width + x] >= 0) dist[size_t(y) * width + x] = std::min({x + 1, y + 1, w - x, h - y});
+      if (island(size_t(y) * width + x) >= 0) dist[size_t(y) * width + x] = std::min({x + 1, y + 1, w - x, h - y});
   auto relax = [&](int x, int y, int dx, int dy) {
     const size_t i = size_t(y) * width + x;
-    if (island[i] < 0) return;
+    const int32_t own = island(i);
+    if (own < 0) return;
     const int nx = x + dx, ny = y + dy;
     if (nx < 0 || ny < 0 || nx >= w || ny >= h) return;  // the initial distance holds it
     const size_t j = size_t(ny) * width + nx;
-    dist[i] = std::min(dist[i], island[j] == island[i] ? dist[j] + 1 : 1);
+    dist[i] = std::min(dist[i], island(j) == own ? dist[j] + 1 : 1);
   };
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -199,9 +203,82 @@ std::vector<uint8_t> interior_reach_of(const std::vector<int32_t>& island, uint3
       relax(x, y, 0, 1);
       relax(x, y, -1, 1);
     }
-  std::vector<uint8_t> reach(island.size(), 0);
+  std::vector<uint8_t> reach(island_of.size(), 0);
   for (size_t i = 0; i < reach.size(); ++i) reach[i] = static_cast<uint8_t>(std::clamp(dist[i] - 1, 0, 255));
   return reach;
+}
+
+// The island texels whose square (grown by kTouchMargin texels) a triangle of another
+// island touches: set to 1 in `shared` (left empty with one island); returns whether
+// there are any. A triangle touches the squares its UV image overlaps (separating axes:
+// the squares' rows and columns, then its three edges' normals; a UV image without area,
+// every square of its bounding box), and the border texels its points beyond the
+// texture's border clamp onto. Only texels of another island are tested (most squares a
+// triangle touches are its own island's).
+constexpr double kTouchMargin = 1.0 / 64;  // far more than float rounding moves a point
+bool shared_texels(const Surface& s, const TextureDomain& d, std::vector<uint8_t>& shared) {
+  shared.clear();
+  if (s.island.empty() || *std::max_element(s.island.begin(), s.island.end()) == 0) return false;
+  shared.assign(d.texel_count(), 0);
+  const int W = static_cast<int>(d.width), H = static_cast<int>(d.height);
+  bool any = false;
+  const double m = kTouchMargin;
+  for (uint32_t t = 0; t < s.triangle_count(); ++t) {
+    const float* uv = &s.corner_uvs[6 * t];
+    double x[3], y[3];
+    for (int c = 0; c < 3; ++c) {
+      x[c] = double(uv[2 * c]) * W;
+      y[c] = double(uv[2 * c + 1]) * H;
+    }
+    const int32_t island = static_cast<int32_t>(s.island[t]);
+    auto other = [&](int ix, int iy) {
+      const int32_t own = d.texel_island[static_cast<size_t>(iy) * d.width + ix];
+      return own >= 0 && own != island;
+    };
+    auto touch = [&](int ix, int iy) {
+      shared[static_cast<size_t>(iy) * d.width + ix] = 1;
+      any = true;
+    };
+    const double lo_x = std::min({x[0], x[1], x[2]}) - m, hi_x = std::max({x[0], x[1], x[2]}) + m;
+    const double lo_y = std::min({y[0], y[1], y[2]}) - m, hi_y = std::max({y[0], y[1], y[2]}) + m;
+    const int x0 = static_cast<int>(std::clamp(std::floor(lo_x), 0.0, double(W - 1)));
+    const int x1 = static_cast<int>(std::clamp(std::floor(hi_x), 0.0, double(W - 1)));
+    const int y0 = static_cast<int>(std::clamp(std::floor(lo_y), 0.0, double(H - 1)));
+    const int y1 = static_cast<int>(std::clamp(std::floor(hi_y), 0.0, double(H - 1)));
+    // Beyond the border: the clamped column or row along the bounding box.
+    for (int iy = y0; iy <= y1; ++iy) {
+      if (lo_x < 0 && other(0, iy)) touch(0, iy);
+      if (hi_x >= W && other(W - 1, iy)) touch(W - 1, iy);
+    }
+    for (int ix = x0; ix <= x1; ++ix) {
+      if (lo_y < 0 && other(ix, 0)) touch(ix, 0);
+      if (hi_y >= H && other(ix, H - 1)) touch(ix, H - 1);
+    }
+    // Each edge's inner side: f = g . (p - a) >= 0, f / |g| the distance; over a square f
+    // is at most its value at the centre plus half its two slopes (the slack, with the
+    // margin).
+    const double area2 = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
+    const double sign = area2 > 0 ? 1.0 : -1.0;
+    const bool flat = !(std::fabs(area2) > 1e-9);
+    double gx[3], gy[3], slack[3];
+    for (int e = 0; e < 3; ++e) {
+      const int a = (e + 1) % 3, b = (e + 2) % 3;
+      gx[e] = -sign * (y[b] - y[a]);
+      gy[e] = sign * (x[b] - x[a]);
+      slack[e] = 0.5 * (std::fabs(gx[e]) + std::fabs(gy[e])) + m * std::hypot(gx[e], gy[e]);
+    }
+    for (int iy = y0; iy <= y1; ++iy)
+      for (int ix = x0; ix <= x1; ++ix) {
+        if (!other(ix, iy)) continue;
+        bool overlaps = true;
+        for (int e = 0; e < 3 && overlaps && !flat; ++e) {
+          const int a = (e + 1) % 3;
+          overlaps = gx[e] * (ix + 0.5 - x[a]) + gy[e] * (iy + 0.5 - y[a]) + slack[e] >= 0;
+        }
+        if (overlaps) touch(ix, iy);
+      }
+  }
+  return any;
 }
 
 }  // namespace
@@ -233,6 +310,18 @@ TextureDomain build_texture_domain(const Surface& s, uint32_t width, uint32_t he
     if (d.classes[i] == MOLDTEX_TEXEL_INSIDE && d.texel_triangle[i] >= 0)
       d.texel_island[i] = static_cast<int32_t>(s.island[d.texel_triangle[i]]);
   d.interior_reach = interior_reach_of(d.texel_island, width, height);
+  {
+    // Where no texel is shared, the sole reach is the interior reach.
+    std::vector<uint8_t> shared;
+    d.sole_reach = shared_texels(s, d, shared) ? interior_reach_of(d.texel_island, width, height, &shared)
+                                               : d.interior_reach;
+    pool.parallel_for(d.texel_count(), 1 << 16, [&](size_t begin, size_t end) {
+      for (size_t i = begin; i < end; ++i)
+        d.sole_reach[i] = d.texel_island[i] >= 0 && (shared.empty() || !shared[i])
+                              ? static_cast<uint8_t>(std::min(d.sole_reach[i] + 1, 255))
+                              : uint8_t{0};
+    });
+  }
   // A texel is interior (its 3 x 3 block one island) where its reach is at least 1.
   d.interior_bits.assign((d.texel_count() + 31) / 32, 0u);
   for (size_t i = 0; i < d.texel_count(); ++i)

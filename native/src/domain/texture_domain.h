@@ -44,6 +44,14 @@ struct TextureDomain {
   // interior bit. A MoMaS footprint box in surface units that lies within that block
   // needs no "texel of my island" test per texel (mtx_box_within_island).
   std::vector<uint8_t> interior_reach;
+  // The same reach over the island texels that are their island's alone: texels whose
+  // square (grown by a rounding margin) the UV image of no other island's triangle
+  // touches, nor clamps onto from beyond the texture's border. Per texel 0 if it is not
+  // such a texel, else 1 + that reach (at most 254). A point of any triangle that lies in
+  // such a texel's square belongs to the texel's island, so a footprint box within the
+  // block is all of the point's island without looking up the texel's island (MoMaS'
+  // sixteen lanes: one table read instead of two).
+  std::vector<uint8_t> sole_reach;
 
   size_t texel_count() const { return static_cast<size_t>(width) * height; }
   size_t bytes() const;

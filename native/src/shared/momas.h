@@ -83,6 +83,10 @@ typedef struct mtx_surface_tables {
    * MTX_UNFOLDED_FLOATS): a sensor trace that crosses a few edges is located without a
    * walk (mtx_trace_unfolded). NULL: every trace that leaves its triangle walks. */
   MTX_GLOBAL const float* unfolded;
+  /* MoMaS in surface units, the sixteen CPU lanes only (agents/momas_lanes16.cpp): per
+   * texel 0, or 1 + the interior reach counted over texels that are their island's alone
+   * (TextureDomain::sole_reach). NULL elsewhere. */
+  MTX_GLOBAL const mtx_u8* sole_reach;
 } mtx_surface_tables;
 
 /* The texel holding the point (x, y) in texels, clamped to the texture. */

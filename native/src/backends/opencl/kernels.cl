@@ -56,6 +56,7 @@ __kernel void momas_agents(__global const mtx_frame* frames, __global const uint
   s.interior_bits = 0;
   s.interior_reach = interior_reach;
   s.unfolded = unfolded;
+  s.sole_reach = 0;
   s.face_vertices = 0;
   s.locator_grid = 0;
   s.locator_cells = 0;
@@ -292,6 +293,7 @@ __kernel void continuous_agents(__global const mtx_frame* frames, __global const
   s.interior_bits = interior_bits;
   s.interior_reach = 0;
   s.unfolded = unfolded;
+  s.sole_reach = 0;
   s.face_vertices = face_vertices;
   s.locator_grid = locator_grid;
   s.locator_cells = locator_cells;
