@@ -401,11 +401,12 @@ MOLDTEX_MOMAS_LANES_FN void trace_probes(const mtx_surface_tables& s, __mmask16 
   }
 }
 
-// table[index] for a byte table, in lanes: the last of four bytes read from
-// max(index - 3, 0), so every byte read lies inside the table (of at least 4 bytes).
-MOLDTEX_MOMAS_LANES_FN __m512i byte_at(const uint8_t* table, __m512i index) {
+// table[index] for a byte table, in the lanes m (0 elsewhere): the last of four bytes
+// read from max(index - 3, 0), so every byte read lies inside the table (of at least 4
+// bytes).
+MOLDTEX_MOMAS_LANES_FN __m512i byte_at(const uint8_t* table, __m512i index, __mmask16 m = 0xffff) {
   const __m512i at = _mm512_max_epi32(_mm512_sub_epi32(index, _mm512_set1_epi32(3)), _mm512_setzero_si512());
-  const __m512i word = _mm512_i32gather_epi32(at, table, 1);
+  const __m512i word = _mm512_mask_i32gather_epi32(_mm512_setzero_si512(), m, at, table, 1);
   return _mm512_and_si512(_mm512_srlv_epi32(word, _mm512_slli_epi32(_mm512_sub_epi32(index, at), 3)),
                           _mm512_set1_epi32(0xff));
 }
@@ -441,13 +442,15 @@ MOLDTEX_MOMAS_LANES_FN Box centres_within(__m512 x, __m512 y, __m512 ex, __m512 
 // around `texel` that its interior reach says is all of its island, that island being
 // the lane's triangle t's. With the sole reach (TextureDomain::sole_reach) one table
 // read says both: a texel that is its island's alone is the island of every point in
-// it, so of t's (the texel holds the lane's point, a point of t).
+// it, so of t's (the texel holds the lane's point, a point of t). `sole`: that table's
+// values at `texel` where the caller has read them.
 MOLDTEX_MOMAS_LANES_FN __mmask16 box_within_island(const mtx_surface_tables& s, const mtx_momas_constants& c,
-                                                   __m512i texel, const Box& b, int grow, __m512i t) {
+                                                   __m512i texel, const Box& b, int grow, __m512i t,
+                                                   const __m512i* sole_read = nullptr) {
   __m512i r;
   __mmask16 known;
   if (s.sole_reach) {
-    const __m512i sole = byte_at(s.sole_reach, texel);
+    const __m512i sole = sole_read ? *sole_read : byte_at(s.sole_reach, texel);
     known = _mm512_test_epi32_mask(sole, sole);
     r = _mm512_sub_epi32(sole, _mm512_set1_epi32(1));
   } else {
@@ -493,8 +496,16 @@ MOLDTEX_MOMAS_LANES_FN void mark_footprints(const mtx_surface_tables& s, const m
     const __mmask16 jy = _mm512_cmp_ps_mask(ey, quarter, _CMP_LT_OQ) &
                          _mm512_cmp_ps_mask(ey, _mm512_mul_ps(half, ex), _CMP_LT_OQ);
     const __mmask16 plain = lanes & static_cast<__mmask16>(~(jx | jy));
-    // The texel under the walker, if an island texel.
-    const __mmask16 own = plain & _mm512_cmpeq_epi32_mask(byte_at(s.classes, texel), _mm512_set1_epi32(MTX_TEXEL_INSIDE));
+    // The texel under the walker, if an island texel: one that is its island's alone
+    // is one (its sole reach, which the box below reads too, is above 0); the others'
+    // classes are read.
+    __m512i sole = _mm512_setzero_si512();
+    if (s.sole_reach) sole = byte_at(s.sole_reach, texel);
+    const __mmask16 alone = plain & _mm512_test_epi32_mask(sole, sole);
+    const __mmask16 unsure = plain & static_cast<__mmask16>(~alone);
+    __mmask16 own = alone;
+    if (unsure) own |= _mm512_mask_cmpeq_epi32_mask(unsure, byte_at(s.classes, texel, unsure),
+                                                    _mm512_set1_epi32(MTX_TEXEL_INSIDE));
     mark_lanes(marks, _mm512_add_epi32(base, texel), own);
     const __mmask16 small = _mm512_cmp_ps_mask(ex, half, _CMP_LT_OQ) & _mm512_cmp_ps_mask(ey, half, _CMP_LT_OQ);
     const __mmask16 boxed = plain & static_cast<__mmask16>(~small);
@@ -502,7 +513,7 @@ MOLDTEX_MOMAS_LANES_FN void mark_footprints(const mtx_surface_tables& s, const m
     if (boxed) {
       const Box b = centres_within(x, y, ex, ey, c);
       const __mmask16 filled = _mm512_cmple_epi32_mask(b.x0, b.x1) & _mm512_cmple_epi32_mask(b.y0, b.y1);
-      fast = boxed & filled & box_within_island(s, c, texel, b, 1, t);
+      fast = boxed & filled & box_within_island(s, c, texel, b, 1, t, s.sole_reach ? &sole : nullptr);
       if (fast) {  // each lane's box row by row, a row's bytes in one masked store
         static_assert(2 * MTX_MAX_FOOTPRINT_TEXELS + 1 <= 64, "a box row within one 64-byte store");
         alignas(64) int32_t first[16], last_x[16], top[16], bottom[16], offset[16];
