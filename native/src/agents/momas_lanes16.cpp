@@ -442,8 +442,8 @@ MOLDTEX_MOMAS_LANES_FN Box centres_within(__m512 x, __m512 y, __m512 ex, __m512 
 // around `texel` that its interior reach says is all of its island, that island being
 // the lane's triangle t's. With the sole reach (TextureDomain::sole_reach) one table
 // read says both: a texel that is its island's alone is the island of every point in
-// it, so of t's (the texel holds the lane's point, a point of t). `sole`: that table's
-// values at `texel` where the caller has read them.
+// it, so of t's (the texel holds the lane's point, a point of t). `sole_read`: that
+// table's values at `texel` where the caller has read them.
 MOLDTEX_MOMAS_LANES_FN __mmask16 box_within_island(const mtx_surface_tables& s, const mtx_momas_constants& c,
                                                    __m512i texel, const Box& b, int grow, __m512i t,
                                                    const __m512i* sole_read = nullptr) {
