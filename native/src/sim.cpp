@@ -28,8 +28,8 @@ constexpr uint32_t kMaxAgents = 1u << 26;
 
 // Bytes a simulation will hold: agents (43 bytes of state each, clocks included, held
 // twice: the CPU's regrouping by tile keeps its sorted copy), two float fields, marks,
-// classes, the texel -> triangle raster, and roughly one gutter entry per texel along the
-// island borders.
+// classes, the texel -> triangle raster, the interior and sole reaches, and roughly one
+// gutter entry per texel along the island borders.
 double estimated_bytes(const moldtex_sim_config& c) {
   double texels = static_cast<double>(c.width) * c.height * c.detail * c.detail;
   const double planes = c.species_count;
@@ -332,6 +332,7 @@ Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim
     domain_ = std::make_shared<const TextureDomain>(build_texture_domain(
         *uv_surface, config_.width * config_.detail, config_.height * config_.detail, pool));
   }
+  if (config_.detail > 1) image_classes_ = image_classes(*domain_, config_.detail);
   const TextureDomain& d = *domain_;
   for (size_t i = 0; i < d.texel_count(); ++i)
     if (d.classes[i] == MOLDTEX_TEXEL_INSIDE && d.texel_triangle[i] >= 0)
@@ -867,9 +868,7 @@ void encode_rgba(const std::vector<float>& field, size_t cells, uint32_t planes,
 }  // namespace
 
 void Simulation::read_rgba(float* rgba) const {
-  const std::vector<uint8_t> coarse = config_.detail > 1 ? image_classes(*domain_, config_.detail)
-                                                         : std::vector<uint8_t>{};
-  const std::vector<uint8_t>& classes = config_.detail > 1 ? coarse : domain_->classes;
+  const std::vector<uint8_t>& classes = image_texel_classes();
   encode_rgba(image_field(), image_texel_count(), settings_.species_count,
               [&](size_t i) { return classes[i] == MOLDTEX_TEXEL_OUTSIDE ? 0.f : 1.f; },  // the island mask
               rgba);
@@ -882,11 +881,7 @@ std::vector<float> Simulation::image_field() const {
 }
 
 void Simulation::read_texel_classes(uint8_t* classes) const {
-  if (config_.detail == 1) {
-    std::copy(domain_->classes.begin(), domain_->classes.end(), classes);
-    return;
-  }
-  const std::vector<uint8_t> image = image_classes(*domain_, config_.detail);
+  const std::vector<uint8_t>& image = image_texel_classes();
   std::copy(image.begin(), image.end(), classes);
 }
 
@@ -946,7 +941,7 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
       c.config.agent_count != config_.agent_count || c.config.seed != config_.seed ||
       c.config.species_count != config_.species_count || c.config.model != config_.model ||
       c.config.domain != config_.domain || c.config.intrinsic_bound != config_.intrinsic_bound ||
-      std::max(c.config.detail, 1u) != config_.detail)
+      reaction_config(c.config).detail != config_.detail)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
          "The checkpoint " + path + " was made with another resolution, detail, agent count, seed, "
          "number of species, model, domain or triangle size: bake from the start");

@@ -96,6 +96,10 @@ class Simulation {
   std::vector<float> display_field(std::vector<float> field, size_t cells = 0) const;
   // read_display_field per image texel (texture_detail.h's image_planes at detail > 1).
   std::vector<float> image_field() const;
+  // The classes per image texel.
+  const std::vector<uint8_t>& image_texel_classes() const {
+    return config_.detail > 1 ? image_classes_ : domain_->classes;
+  }
   void read_agents(moldtex_surface_point* out, size_t count) const { backend_->read_agents(out, count); }
   moldtex_sim_stats stats() const;
   std::string backend_name() const {
@@ -132,6 +136,9 @@ class Simulation {
 
   std::shared_ptr<const Surface> surface_;
   std::shared_ptr<const TextureDomain> domain_;
+  // At detail > 1 the image texels' classes (texture_detail.h's image_classes), fixed with
+  // the domain; empty at detail 1 (the domain's own). See image_texel_classes().
+  std::vector<uint8_t> image_classes_;
   std::shared_ptr<const IntrinsicDomain> intrinsic_;  // MOLDTEX_DOMAIN_INTRINSIC
   bool intrinsic_from_cache_ = false;
   moldtex_sim_config config_;  // fields_rgba is always NULL here

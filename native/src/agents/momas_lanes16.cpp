@@ -440,23 +440,14 @@ MOLDTEX_MOMAS_LANES_FN Box centres_within(__m512 x, __m512 y, __m512 ex, __m512 
 
 // mtx_box_within_island for the box grown by `grow` texels each side: within the block
 // around `texel` that its interior reach says is all of its island, that island being
-// the lane's triangle t's. With the sole reach (TextureDomain::sole_reach) one table
-// read says both: a texel that is its island's alone is the island of every point in
-// it, so of t's (the texel holds the lane's point, a point of t). `sole_read`: that
-// table's values at `texel` where the caller has read them.
-MOLDTEX_MOMAS_LANES_FN __mmask16 box_within_island(const mtx_surface_tables& s, const mtx_momas_constants& c,
-                                                   __m512i texel, const Box& b, int grow, __m512i t,
-                                                   const __m512i* sole_read = nullptr) {
-  __m512i r;
-  __mmask16 known;
-  if (s.sole_reach) {
-    const __m512i sole = sole_read ? *sole_read : byte_at(s.sole_reach, texel);
-    known = _mm512_test_epi32_mask(sole, sole);
-    r = _mm512_sub_epi32(sole, _mm512_set1_epi32(1));
-  } else {
-    r = byte_at(s.interior_reach, texel);
-    known = _mm512_cmpeq_epi32_mask(_mm512_i32gather_epi32(texel, s.texel_island, 4), _mm512_i32gather_epi32(t, s.island, 4));
-  }
+// the lane's triangle's. The sole reach (TextureDomain::sole_reach, `sole`: its values at
+// `texel`) says both: a texel that is its island's alone is the island of every point in
+// it, so of the lane's triangle (the texel holds the lane's point, a point of that
+// triangle).
+MOLDTEX_MOMAS_LANES_FN __mmask16 box_within_island(const mtx_momas_constants& c, __m512i texel, __m512i sole,
+                                                   const Box& b, int grow) {
+  const __mmask16 known = _mm512_test_epi32_mask(sole, sole);
+  const __m512i r = _mm512_sub_epi32(sole, _mm512_set1_epi32(1));
   // The texel's column and row: a float quotient, corrected by one where it rounded
   // across a row.
   const __m512i width = _mm512_set1_epi32(static_cast<int>(c.width));
@@ -487,7 +478,7 @@ MOLDTEX_MOMAS_LANES_FN void mark_footprints(const mtx_surface_tables& s, const m
   const uint32_t plane_texels = c.width * c.height;
   const __m512i base = _mm512_mullo_epi32(species, _mm512_set1_epi32(static_cast<int>(plane_texels)));
   __mmask16 slow = lanes;
-  if (!c.has_fields && s.interior_reach != nullptr) {
+  if (!c.has_fields && s.sole_reach != nullptr) {
     __m512 ex, ey;
     footprint_size(s, c, t, ex, ey);
     const __m512 quarter = _mm512_set1_ps(0.25f), half = _mm512_set1_ps(0.5f);
@@ -499,8 +490,7 @@ MOLDTEX_MOMAS_LANES_FN void mark_footprints(const mtx_surface_tables& s, const m
     // The texel under the walker, if an island texel: one that is its island's alone
     // is one (its sole reach, which the box below reads too, is above 0); the others'
     // classes are read.
-    __m512i sole = _mm512_setzero_si512();
-    if (s.sole_reach) sole = byte_at(s.sole_reach, texel);
+    const __m512i sole = byte_at(s.sole_reach, texel);
     const __mmask16 alone = plain & _mm512_test_epi32_mask(sole, sole);
     const __mmask16 unsure = plain & static_cast<__mmask16>(~alone);
     __mmask16 own = alone;
@@ -513,7 +503,7 @@ MOLDTEX_MOMAS_LANES_FN void mark_footprints(const mtx_surface_tables& s, const m
     if (boxed) {
       const Box b = centres_within(x, y, ex, ey, c);
       const __mmask16 filled = _mm512_cmple_epi32_mask(b.x0, b.x1) & _mm512_cmple_epi32_mask(b.y0, b.y1);
-      fast = boxed & filled & box_within_island(s, c, texel, b, 1, t, s.sole_reach ? &sole : nullptr);
+      fast = boxed & filled & box_within_island(c, texel, sole, b, 1);
       if (fast) {  // each lane's box row by row, a row's bytes in one masked store
         static_assert(2 * MTX_MAX_FOOTPRINT_TEXELS + 1 <= 64, "a box row within one 64-byte store");
         alignas(64) int32_t first[16], last_x[16], top[16], bottom[16], offset[16];
@@ -558,7 +548,7 @@ MOLDTEX_MOMAS_LANES_FN void sense_footprints(const mtx_surface_tables& s, const 
                                              const float* pheromone, const float* field, __mmask16 lanes,
                                              __m512i species, const Probe* p, __m512* value) {
   const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.0f);
-  const bool plain = c.species_count == 1u && !c.has_fields && s.interior_reach != nullptr;
+  const bool plain = c.species_count == 1u && !c.has_fields && s.sole_reach != nullptr;
   const __m512i width = _mm512_set1_epi32(static_cast<int>(c.width));
   for (int k = 0; k < 3; ++k) {
     __mmask16 slow = lanes;
@@ -574,7 +564,7 @@ MOLDTEX_MOMAS_LANES_FN void sense_footprints(const mtx_surface_tables& s, const 
       const __mmask16 small = _mm512_cmp_ps_mask(ex, _mm512_set1_ps(0.5f), _CMP_LT_OQ) &
                               _mm512_cmp_ps_mask(ey, _mm512_set1_ps(0.5f), _CMP_LT_OQ);
       const Box b = centres_within(p[k].x, p[k].y, ex, ey, c);
-      const __mmask16 whole = box_within_island(s, c, p[k].texel, b, 0, p[k].triangle);
+      const __mmask16 whole = box_within_island(c, p[k].texel, byte_at(s.sole_reach, p[k].texel), b, 0);
       const __mmask16 fast = lanes & static_cast<__mmask16>(~small) & whole;
       __m512 sum = here, count = one;
       if (fast) {
