@@ -28,6 +28,18 @@ class ManifestTests(unittest.TestCase):
         self.assertLessEqual(len(reason), 64)
         self.assertFalse(reason.endswith("."))
 
+    def test_versions_are_the_cores(self):
+        # One source: native/include/moldtex.h's MOLDTEX_VERSION_*, staged into bl_info
+        # and the manifest; the core reports the same (moldtex_version_string).
+        import tomllib
+        import moldtex
+        from moldtex import engine
+        self.assertIsNone(engine.LOAD_ERROR)
+        with open(manifest_path(), "rb") as file:
+            manifest = tomllib.load(file)
+        self.assertEqual(manifest["version"], engine.VERSION)
+        self.assertEqual(".".join(map(str, moldtex.bl_info["version"])), engine.VERSION)
+
     def test_blenders_own_validator_accepts_it(self):
         tool = os.path.join(bpy.utils.system_resource('SCRIPTS'), "addons_core", "bl_pkg",
                             "cli", "blender_ext.py")

@@ -52,7 +52,7 @@ CC=clang CXX=clang++ cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebI
   -DCMAKE_C_FLAGS="$SAN" -DCMAKE_CXX_FLAGS="$SAN" \
   -DCMAKE_EXE_LINKER_FLAGS="$SAN" -DCMAKE_SHARED_LINKER_FLAGS="$SAN" \
   -DMOLDTEX_BUILD_BENCHMARKS=OFF -DMOLDTEX_FUZZ=ON >/dev/null
-cmake --build "$BUILD" -j"$JOBS" --target moldtex_tests moldtex_fuzz
+cmake --build "$BUILD" -j"$JOBS" --target moldtex_tests moldtex_plugin_tests moldtex_fuzz
 built=$SECONDS
 
 # ---- CTest under the sanitizers.

@@ -26,7 +26,7 @@ Layout (engine never imports bpy; UI never calls ctypes):
 bl_info = {
     "name": "Moldtex",
     "author": "Moldtex developers",
-    "version": (0, 1, 0),
+    "version": (0, 1, 0),  # staged from native/include/moldtex.h (addon/stage_version.cmake)
     "blender": (3, 4, 0),
     "location": "3D Viewport ▸ Sidebar ▸ Moldtex",
     "description": "Grow slime-mold (Physarum, MoMaS) patterns over a mesh's UV layout "

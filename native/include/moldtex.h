@@ -27,14 +27,33 @@
 extern "C" {
 #endif
 
+/* Exported when building the library (MOLDTEX_BUILDING, set by its CMake target);
+ * imported, or plain declarations, for those who use it. */
 #if defined(_WIN32)
+#if defined(MOLDTEX_BUILDING)
 #define MOLDTEX_API __declspec(dllexport)
 #else
+#define MOLDTEX_API __declspec(dllimport)
+#endif
+#elif defined(MOLDTEX_BUILDING)
 #define MOLDTEX_API __attribute__((visibility("default")))
+#else
+#define MOLDTEX_API
 #endif
 
 /* Bumped whenever a struct layout or a function signature changes incompatibly. */
 #define MOLDTEX_ABI_VERSION 1u
+
+/* The release: the one place it is written. CMake reads these lines (the project's
+ * version) and stages the add-on with them (bl_info, blender_manifest.toml). */
+#define MOLDTEX_VERSION_MAJOR 0
+#define MOLDTEX_VERSION_MINOR 1
+#define MOLDTEX_VERSION_PATCH 0
+#define MOLDTEX_STRINGIFY_(x) #x
+#define MOLDTEX_STRINGIFY(x) MOLDTEX_STRINGIFY_(x)
+#define MOLDTEX_VERSION_STRING                                                            \
+  MOLDTEX_STRINGIFY(MOLDTEX_VERSION_MAJOR) "." MOLDTEX_STRINGIFY(MOLDTEX_VERSION_MINOR) "." \
+      MOLDTEX_STRINGIFY(MOLDTEX_VERSION_PATCH)
 
 typedef enum moldtex_status {
   MOLDTEX_OK = 0,
@@ -59,7 +78,7 @@ typedef struct moldtex_intrinsic_t* moldtex_intrinsic;
 
 /* MOLDTEX_ABI_VERSION of the loaded library; callers compare it with their own. */
 MOLDTEX_API uint32_t moldtex_abi_version(void);
-/* Human-readable version, e.g. "0.1.0". Static storage. */
+/* MOLDTEX_VERSION_STRING of the loaded library, e.g. "0.1.0". Static storage. */
 MOLDTEX_API const char* moldtex_version_string(void);
 /* Message of the last failed call on this thread ("" if none). Valid until the next
  * call on this thread. */
@@ -416,6 +435,15 @@ MOLDTEX_API moldtex_status moldtex_sim_set_reaction_params(moldtex_sim sim,
     const moldtex_reaction_params* params);
 MOLDTEX_API moldtex_status moldtex_sim_get_reaction_params(moldtex_sim sim,
     moldtex_reaction_params* params);
+
+/* One pair of calls for every model's own parameters: `params` points to the parameter
+ * struct of `model` (a moldtex_model), which begins with its struct_size:
+ * moldtex_sim_params for MoMaS, moldtex_continuous_params for the continuous model,
+ * moldtex_reaction_params for Gray-Scott. A simulation keeps the parameters of every
+ * model and uses those of the one it runs. The same as the calls per model above
+ * (moldtex_sim_set_params, moldtex_sim_set_continuous_params, ...), which stay. */
+MOLDTEX_API moldtex_status moldtex_sim_set_model_params(moldtex_sim sim, uint32_t model, const void* params);
+MOLDTEX_API moldtex_status moldtex_sim_get_model_params(moldtex_sim sim, uint32_t model, void* params);
 
 /* Parameter maps and stimuli of the continuous model (layton-intrinsic-slime.md §3.3,
  * Eq. 6/7, Fig. 7, 8): per texel values in the order of moldtex_sim_read_rgba (width *

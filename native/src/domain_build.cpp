@@ -4,6 +4,7 @@
 
 #include "backends/cpu/thread_pool.h"
 #include "common/error.h"
+#include "models/model.h"
 #include "sim.h"
 
 namespace moldtex {
@@ -26,13 +27,14 @@ double overall_fraction(uint32_t stage, double within) {
 
 DomainBuild::DomainBuild(std::shared_ptr<const Surface> surface, const moldtex_sim_config& config,
                          unsigned thread_count)
-    : surface_(std::move(surface)), config_(reaction_config(config)), thread_count_(thread_count) {
+    : surface_(std::move(surface)), config_(kept_config(config)), thread_count_(thread_count) {
   if (!surface_) fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The surface handle is NULL");
   if (config_.domain != MOLDTEX_DOMAIN_INTRINSIC)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Only the Intrinsic domain is built ahead (config.domain)");
-  if (config_.model == MOLDTEX_MODEL_MOMAS)
-    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
-         "The Intrinsic domain runs the continuous model and Gray-Scott; MoMaS works in texels: use the Texture domain");
+  const Model* model = find_model(config_.model);
+  if (model && !model->runs_on(MOLDTEX_DOMAIN_INTRINSIC))
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The Intrinsic domain runs " + models_on(MOLDTEX_DOMAIN_INTRINSIC) + "; " +
+                                             model->name_in_text() + " works in texels: use the Texture domain");
   // Where the agents start and the fields do not shape the domain: not checked here.
   config_.seed_shape = MOLDTEX_SEED_RANDOM;
   config_.fields_rgba = nullptr;

@@ -10,12 +10,12 @@
 #include "agents/continuous_rules.h"
 #include "backends/cpu/cpu_backend.h"
 #include "brush/brush.h"
-#include "brush/reaction_paint.h"
 #ifdef MOLDTEX_HAVE_OPENCL
 #include "backends/opencl/opencl_backend.h"
 #endif
 #include "common/error.h"
-#include "domain/reaction_diffusion.h"
+#include "models/gray_scott/reaction_diffusion.h"  // validate_reaction_params, until parameters are per model
+#include "models/model.h"
 #include "domain/texture_detail.h"
 #include "io/image_writer.h"
 
@@ -34,17 +34,23 @@ double estimated_bytes(const moldtex_sim_config& c) {
   double texels = static_cast<double>(c.width) * c.height * c.detail * c.detail;
   const double planes = c.species_count;
   double bytes = static_cast<double>(c.agent_count) * 86.0 + texels * (planes * 9 + 4 + 4 + 1 + 1) + texels * 0.5;
-  // The continuous model: the deposit sums and the PDE's operator (CSR with reverse
-  // entries, rates, local time stepping's scratch; backward Euler's matrix and vectors
-  // when it runs): about 200 bytes per texel.
-  if (c.model == MOLDTEX_MODEL_CONTINUOUS)
-    bytes += texels * (planes * 8 + 200);
+  // The model's own (the continuous model's deposit sums and PDE operator).
+  if (const Model* model = find_model(c.model)) {
+    const double extra = model->extra_bytes_per_texel(c);
+    if (extra > 0) bytes += texels * extra;
+  }
   return bytes;
 }
 
 double physical_memory_bytes() {
   long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
   return pages > 0 && page > 0 ? static_cast<double>(pages) * page : 8.0 * (1ull << 30);
+}
+
+// "MoMaS" (with), "the continuous model and Gray-Scott" (without): the models with and
+// without a detail above 1.
+std::string models_with_detail(bool with = true) {
+  return models_that([with](const Model& m) { return m.supports_detail() == with; });
 }
 
 void check_range(const char* name, float value, float lo, float hi, const char* hint) {
@@ -59,6 +65,7 @@ void check_range(const char* name, float value, float lo, float hi, const char* 
 }  // namespace
 
 void validate_config(const moldtex_sim_config& c, const Surface& surface) {
+  const Model* model = find_model(c.model);  // null: refused below, after the checks before it
   if (c.struct_size < sizeof(moldtex_sim_config))
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
          "moldtex_sim_config.struct_size is too small: call moldtex_sim_config_init first");
@@ -74,10 +81,10 @@ void validate_config(const moldtex_sim_config& c, const Surface& surface) {
   if (c.detail != 1 && c.detail != 2 && c.detail != 4)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
          "The detail must be 1, 2 or 4 simulated texels per image texel and axis, got " + std::to_string(c.detail));
-  if (c.detail > 1 && (c.model != MOLDTEX_MODEL_MOMAS || c.domain != MOLDTEX_DOMAIN_TEXTURE))
-    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
-         "A detail above 1 is for MoMaS on the texture domain: set detail to 1 for the continuous model and "
-         "Gray-Scott");
+  if (c.detail > 1 && (!model || !model->supports_detail() || c.domain != MOLDTEX_DOMAIN_TEXTURE))
+    fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "A detail above 1 is for " + models_with_detail() +
+                                             " on the texture domain: set detail to 1 for " +
+                                             models_with_detail(false));
   if (size_t(c.width) * c.detail > kMaxTextureSize || size_t(c.height) * c.detail > kMaxTextureSize) {
     std::ostringstream m;
     m << "Texture size " << c.width << " x " << c.height << " at detail " << c.detail << " would simulate "
@@ -87,25 +94,25 @@ void validate_config(const moldtex_sim_config& c, const Surface& surface) {
   }
   if (c.backend > MOLDTEX_BACKEND_OPENCL)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Unknown backend: use 0 (auto), 1 (CPU) or 2 (OpenCL)");
-  if (c.agent_count == 0 && c.model != MOLDTEX_MODEL_GRAY_SCOTT)
+  if (c.agent_count == 0 && (!model || model->has_agents()))
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The number of agents must be at least 1");
-  if (c.model > MOLDTEX_MODEL_GRAY_SCOTT)
-    fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
-         "Unknown model: use 0 (MoMaS), 1 (continuous) or 2 (Gray-Scott reaction-diffusion)");
+  if (!model) model_of(c.model);  // refuses, listing the models
   if (c.domain > MOLDTEX_DOMAIN_INTRINSIC)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Unknown domain: use 0 (texture) or 1 (intrinsic triangulation)");
   if (c.domain == MOLDTEX_DOMAIN_TEXTURE && surface.generated_uvs)
     fail(MOLDTEX_ERROR_MISSING_UVS,
-         c.model == MOLDTEX_MODEL_MOMAS
-             ? "The mesh has no UV map, and MoMaS keeps its pheromone in the UV texture: add a UV map (UV > Smart "
-               "UV Project)"
-             : "The mesh has no UV map, and the Texture domain keeps the pheromone in the UV texture: add a UV map "
-               "(UV > Smart UV Project), or choose the Intrinsic domain, which runs on the surface itself and "
-               "gives a colour per mesh vertex");
-  if (c.domain == MOLDTEX_DOMAIN_INTRINSIC && c.model == MOLDTEX_MODEL_MOMAS)
+         !model->runs_on(MOLDTEX_DOMAIN_INTRINSIC)
+             ? "The mesh has no UV map, and " + std::string(model->name_in_text()) +
+                   " keeps its pheromone in the UV texture: add a UV map (UV > Smart UV Project)"
+             : std::string("The mesh has no UV map, and the Texture domain keeps the pheromone in the UV texture: add "
+                           "a UV map (UV > Smart UV Project), or choose the Intrinsic domain, which runs on the surface "
+                           "itself and gives a colour per mesh vertex"));
+  if (!model->runs_on(c.domain))
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
-         "The Intrinsic domain runs the continuous model and Gray-Scott; MoMaS works in texels: choose the "
-         "Texture domain or another model");
+         c.domain == MOLDTEX_DOMAIN_INTRINSIC
+             ? "The Intrinsic domain runs " + models_on(MOLDTEX_DOMAIN_INTRINSIC) + "; " + model->name_in_text() +
+                   " works in texels: choose the Texture domain or another model"
+             : std::string(model->name_in_text()) + " runs on the Intrinsic domain only: choose it");
   if (!std::isfinite(c.intrinsic_bound) || c.intrinsic_bound < 0.f || c.intrinsic_bound > 1e30f) {
     std::ostringstream m;
     m << "The intrinsic triangulation's circumradius bound must be a length >= 0 in mesh units (0 = from the "
@@ -313,12 +320,13 @@ std::shared_ptr<const IntrinsicDomain> prepare_intrinsic_domain(const Surface& s
 
 Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim_config& config,
                        const moldtex_sim_params& params)
-    : surface_(std::move(surface)), config_(reaction_config(config)) {
+    : surface_(std::move(surface)), config_(kept_config(config)) {
   // The texture is laid out on the UV map as given; agents on the intrinsic domain walk
   // the surface in 3D, across faces whose UVs have zero area.
   const std::shared_ptr<const Surface> uv_surface = surface_;
   if (config_.domain == MOLDTEX_DOMAIN_INTRINSIC) surface_ = walkable_in_3d(surface_);
   validate_config(config_, *surface_);
+  model_ = &model_of(config_.model);
   validate_params(params);
   config_.fields_rgba = nullptr;  // copied below, never kept
   settings_.species_count = config_.species_count;
@@ -363,7 +371,7 @@ Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim
       break;
   }
   if (!backend_)
-    backend_ = std::make_unique<CpuBackend>(surface_, domain_, config_.agent_count, config_.species_count,
+    backend_ = std::make_unique<CpuBackend>(surface_, domain_, *model_, config_.species_count,
                                             params.thread_count, intrinsic_);
   why_not_opencl_ = why_not;
   maps_ = std::make_shared<ParameterMaps>();
@@ -519,7 +527,7 @@ void Simulation::set_map(uint32_t kind, const float* values) {
   if (kind == MOLDTEX_MAP_READ_STIMULUS) update_field_plane();
   // Clocks start in the local steady state (§3.3): restart them for a new lifetime or
   // activation map.
-  if ((kind == MOLDTEX_MAP_MEAN_LIFETIME || kind == MOLDTEX_MAP_ACTIVATION_TIME) && continuous()) {
+  if ((kind == MOLDTEX_MAP_MEAN_LIFETIME || kind == MOLDTEX_MAP_ACTIVATION_TIME) && model_->agent_clocks()) {
     Agents agents;
     backend_->export_agents(agents);
     // Before the first step: the clocks a reset would give under these maps.
@@ -529,11 +537,11 @@ void Simulation::set_map(uint32_t kind, const float* values) {
 }
 
 void Simulation::reset() {
-  if (gray_scott()) {  // no agents: the two chemicals' starting state
+  if (!model_->has_agents()) {  // the planes' starting state
     ThreadPool pool(settings_.params.thread_count);
     const bool weighted = config_.seed_shape == MOLDTEX_SEED_SPAWN_MAP;
     SimState state;
-    state.pheromone = reaction_initial_state(*surface_, *domain_, settings_.reaction, config_.seed,
+    state.pheromone = model_->initial_planes(*surface_, *domain_, settings_, config_.seed,
                                              weighted ? &spawn_weights_ : nullptr, pool);
     backend_->reset(state.agents);
     backend_->import_state(state);
@@ -603,27 +611,19 @@ void Simulation::add_species_counts(const Agents& added) {
   update_u_metric();
 }
 
-void Simulation::update_u_metric() {
-  settings_.u_metric.assign(settings_.species_count, 0.0);
-  if (!continuous()) return;
-  for (uint32_t k = 0; k < settings_.species_count && k < species_agents_.size(); ++k)
-    settings_.u_metric[k] = uniform_steady_state(settings_.continuous, species_agents_[k], cell_area_);
-}
+void Simulation::update_u_metric() { model_->update_u_metric(settings_, species_agents_, cell_area_); }
 
 void Simulation::set_reaction_params(const moldtex_reaction_params& p) {
   validate_reaction_params(p);
   settings_.reaction = p;
 }
 
-moldtex_sim_config reaction_config(const moldtex_sim_config& config) {
+moldtex_sim_config kept_config(const moldtex_sim_config& config) {
   moldtex_sim_config c = config;
   // detail lies in what was the previous release's tail padding: 0 there (a caller from
   // before the field, or one that zeroed the struct) means none.
   if (c.detail == 0) c.detail = 1;
-  if (c.model == MOLDTEX_MODEL_GRAY_SCOTT) {  // two planes (V, U), no agents
-    c.agent_count = 0;
-    c.species_count = kReactionPlanes;
-  }
+  if (const Model* model = find_model(c.model)) model->keep_config(c);
   return c;
 }
 
@@ -631,7 +631,7 @@ void Simulation::set_continuous_params(const moldtex_continuous_params& p) {
   validate_continuous_params(p);
   const moldtex_continuous_params old = settings_.continuous;
   settings_.continuous = p;
-  if (!continuous() || !backend_) return;
+  if (!model_->agent_clocks() || !backend_) return;
   // Turnover switched on or off, or the clocks' scales changed: restart the clocks in
   // the new steady state (ages and exposures of the old one would not match it).
   if ((old.mean_lifetime > 0.f) != (p.mean_lifetime > 0.f) || old.mean_lifetime != p.mean_lifetime ||
@@ -655,12 +655,12 @@ void check_batch(uint32_t batch) {
 
 }  // namespace
 
-uint32_t Simulation::paint_reaction_dab(const moldtex_brush& brush, uint32_t batch, bool erase) {
+uint32_t Simulation::paint_dab(const moldtex_brush& brush, uint32_t batch, bool erase) {
   SimState state;
   backend_->export_state(state);
   ThreadPool pool(settings_.params.thread_count);
   const uint32_t changed =
-      paint_reaction(*surface_, *domain_, state.pheromone.data(), brush, erase, batches_[batch].reaction, pool);
+      model_->paint(*surface_, *domain_, state.pheromone.data(), brush, erase, batches_[batch].painted, pool);
   backend_->import_state(state);
   return changed;
 }
@@ -668,8 +668,8 @@ uint32_t Simulation::paint_reaction_dab(const moldtex_brush& brush, uint32_t bat
 void Simulation::add_agents(const moldtex_brush& brush, uint32_t count, uint32_t batch) {
   validate_brush(*surface_, brush);
   check_batch(batch);
-  if (gray_scott()) {  // no agents: the dab seeds V instead (brush/reaction_paint.h)
-    paint_reaction_dab(brush, batch, false);
+  if (!model_->has_agents()) {  // no agents: the dab paints the planes instead (Model::paint)
+    paint_dab(brush, batch, false);
     return;
   }
   if (brush.channel >= settings_.species_count)
@@ -700,7 +700,7 @@ void Simulation::add_agents(const moldtex_brush& brush, uint32_t count, uint32_t
 uint32_t Simulation::erase_agents(const moldtex_brush& brush, uint32_t batch) {
   validate_brush(*surface_, brush);
   check_batch(batch);
-  if (gray_scott()) return paint_reaction_dab(brush, batch, true);
+  if (!model_->has_agents()) return paint_dab(brush, batch, true);
   // The agents read where the backend keeps them (the CPU's), or a copy (a device's): a
   // dab over a million agents then copies only the ones it erases.
   Agents exported;
@@ -733,12 +733,12 @@ uint32_t Simulation::erase_agents(const moldtex_brush& brush, uint32_t batch) {
 void Simulation::undo_agents(uint32_t batch) {
   check_batch(batch);
   auto it = batches_.find(batch);
-  if (gray_scott()) {
+  if (!model_->has_agents()) {
     if (it == batches_.end()) return;
     SimState state;
     backend_->export_state(state);
     ThreadPool pool(settings_.params.thread_count);
-    restore_reaction(*domain_, state.pheromone.data(), it->second.reaction, pool);
+    model_->unpaint(*domain_, state.pheromone.data(), it->second.painted, pool);
     backend_->import_state(state);
     batches_.erase(it);
     return;
@@ -808,9 +808,7 @@ void Simulation::step(uint32_t steps) {
           settings_.food.insert(settings_.food.end(), {f.position[0], f.position[1], f.position[2], f.strength});
         }
     backend_->step(settings_, config_.seed, step_count_++, eaters.data());
-    time_ += continuous()    ? settings_.continuous.time_step
-             : gray_scott() ? settings_.reaction.time_step
-                            : settings_.params.time_step;
+    time_ += model_->time_step(settings_);
     // Depletion from exact counts, after the agent pass: the same on every backend.
     for (size_t a = 0; a < active.size(); ++a) {
       moldtex_food_source& f = food_[active[a]];
@@ -829,20 +827,7 @@ std::vector<float> Simulation::read_field() const {
 std::vector<float> Simulation::read_display_field() const { return display_field(read_field()); }
 
 std::vector<float> Simulation::display_field(std::vector<float> field, size_t cells) const {
-  if (!continuous()) return field;
-  // The continuous model shows u / U: 1 is the uniform steady state, at any deposit
-  // rate, agent count or surface area.
-  const size_t texels = cells ? cells : domain_->texel_count();
-  for (uint32_t k = 0; k < settings_.species_count; ++k) {
-    const double u = k < settings_.u_metric.size() ? settings_.u_metric[k] : 0.0;
-    if (!(std::isfinite(u) && u > 0)) continue;
-    // In double, clamped: with a U near the float minimum (a deposit rate of 1e-38) the
-    // ratio would overflow a float.
-    const double scale = 1.0 / u;
-    for (size_t i = 0; i < texels; ++i)
-      field[k * texels + i] = static_cast<float>(std::min(double(field[k * texels + i]) * scale,
-                                                          double(std::numeric_limits<float>::max())));
-  }
+  model_->display(field, cells ? cells : domain_->texel_count(), settings_);
   return field;
 }
 
@@ -941,7 +926,7 @@ std::vector<MetricRow> Simulation::load_checkpoint(const std::string& path) {
       c.config.agent_count != config_.agent_count || c.config.seed != config_.seed ||
       c.config.species_count != config_.species_count || c.config.model != config_.model ||
       c.config.domain != config_.domain || c.config.intrinsic_bound != config_.intrinsic_bound ||
-      reaction_config(c.config).detail != config_.detail)
+      kept_config(c.config).detail != config_.detail)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
          "The checkpoint " + path + " was made with another resolution, detail, agent count, seed, "
          "number of species, model, domain or triangle size: bake from the start");
@@ -1020,36 +1005,9 @@ moldtex_sim_stats Simulation::stats() const {
   s.step_count = step_count_;
   s.agent_count = static_cast<uint32_t>(backend_->agent_count());
   s.bytes_in_use = backend_->bytes() + domain_->bytes() + surface_->bytes();
-  const size_t texels = domain_->texel_count();
-  const uint32_t planes = settings_.species_count;
   const std::vector<float> raw = read_field();
-  if (continuous()) {
-    s.u_metric = settings_.u_metric.empty() ? 0.0 : settings_.u_metric[0];
-    // Eq. 1's area-weighted mean over the island texels is the mean concentration.
-    s.mean_concentration = measure(*domain_, raw.data()).coverage;
-  }
-  const std::vector<float> field = display_field(raw);
   s.time = time_;
-  if (gray_scott()) {  // mean V, and where V > 0.1
-    const float* v = field.data() + kReactionV * texels;
-    s.coverage = measure(*domain_, v).coverage;
-    std::vector<float> spots(texels, 0.f);
-    for (size_t i = 0; i < texels; ++i) spots[i] = v[i] > 0.1f ? 1.f : 0.f;
-    s.presence = measure(*domain_, spots.data()).presence;
-  } else if (planes == 1) {
-    FieldMetrics m = measure(*domain_, field.data());
-    s.coverage = m.coverage;
-    s.presence = m.presence;
-  } else {
-    // Coverage: the mean of each species' Eq. 1; presence: where any species is.
-    std::vector<float> any(texels, 0.f);
-    for (uint32_t k = 0; k < planes; ++k) {
-      const float* plane = field.data() + k * texels;
-      s.coverage += measure(*domain_, plane).coverage / planes;
-      for (size_t i = 0; i < texels; ++i) any[i] = std::max(any[i], plane[i]);
-    }
-    s.presence = measure(*domain_, any.data()).presence;
-  }
+  model_->stats(s, *domain_, raw, display_field(raw), settings_);
   return s;
 }
 

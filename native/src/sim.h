@@ -9,7 +9,7 @@
 
 #include "agents/parameter_maps.h"
 #include "backends/backend.h"
-#include "brush/reaction_paint.h"
+#include "models/model.h"
 #include "domain/intrinsic_domain.h"
 #include "domain/texture_domain.h"
 #include "io/checkpoint.h"
@@ -22,10 +22,10 @@ void validate_params(const moldtex_sim_params& params);
 void check_length_unit(const moldtex_sim_params& params, const Surface& surface);
 void validate_species_params(const moldtex_species_params& params);
 void validate_continuous_params(const moldtex_continuous_params& params);
-// The config a simulation keeps: for Gray-Scott, no agents and two planes (V, U); detail
+// The config a simulation keeps: as its model keeps it (Model::keep_config); detail
 // 0 read as 1.
-moldtex_sim_config reaction_config(const moldtex_sim_config& config);
-// The intrinsic domain a simulation of `config` (as kept: reaction_config, validated) on
+moldtex_sim_config kept_config(const moldtex_sim_config& config);
+// The intrinsic domain a simulation of `config` (as kept: kept_config, validated) on
 // `surface` with texture domain `texture` runs on: the config's bound or the texture's
 // default, refused if the machine lacks the memory, then built or taken from the cache
 // (intrinsic_domain_for: from_cache, progress).
@@ -60,9 +60,7 @@ class Simulation {
   void set_map(uint32_t kind, const float* values);
   const std::vector<float>& map(uint32_t kind) const { return maps_->given[kind]; }
   const moldtex_continuous_params& continuous_params() const { return settings_.continuous; }
-  bool continuous() const { return config_.model == MOLDTEX_MODEL_CONTINUOUS; }
-  // Gray-Scott reaction-diffusion (kept, but unused, under the other models).
-  bool gray_scott() const { return config_.model == MOLDTEX_MODEL_GRAY_SCOTT; }
+  // Gray-Scott reaction-diffusion's parameters (kept, but unused, under the other models).
   void set_reaction_params(const moldtex_reaction_params& params);
   const moldtex_reaction_params& reaction_params() const { return settings_.reaction; }
   const moldtex_sim_config& config() const { return config_; }
@@ -135,6 +133,7 @@ class Simulation {
   void update_field_plane();
 
   std::shared_ptr<const Surface> surface_;
+  const Model* model_ = nullptr;  // config_.model's (models/registry.cpp)
   std::shared_ptr<const TextureDomain> domain_;
   // At detail > 1 the image texels' classes (texture_detail.h's image_classes), fixed with
   // the domain; empty at detail 1 (the domain's own). See image_texel_classes().
@@ -157,9 +156,9 @@ class Simulation {
     uint64_t added = 0;
     uint64_t erase_dabs = 0;
     Agents erased;
-    ReactionUndo reaction;  // Gray-Scott: the texels the stroke painted, as they were
+    PaintUndo painted;  // a model without agents: the texels the stroke painted, as they were
   };
-  uint32_t paint_reaction_dab(const moldtex_brush& brush, uint32_t batch, bool erase);
+  uint32_t paint_dab(const moldtex_brush& brush, uint32_t batch, bool erase);
   std::map<uint32_t, BrushBatch> batches_;
   std::string why_not_opencl_;  // why Auto chose the CPU
   uint64_t step_count_ = 0;

@@ -32,10 +32,10 @@ void WriteBytes(const std::string& path, const std::vector<char>& bytes) {
 bool Contains(const std::string& text, const std::string& word) { return text.find(word) != std::string::npos; }
 
 // Where each array of a checkpoint starts (its first element, after its uint64 count),
-// following io/checkpoint.cpp's file order: magic, config, params, the continuous
-// model's params, simulated time, fingerprint, step, then metrics, species, fields,
-// food, bias, parameter maps (kinds, values), the agent arrays (with the continuous model's clocks) and the pheromone,
-// Gray-Scott's parameters and the intrinsic domain's vertex values.
+// following io/checkpoint.cpp's format 10: magic, format, oldest reader, then sections
+// (tag, version, flags, length, payload) up to "END "; the metrics (METR: count, rows),
+// the agents (AGNT: count, arrays named in 16 bytes, each with its element size and
+// count) and the pheromone (PHER: count, values).
 struct CheckpointLayout {
   size_t metrics = 0, triangle = 0, b1 = 0, b2 = 0, hx = 0, hy = 0, species = 0, hunger = 0,
          clock = 0, age = 0, exposure = 0, threshold = 0, pheromone = 0;
@@ -44,37 +44,47 @@ struct CheckpointLayout {
 
 CheckpointLayout Layout(const std::vector<char>& bytes) {
   CheckpointLayout l;
-  size_t at = 8 + sizeof(moldtex_sim_config) + sizeof(moldtex_sim_params) +
-              sizeof(moldtex_continuous_params) + 8 + 8 + 8;
-  auto array = [&](size_t element, size_t* start, uint64_t* count) {
+  EXPECT_EQ(std::string(bytes.data(), 8), "MTXCHKPT") << "the test's idea of the checkpoint layout is out of date";
+  size_t at = 16;
+  auto u64 = [&](size_t where) {
     uint64_t n;
-    std::memcpy(&n, bytes.data() + at, 8);
-    at += 8;
-    if (start) *start = at;
-    if (count) *count = n;
-    at += n * element;
+    std::memcpy(&n, bytes.data() + where, 8);
+    return n;
   };
-  array(32, &l.metrics, &l.metric_rows);  // MetricRow: frame, reserved, step, coverage, presence
-  array(sizeof(moldtex_species_params), nullptr, nullptr);
-  array(4, nullptr, nullptr);  // fields
-  array(sizeof(moldtex_food_source), nullptr, nullptr);
-  array(4, nullptr, nullptr);  // bias (continuous model), empty here
-  array(4, nullptr, nullptr);  // kinds of the parameter maps set, none here
-  array(4, nullptr, nullptr);  // their values
-  array(4, &l.triangle, &l.agents);
-  array(4, &l.b1, nullptr);
-  array(4, &l.b2, nullptr);
-  array(4, &l.hx, nullptr);
-  array(4, &l.hy, nullptr);
-  array(1, &l.species, nullptr);
-  array(4, &l.hunger, nullptr);
-  array(4, &l.clock, nullptr);
-  array(4, &l.age, nullptr);
-  array(4, &l.exposure, nullptr);
-  array(4, &l.threshold, nullptr);
-  array(4, &l.pheromone, &l.texels);
-  at += sizeof(moldtex_reaction_params);  // version 8: Gray-Scott's parameters
-  array(4, nullptr, nullptr);              // version 9: the intrinsic domain's vertex values, last
+  for (;;) {
+    const std::string tag(bytes.data() + at, 4);
+    const uint64_t length = u64(at + 12);
+    const size_t payload = at + 20;
+    if (tag == "END ") {
+      at = payload;
+      break;
+    }
+    if (tag == "METR") {
+      l.metric_rows = u64(payload);
+      l.metrics = payload + 8;
+    } else if (tag == "PHER") {
+      l.texels = u64(payload);
+      l.pheromone = payload + 8;
+    } else if (tag == "AGNT") {
+      l.agents = u64(payload);
+      uint32_t arrays;
+      std::memcpy(&arrays, bytes.data() + payload + 8, 4);
+      size_t a = payload + 12;
+      for (uint32_t k = 0; k < arrays; ++k) {
+        const std::string name(bytes.data() + a);
+        uint32_t element;
+        std::memcpy(&element, bytes.data() + a + 16, 4);
+        const size_t start = a + 20 + 8;
+        for (auto [n, where] : {std::pair<const char*, size_t*>{"triangle", &l.triangle}, {"b1", &l.b1}, {"b2", &l.b2},
+                                {"hx", &l.hx}, {"hy", &l.hy}, {"species", &l.species}, {"hunger", &l.hunger},
+                                {"clock", &l.clock}, {"age", &l.age}, {"exposure", &l.exposure},
+                                {"threshold", &l.threshold}})
+          if (name == n) *where = start;
+        a = start + u64(a + 20) * element;
+      }
+    }
+    at = payload + length;
+  }
   EXPECT_EQ(at, bytes.size()) << "the test's idea of the checkpoint layout is out of date";
   return l;
 }

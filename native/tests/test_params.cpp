@@ -153,5 +153,45 @@ TEST(Params, ResetKeepsCurrentParams) {
   ExpectSameParams(got, p);
 }
 
+TEST(ModelParams, OneCallPairReachesEveryModelsParameters) {
+  // Issue 49: moldtex_sim_set/get_model_params take the struct of the model named, the
+  // same as the calls per model; an unknown model is refused naming the models.
+  auto s = create_surface(make_quad());
+  auto sim = create_sim(s.get(), make_config(32, 32, 100, 1), default_params());
+  moldtex_sim_params p = default_params();
+  p.evaporation_rate = 0.625f;
+  ASSERT_EQ(moldtex_sim_set_model_params(sim.get(), MOLDTEX_MODEL_MOMAS, &p), MOLDTEX_OK) << LastError();
+  moldtex_sim_params p_back;
+  moldtex_sim_params_init(&p_back);
+  ASSERT_EQ(moldtex_sim_get_params(sim.get(), &p_back), MOLDTEX_OK);
+  EXPECT_EQ(p_back.evaporation_rate, 0.625f);
+  moldtex_continuous_params c;
+  moldtex_continuous_params_init(&c);
+  c.decay_rate = 0.3125f;
+  ASSERT_EQ(moldtex_sim_set_model_params(sim.get(), MOLDTEX_MODEL_CONTINUOUS, &c), MOLDTEX_OK) << LastError();
+  moldtex_continuous_params c_back;
+  moldtex_continuous_params_init(&c_back);
+  ASSERT_EQ(moldtex_sim_get_continuous_params(sim.get(), &c_back), MOLDTEX_OK);
+  EXPECT_EQ(c_back.decay_rate, 0.3125f);
+  moldtex_reaction_params r;
+  moldtex_reaction_params_init(&r);
+  r.feed = 0.0375f;
+  ASSERT_EQ(moldtex_sim_set_reaction_params(sim.get(), &r), MOLDTEX_OK);
+  moldtex_reaction_params r_back;
+  moldtex_reaction_params_init(&r_back);
+  ASSERT_EQ(moldtex_sim_get_model_params(sim.get(), MOLDTEX_MODEL_GRAY_SCOTT, &r_back), MOLDTEX_OK) << LastError();
+  EXPECT_EQ(r_back.feed, 0.0375f);
+  // Validated as the calls per model validate.
+  c.decay_rate = -1.f;
+  EXPECT_EQ(moldtex_sim_set_model_params(sim.get(), MOLDTEX_MODEL_CONTINUOUS, &c), MOLDTEX_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(LastError().find("Decay rate"), std::string::npos) << LastError();
+  EXPECT_EQ(moldtex_sim_set_model_params(sim.get(), MOLDTEX_MODEL_CONTINUOUS, nullptr),
+            MOLDTEX_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(moldtex_sim_set_model_params(sim.get(), 7, &c), MOLDTEX_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(LastError().find("Unknown model"), std::string::npos) << LastError();
+  EXPECT_NE(LastError().find("Gray-Scott"), std::string::npos) << LastError();
+  EXPECT_EQ(moldtex_sim_get_model_params(sim.get(), 7, &c), MOLDTEX_ERROR_INVALID_ARGUMENT);
+}
+
 }  // namespace
 }  // namespace mtx

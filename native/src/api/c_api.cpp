@@ -24,6 +24,7 @@
 #include "brush/brush.h"
 #include "domain/corner_raster.h"
 #include "agents/parameter_maps.h"
+#include "models/model.h"
 #include "sim.h"
 #include "spatial/spatial.h"
 #include "surface/surface.h"
@@ -156,7 +157,7 @@ moldtex_sim_params read_params(const moldtex_sim_params* in) {
 extern "C" {
 
 uint32_t moldtex_abi_version(void) { return MOLDTEX_ABI_VERSION; }
-const char* moldtex_version_string(void) { return "0.1.0"; }
+const char* moldtex_version_string(void) { return MOLDTEX_VERSION_STRING; }
 const char* moldtex_last_error(void) { return g_last_error.c_str(); }
 
 void moldtex_mesh_desc_init(moldtex_mesh_desc* d) {
@@ -1222,6 +1223,32 @@ moldtex_status moldtex_sim_get_reaction_params(moldtex_sim sim, moldtex_reaction
     std::memcpy(params, &out, std::min<size_t>(caller_size, sizeof(out)));
     params->struct_size = caller_size;
   });
+}
+
+moldtex_status moldtex_sim_set_model_params(moldtex_sim sim, uint32_t model, const void* params) {
+  switch (model) {
+    case MOLDTEX_MODEL_MOMAS:
+      return moldtex_sim_set_params(sim, static_cast<const moldtex_sim_params*>(params));
+    case MOLDTEX_MODEL_CONTINUOUS:
+      return moldtex_sim_set_continuous_params(sim, static_cast<const moldtex_continuous_params*>(params));
+    case MOLDTEX_MODEL_GRAY_SCOTT:
+      return moldtex_sim_set_reaction_params(sim, static_cast<const moldtex_reaction_params*>(params));
+    default:
+      return guarded([&] { moldtex::model_of(model); });  // refuses, naming the models
+  }
+}
+
+moldtex_status moldtex_sim_get_model_params(moldtex_sim sim, uint32_t model, void* params) {
+  switch (model) {
+    case MOLDTEX_MODEL_MOMAS:
+      return moldtex_sim_get_params(sim, static_cast<moldtex_sim_params*>(params));
+    case MOLDTEX_MODEL_CONTINUOUS:
+      return moldtex_sim_get_continuous_params(sim, static_cast<moldtex_continuous_params*>(params));
+    case MOLDTEX_MODEL_GRAY_SCOTT:
+      return moldtex_sim_get_reaction_params(sim, static_cast<moldtex_reaction_params*>(params));
+    default:
+      return guarded([&] { moldtex::model_of(model); });
+  }
 }
 
 }  // extern "C"

@@ -6,32 +6,25 @@
 
 #include "agents/agents.h"
 #include "backends/backend.h"
-#include "agents/continuous_rules.h"
 #include "agents/parameter_maps.h"
-#include "backends/cpu/private_sums.h"
+#include "backends/cpu/cpu_model_step.h"
 #include "domain/intrinsic_domain.h"
 #include "domain/surface_diffusion.h"
 #include "domain/texel_laplacian.h"
 #include "domain/texture_domain.h"
+#include "models/model.h"
 
 namespace moldtex {
 
-// The continuous model's step after the agents (both domains): per species, the
-// fixed-point deposit sums (one plane of `lap.area.size()` cells per species) become
-// concentration (amount / cell area) and are cleared, the write stimulus adds, the PDE
-// advances by dt, and the decay map applies.
-void settle_continuous_step(const StepSettings& settings, const ParameterMaps& maps, const TexelLaplacian& lap,
-                            MappedLaplacian& mapped, int32_t deposit_units, float* planes, int32_t* sums,
-                            std::vector<float>& scratch, uint32_t species_count, ThreadPool& pool);
-
-class CpuBackend final : public Backend {
+class CpuBackend final : public Backend, private CpuDomainOperators {
  public:
   // With `intrinsic`, the continuous model and Gray-Scott run on the intrinsic domain
   // (domain/intrinsic_domain.h): the agents still walk the input mesh; the planes hold
   // vertex values, shown in the texture when read; maps and fields are read at each
   // vertex's texel.
+  // `model` steps the state (Model::cpu_step).
   CpuBackend(std::shared_ptr<const Surface> surface, std::shared_ptr<const TextureDomain> domain,
-             uint32_t agent_count, uint32_t species_count, unsigned threads,
+             const Model& model, uint32_t species_count, unsigned threads,
              std::shared_ptr<const IntrinsicDomain> intrinsic = nullptr);
   void reset(const Agents& agents) override;
   void step(const StepSettings& settings, uint64_t seed, uint64_t step_index,
@@ -53,12 +46,12 @@ class CpuBackend final : public Backend {
   std::vector<float> read_cells() const override { return intrinsic_ ? pheromone_ : std::vector<float>{}; }
 
  private:
-  void step_continuous(const StepSettings& settings, uint64_t seed, uint64_t step_index);
-  void step_gray_scott(const StepSettings& settings);
-  // The PDE's operator (built at the first step on the texture domain) and the maps the
-  // agents and the PDE read (on the intrinsic domain: at the vertices).
-  const TexelLaplacian& base_laplacian();
-  const ParameterMaps& maps_for(const ParameterMaps& maps);
+  // CpuDomainOperators: the PDE's operator (built at the first step on the texture
+  // domain) and the maps the agents and the PDE read (on the intrinsic domain: at the
+  // vertices).
+  const TexelLaplacian& laplacian() override;
+  const ParameterMaps& maps_for(const ParameterMaps& maps) override;
+  MappedLaplacian& mapped() override { return mapped_; }
 
   std::shared_ptr<const Surface> surface_;
   std::shared_ptr<const TextureDomain> domain_;
@@ -71,24 +64,11 @@ class CpuBackend final : public Backend {
   // species_count_ planes each, of texels or (intrinsic domain) of vertex values.
   std::vector<float> pheromone_, scratch_;
   std::vector<float> field_;  // per texel, or per vertex
-  std::vector<uint8_t> marks_;
-  // Surface units: the diffusion plan for the current mix and length unit.
-  DiffusionPlan plan_;
-  std::vector<float> fine_scratch_;
-  // Continuous model (built at its first step): the PDE's operator, the fixed-point
-  // deposit sums (one plane per species) and the respawn table.
-  std::unique_ptr<TexelLaplacian> laplacian_;
-  MappedLaplacian mapped_;  // with diffusion and decay maps
-  std::vector<int32_t> sums_;
-  // The intrinsic domain: the concentration at the lattice's nodes (gathered every step),
-  // the deposits there (passed on to sums_), the static field there.
-  std::vector<float> node_values_, node_field_;
-  std::vector<int32_t> node_sums_;
-  // Each thread's own deposit sums: the agents' (sums_ or node_sums_) and, on the
-  // intrinsic domain, the vertices' that the nodes pass theirs on to.
-  PrivateSums agent_sums_, vertex_sums_;
-  AliasTable alias_;
-  std::vector<float> pde_scratch_;
+  // The intrinsic domain: the static field at the lattice's nodes.
+  std::vector<float> node_field_;
+  std::unique_ptr<TexelLaplacian> laplacian_;  // the texture domain's, built at first use
+  MappedLaplacian mapped_;                     // with diffusion and decay maps
+  std::unique_ptr<CpuModelStep> model_step_;   // what only the model keeps
 };
 
 }  // namespace moldtex

@@ -1,6 +1,6 @@
 #include "backends/opencl/opencl_backend.h"
 
-#include "domain/reaction_diffusion.h"
+#include "models/gray_scott/reaction_diffusion.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +12,7 @@
 #include "agents/parameter_maps.h"
 #include "agents/momas_rules.h"
 #include "common/error.h"
-#include "domain/reaction_diffusion.h"
+#include "models/gray_scott/reaction_diffusion.h"
 
 namespace moldtex {
 
@@ -816,7 +816,7 @@ void OpenClBackend::integrate(const moldtex_continuous_params& p, const TexelLap
   }
 }
 
-// Gray-Scott (domain/reaction_diffusion.h): planes V and U, no agents; every sub-step
+// Gray-Scott (models/gray_scott/reaction_diffusion.h): planes V and U, no agents; every sub-step
 // runs the shared cell update on the device, then the gutter is filled.
 void OpenClBackend::step_gray_scott(const StepSettings& settings) {
   prepare_continuous();  // the texel Laplacian's buffers

@@ -1,4 +1,4 @@
-#include "domain/reaction_diffusion.h"
+#include "models/gray_scott/reaction_diffusion.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,9 +1,9 @@
-#include "brush/reaction_paint.h"
+#include "models/gray_scott/reaction_paint.h"
 
 #include <vector>
 
 #include "brush/brush.h"
-#include "domain/reaction_diffusion.h"
+#include "models/gray_scott/reaction_diffusion.h"
 
 namespace moldtex {
 

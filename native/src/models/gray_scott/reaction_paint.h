@@ -10,6 +10,7 @@
 #include <map>
 
 #include "backends/cpu/thread_pool.h"
+#include "models/model.h"
 #include "domain/texture_domain.h"
 #include "moldtex.h"
 #include "surface/surface.h"
@@ -17,7 +18,7 @@
 namespace moldtex {
 
 // texel -> (V, U) before the stroke's first dab there.
-using ReactionUndo = std::map<uint32_t, std::array<float, 2>>;
+using ReactionUndo = PaintUndo;
 
 // One dab into `planes` (V then U, width * height each, read_rgba's order; the gutter is
 // filled again afterwards). Returns how many texels changed. The brush is validated by
