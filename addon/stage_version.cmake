@@ -2,18 +2,20 @@
 # into the staged add-on: bl_info's "version" in __init__.py and blender_manifest.toml's
 # version, so neither can drift from the core's.
 #   cmake -DSTAGE=<staged moldtex folder> -DVERSION=<major.minor.patch> -P stage_version.cmake
+
+# Replaces `pattern` in `file` by `replacement`, which must then be found there.
+function(stage_version file pattern replacement what)
+  file(READ "${file}" text)
+  string(REGEX REPLACE "${pattern}" "${replacement}" staged "${text}")
+  string(FIND "${staged}" "${replacement}" found)
+  if(found EQUAL -1)
+    message(FATAL_ERROR "${file} has no ${what} to set")
+  endif()
+  file(WRITE "${file}" "${staged}")
+endfunction()
+
 string(REPLACE "." ", " tuple "${VERSION}")
-set(init "${STAGE}/__init__.py")
-file(READ "${init}" text)
-string(REGEX REPLACE "\"version\": \\([0-9]+, [0-9]+, [0-9]+\\)" "\"version\": (${tuple})" staged "${text}")
-if(NOT staged MATCHES "\"version\": \\(${tuple}\\)")
-  message(FATAL_ERROR "${init} has no bl_info \"version\": (a, b, c) entry to set")
-endif()
-file(WRITE "${init}" "${staged}")
-set(manifest "${STAGE}/blender_manifest.toml")
-file(READ "${manifest}" text)
-string(REGEX REPLACE "\nversion = \"[0-9.]+\"" "\nversion = \"${VERSION}\"" staged "${text}")
-if(NOT staged MATCHES "\nversion = \"${VERSION}\"")
-  message(FATAL_ERROR "${manifest} has no version = \"...\" line to set")
-endif()
-file(WRITE "${manifest}" "${staged}")
+stage_version("${STAGE}/__init__.py" "\"version\": \\([0-9]+, [0-9]+, [0-9]+\\)" "\"version\": (${tuple})"
+              "bl_info \"version\": (a, b, c) entry")
+stage_version("${STAGE}/blender_manifest.toml" "\nversion = \"[0-9.]+\"" "\nversion = \"${VERSION}\""
+              "version = \"...\" line")
