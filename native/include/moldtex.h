@@ -73,8 +73,21 @@ typedef struct moldtex_surface_t* moldtex_surface;
 typedef struct moldtex_sim_t* moldtex_sim;
 typedef struct moldtex_bake_t* moldtex_bake;
 typedef struct moldtex_intrinsic_t* moldtex_intrinsic;
+typedef struct moldtex_context_t* moldtex_context;
 
 /* ---- library --------------------------------------------------------------------- */
+
+/* A context owns what the simulations made in it share: the cache of intrinsic domains
+ * (the last two built, by mesh, texture size and bound; moldtex_domain_info.from_cache).
+ * moldtex_sim_create and moldtex_domain_build_start use the process's default context;
+ * their _in variants take one. Releasing a context drops its cache; the simulations and
+ * builds made in it keep what they use. moldtex_context_clear drops the cached domains
+ * (NULL: the default context's). */
+MOLDTEX_API moldtex_status moldtex_context_create(moldtex_context* out_context);
+MOLDTEX_API void moldtex_context_release(moldtex_context context);
+MOLDTEX_API moldtex_status moldtex_context_clear(moldtex_context context);
+/* How many intrinsic domains the context's cache holds (NULL: the default context's). */
+MOLDTEX_API moldtex_status moldtex_context_cached_domains(moldtex_context context, uint32_t* count);
 
 /* MOLDTEX_ABI_VERSION of the loaded library; callers compare it with their own. */
 MOLDTEX_API uint32_t moldtex_abi_version(void);
@@ -517,6 +530,10 @@ MOLDTEX_API moldtex_status moldtex_sim_create(moldtex_surface surface,
                                               const moldtex_sim_config* config,
                                               const moldtex_sim_params* params,
                                               moldtex_sim* out_sim);
+/* The same in `context` (NULL: the default one; see moldtex_context_create). */
+MOLDTEX_API moldtex_status moldtex_sim_create_in(moldtex_context context, moldtex_surface surface,
+                                                 const moldtex_sim_config* config, const moldtex_sim_params* params,
+                                                 moldtex_sim* out_sim);
 MOLDTEX_API void moldtex_sim_release(moldtex_sim sim);
 
 /* Sets the shared parameters and the behaviour fields (movement_speed, turn_speed,
@@ -709,9 +726,9 @@ MOLDTEX_API moldtex_status moldtex_sim_read_intrinsic_faces(moldtex_sim sim, uin
  * interface in moldtex_sim_create. moldtex_domain_build_start builds, on its own thread,
  * the domain a simulation of this surface and config would run on (config as for
  * moldtex_sim_create, domain MOLDTEX_DOMAIN_INTRINSIC; thread_count as its params'), and
- * keeps it in the core's cache: a moldtex_sim_create with the same surface, texture size
- * and bound then reuses it (moldtex_domain_info.from_cache = 1) while the cache holds it
- * (the last two builds). The surface may be released meanwhile (the build keeps it). */
+ * keeps it in its context's cache: a moldtex_sim_create in that context with the same
+ * surface, texture size and bound then reuses it (moldtex_domain_info.from_cache = 1)
+ * while the cache holds it (the last two builds). The surface may be released meanwhile (the build keeps it). */
 typedef struct moldtex_domain_build_t* moldtex_domain_build;
 
 typedef enum moldtex_build_stage {
@@ -738,6 +755,10 @@ MOLDTEX_API void moldtex_domain_build_progress_init(moldtex_domain_build_progres
  * and MoMaS; the seed and the fields do not matter here), then starts the build. */
 MOLDTEX_API moldtex_status moldtex_domain_build_start(moldtex_surface surface, const moldtex_sim_config* config,
                                                       uint32_t thread_count, moldtex_domain_build* out_build);
+/* The same in `context` (NULL: the default one). */
+MOLDTEX_API moldtex_status moldtex_domain_build_start_in(moldtex_context context, moldtex_surface surface,
+                                                         const moldtex_sim_config* config, uint32_t thread_count,
+                                                         moldtex_domain_build* out_build);
 /* Thread-safe; returns at once. */
 MOLDTEX_API moldtex_status moldtex_domain_build_get_progress(moldtex_domain_build build,
                                                              moldtex_domain_build_progress* progress);

@@ -26,8 +26,9 @@ double overall_fraction(uint32_t stage, double within) {
 }  // namespace
 
 DomainBuild::DomainBuild(std::shared_ptr<const Surface> surface, const moldtex_sim_config& config,
-                         unsigned thread_count)
-    : surface_(std::move(surface)), config_(kept_config(config)), thread_count_(thread_count) {
+                         unsigned thread_count, std::shared_ptr<IntrinsicDomainCache> cache)
+    : surface_(std::move(surface)), config_(kept_config(config)), thread_count_(thread_count), cache_(std::move(cache)) {
+  if (!cache_) fail(MOLDTEX_ERROR_INTERNAL, "A domain build needs its context's cache");
   if (!surface_) fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The surface handle is NULL");
   if (config_.domain != MOLDTEX_DOMAIN_INTRINSIC)
     fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "Only the Intrinsic domain is built ahead (config.domain)");
@@ -63,7 +64,7 @@ void DomainBuild::run() {
         // As the simulation will see it (Simulation's constructor): faces whose UVs have
         // zero area are walked on.
         const std::shared_ptr<const Surface> walkable = walkable_in_3d(surface_);
-        built = prepare_intrinsic_domain(*walkable, texture, config_, thread_count_, &from_cache, &work_);
+        built = prepare_intrinsic_domain(*walkable, texture, config_, thread_count_, *cache_, &from_cache, &work_);
         work_.count.store(built->vertex_count(), std::memory_order_relaxed);
         work_.enter(MOLDTEX_BUILD_DONE);
       },

@@ -1,8 +1,9 @@
 // Building a simulation's intrinsic domain ahead, on its own thread, with progress and
 // cancel (moldtex_domain_build_*): the refinement of a big mesh takes seconds, and an
 // interface wants to show how far it is and let the user stop it. What it builds lands in
-// the intrinsic domain cache (domain/intrinsic_domain.h), where the simulation created
-// next with the same mesh, texture size and bound finds it.
+// the intrinsic domain cache it is given (its context's, domain/intrinsic_domain.h), where
+// the simulation created next in that context with the same mesh, texture size and bound
+// finds it.
 #pragma once
 #include <chrono>
 #include <memory>
@@ -21,7 +22,8 @@ class DomainBuild {
  public:
   // Checks the config now (as moldtex_sim_create does; the texture domain and MoMaS are
   // refused), then starts the thread.
-  DomainBuild(std::shared_ptr<const Surface> surface, const moldtex_sim_config& config, unsigned thread_count);
+  DomainBuild(std::shared_ptr<const Surface> surface, const moldtex_sim_config& config, unsigned thread_count,
+              std::shared_ptr<IntrinsicDomainCache> cache);
   ~DomainBuild();  // cancels and waits
   DomainBuild(const DomainBuild&) = delete;
   DomainBuild& operator=(const DomainBuild&) = delete;
@@ -38,6 +40,7 @@ class DomainBuild {
   std::shared_ptr<const Surface> surface_;
   moldtex_sim_config config_;
   unsigned thread_count_;
+  std::shared_ptr<IntrinsicDomainCache> cache_;  // kept while the build runs
   WorkProgress work_;
   std::chrono::steady_clock::time_point began_;
   mutable std::mutex mutex_;  // guards what follows

@@ -289,7 +289,8 @@ std::unique_ptr<Backend> make_auto_opencl(std::shared_ptr<const Surface> surface
 
 std::shared_ptr<const IntrinsicDomain> prepare_intrinsic_domain(const Surface& surface, const TextureDomain& d,
                                                                 const moldtex_sim_config& config, unsigned thread_count,
-                                                                bool* from_cache, WorkProgress* progress) {
+                                                                IntrinsicDomainCache& cache, bool* from_cache,
+                                                                WorkProgress* progress) {
   // A mesh without UVs has only a placeholder atlas (a quarter of the texture in islands):
   // its default is the spacing of width * height texels spread over the surface, the
   // detail a UV layout filling the texture would give.
@@ -315,11 +316,11 @@ std::shared_ptr<const IntrinsicDomain> prepare_intrinsic_domain(const Surface& s
     fail(MOLDTEX_ERROR_TOO_LARGE, m.str());
   }
   ThreadPool pool(thread_count);
-  return intrinsic_domain_for(surface, d, bound, 0, pool, from_cache, progress);
+  return intrinsic_domain_for(surface, d, bound, 0, pool, cache, from_cache, progress);
 }
 
 Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim_config& config,
-                       const moldtex_sim_params& params)
+                       const moldtex_sim_params& params, IntrinsicDomainCache& cache)
     : surface_(std::move(surface)), config_(kept_config(config)) {
   // The texture is laid out on the UV map as given; agents on the intrinsic domain walk
   // the surface in 3D, across faces whose UVs have zero area.
@@ -348,7 +349,7 @@ Simulation::Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim
   cell_area_ /= static_cast<double>(d.width) * d.height;
   std::string why_not;
   if (config_.domain == MOLDTEX_DOMAIN_INTRINSIC) {
-    intrinsic_ = prepare_intrinsic_domain(*surface_, d, config_, params.thread_count, &intrinsic_from_cache_);
+    intrinsic_ = prepare_intrinsic_domain(*surface_, d, config_, params.thread_count, cache, &intrinsic_from_cache_);
     config_.intrinsic_bound = static_cast<float>(intrinsic_->bound);
     cell_area_ = intrinsic_->laplacian.total_area;
   }

@@ -31,13 +31,14 @@ moldtex_sim_config kept_config(const moldtex_sim_config& config);
 // (intrinsic_domain_for: from_cache, progress).
 std::shared_ptr<const IntrinsicDomain> prepare_intrinsic_domain(const Surface& surface, const TextureDomain& texture,
                                                                 const moldtex_sim_config& config, unsigned thread_count,
-                                                                bool* from_cache = nullptr,
+                                                                IntrinsicDomainCache& cache, bool* from_cache = nullptr,
                                                                 WorkProgress* progress = nullptr);
 
 class Simulation {
  public:
+  // An intrinsic domain is taken from `cache` or built into it (the simulation's context's).
   Simulation(std::shared_ptr<const Surface> surface, const moldtex_sim_config& config,
-             const moldtex_sim_params& params);
+             const moldtex_sim_params& params, IntrinsicDomainCache& cache);
   // Sets the shared parameters and the behaviour of every species (not the attractions).
   void set_params(const moldtex_sim_params& params);
   void set_species_params(uint32_t index, const moldtex_species_params& params);

@@ -33,7 +33,7 @@ struct Domain {
     surface = moldtex::build_surface(m.desc());
     texture = moldtex::build_texture_domain(surface, size, size, pool);
     d = moldtex::intrinsic_domain_for(surface, texture, bound > 0 ? bound : moldtex::default_intrinsic_bound(texture),
-                                      0, pool);
+                                      0, pool, *moldtex::default_intrinsic_cache());
   }
   Vec3 position(uint32_t v) const {
     const auto p = it::input_position(d->tri, d->vertex_location(v));

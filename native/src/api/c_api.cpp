@@ -37,6 +37,9 @@ struct moldtex_surface_t {
   // Embree BVH for ray casts and closest points, built on the first query.
   std::unique_ptr<moldtex::SpatialIndex> spatial;
 };
+struct moldtex_context_t {
+  std::shared_ptr<moldtex::IntrinsicDomainCache> intrinsic_cache;
+};
 struct moldtex_sim_t {
   std::shared_ptr<moldtex::Simulation> sim;  // shared with a running bake
   std::unique_ptr<moldtex::LiveRun> run;     // moldtex_sim_run_*: stopped before release
@@ -47,6 +50,15 @@ struct moldtex_bake_t {
 struct moldtex_domain_build_t {
   std::unique_ptr<moldtex::DomainBuild> build;
 };
+
+namespace {
+
+// A context's intrinsic domain cache, or the default context's for NULL.
+const std::shared_ptr<moldtex::IntrinsicDomainCache>& cache_of(moldtex_context context) {
+  return context ? context->intrinsic_cache : moldtex::default_intrinsic_cache();
+}
+
+}  // namespace
 
 namespace {
 
@@ -365,14 +377,41 @@ void moldtex_sim_params_init(moldtex_sim_params* p) {
 
 moldtex_status moldtex_sim_create(moldtex_surface surface, const moldtex_sim_config* config,
                                   const moldtex_sim_params* params, moldtex_sim* out) {
+  return moldtex_sim_create_in(nullptr, surface, config, params, out);
+}
+
+moldtex_status moldtex_sim_create_in(moldtex_context context, moldtex_surface surface,
+                                     const moldtex_sim_config* config, const moldtex_sim_params* params,
+                                     moldtex_sim* out) {
   return guarded([&] {
     require(out != nullptr, "out_sim is NULL");
     *out = nullptr;
     require(surface != nullptr, "The surface handle is NULL");
     moldtex_sim_config c = read_config(config);
     moldtex_sim_params p = read_params(params);
-    auto sim = std::make_shared<moldtex::Simulation>(surface->surface, c, p);
+    auto sim = std::make_shared<moldtex::Simulation>(surface->surface, c, p, *cache_of(context));
     *out = new moldtex_sim_t{std::move(sim), nullptr};
+  });
+}
+
+moldtex_status moldtex_context_create(moldtex_context* out) {
+  return guarded([&] {
+    require(out != nullptr, "out_context is NULL");
+    *out = nullptr;
+    *out = new moldtex_context_t{std::make_shared<moldtex::IntrinsicDomainCache>()};
+  });
+}
+
+void moldtex_context_release(moldtex_context context) { delete context; }
+
+moldtex_status moldtex_context_clear(moldtex_context context) {
+  return guarded([&] { cache_of(context)->clear(); });
+}
+
+moldtex_status moldtex_context_cached_domains(moldtex_context context, uint32_t* count) {
+  return guarded([&] {
+    require(count != nullptr, "count is NULL");
+    *count = static_cast<uint32_t>(cache_of(context)->size());
   });
 }
 
@@ -759,13 +798,20 @@ void moldtex_domain_build_progress_init(moldtex_domain_build_progress* p) {
 
 moldtex_status moldtex_domain_build_start(moldtex_surface surface, const moldtex_sim_config* config,
                                           uint32_t thread_count, moldtex_domain_build* out) {
+  return moldtex_domain_build_start_in(nullptr, surface, config, thread_count, out);
+}
+
+moldtex_status moldtex_domain_build_start_in(moldtex_context context, moldtex_surface surface,
+                                             const moldtex_sim_config* config, uint32_t thread_count,
+                                             moldtex_domain_build* out) {
   return guarded([&] {
     require(out != nullptr, "out_build is NULL");
     *out = nullptr;
     require(surface != nullptr, "The surface handle is NULL");
     require(thread_count <= 256, "thread_count must be 0 (all cores) .. 256");
     const moldtex_sim_config c = read_config(config);
-    *out = new moldtex_domain_build_t{std::make_unique<moldtex::DomainBuild>(surface->surface, c, thread_count)};
+    *out = new moldtex_domain_build_t{
+        std::make_unique<moldtex::DomainBuild>(surface->surface, c, thread_count, cache_of(context))};
   });
 }
 

@@ -447,37 +447,53 @@ double default_intrinsic_bound(const TextureDomain& d) {
   return cells > 0 && area > 0 ? std::sqrt(area / static_cast<double>(cells)) : 0.0;
 }
 
+std::shared_ptr<const IntrinsicDomain> IntrinsicDomainCache::find(uint64_t fingerprint, uint32_t width,
+                                                                  uint32_t height, double bound,
+                                                                  uint64_t max_insertions) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (auto it = entries_.begin(); it != entries_.end(); ++it)
+    if (it->fingerprint == fingerprint && it->width == width && it->height == height && it->bound == bound &&
+        it->max_insertions == max_insertions) {
+      entries_.splice(entries_.begin(), entries_, it);
+      return entries_.front().domain;
+    }
+  return nullptr;
+}
+
+void IntrinsicDomainCache::put(uint64_t fingerprint, uint32_t width, uint32_t height, double bound,
+                               uint64_t max_insertions, std::shared_ptr<const IntrinsicDomain> domain) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  entries_.push_front({fingerprint, width, height, bound, max_insertions, std::move(domain)});
+  while (entries_.size() > kEntries) entries_.pop_back();
+}
+
+void IntrinsicDomainCache::clear() {
+  std::list<Entry> dropped;  // released outside the lock
+  std::lock_guard<std::mutex> lock(mutex_);
+  dropped.swap(entries_);
+}
+
+size_t IntrinsicDomainCache::size() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return entries_.size();
+}
+
+const std::shared_ptr<IntrinsicDomainCache>& default_intrinsic_cache() {
+  static const std::shared_ptr<IntrinsicDomainCache> cache = std::make_shared<IntrinsicDomainCache>();
+  return cache;
+}
+
 std::shared_ptr<const IntrinsicDomain> intrinsic_domain_for(const Surface& surface, const TextureDomain& domain,
                                                             double bound, uint64_t max_insertions,
-                                                            ThreadPool& pool, bool* from_cache,
-                                                            WorkProgress* progress) {
+                                                            ThreadPool& pool, IntrinsicDomainCache& cache,
+                                                            bool* from_cache, WorkProgress* progress) {
   if (from_cache) *from_cache = false;
-  // The last few domains built, most recent first: a new simulation on the same mesh
-  // (Reset in the add-on makes one when the resolution or the model changes) reuses it.
-  struct Entry {
-    uint64_t fingerprint;
-    uint32_t width, height;
-    double bound;
-    uint64_t max_insertions;
-    std::shared_ptr<const IntrinsicDomain> domain;
-  };
-  static std::mutex mutex;
-  static std::list<Entry> cache;
-  constexpr size_t kCacheEntries = 2;
-  {
-    std::lock_guard<std::mutex> lock(mutex);
-    for (auto it = cache.begin(); it != cache.end(); ++it)
-      if (it->fingerprint == surface.fingerprint && it->width == domain.width && it->height == domain.height &&
-          it->bound == bound && it->max_insertions == max_insertions) {
-        cache.splice(cache.begin(), cache, it);
-        if (from_cache) *from_cache = true;
-        return cache.front().domain;
-      }
+  if (auto found = cache.find(surface.fingerprint, domain.width, domain.height, bound, max_insertions)) {
+    if (from_cache) *from_cache = true;
+    return found;
   }
   auto built = build_intrinsic_domain(surface, domain, bound, max_insertions, pool, progress);
-  std::lock_guard<std::mutex> lock(mutex);
-  cache.push_front({surface.fingerprint, domain.width, domain.height, bound, max_insertions, built});
-  while (cache.size() > kCacheEntries) cache.pop_back();
+  cache.put(surface.fingerprint, domain.width, domain.height, bound, max_insertions, built);
   return built;
 }
 

@@ -22,7 +22,9 @@
 // domain/intrinsic_locator.h (the benchmark decided: 7x faster).
 #pragma once
 #include <cstdint>
+#include <list>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -128,16 +130,46 @@ class VertexMaps {
 // domains resolve the same detail.
 double default_intrinsic_bound(const TextureDomain& domain);
 
+// The last few domains built, most recent first, keyed by the mesh (its fingerprint), the
+// texture size, the bound and the insertion limit, so that a new simulation on the same
+// mesh does not rebuild it (Reset in the add-on makes one when the resolution or the model
+// changes). Thread-safe. Each context (moldtex_context) owns one; simulations made
+// without a context share the process's default one.
+class IntrinsicDomainCache {
+ public:
+  static constexpr size_t kEntries = 2;
+  std::shared_ptr<const IntrinsicDomain> find(uint64_t fingerprint, uint32_t width, uint32_t height, double bound,
+                                              uint64_t max_insertions);
+  void put(uint64_t fingerprint, uint32_t width, uint32_t height, double bound, uint64_t max_insertions,
+           std::shared_ptr<const IntrinsicDomain> domain);
+  void clear();
+  size_t size() const;
+
+ private:
+  struct Entry {
+    uint64_t fingerprint;
+    uint32_t width, height;
+    double bound;
+    uint64_t max_insertions;
+    std::shared_ptr<const IntrinsicDomain> domain;
+  };
+  mutable std::mutex mutex_;
+  std::list<Entry> entries_;
+};
+
+// The cache of simulations made without a context (the process's default context).
+const std::shared_ptr<IntrinsicDomainCache>& default_intrinsic_cache();
+
 // Builds the domain (throws moldtex::Error for meshes it refuses: non-manifold, or a
-// refinement that cannot finish within max_insertions, 0 = automatic). Kept in a small
-// cache keyed by the mesh (its fingerprint), the texture size and the bound, so a new
-// simulation on the same mesh does not rebuild it.
+// refinement that cannot finish within max_insertions, 0 = automatic), or takes it from
+// `cache`, where it is then kept.
 // from_cache (optional) says whether it came from the cache. progress (optional) reports
 // the build's stage (moldtex_build_stage) and lets another thread cancel it
 // (MOLDTEX_ERROR_CANCELLED; nothing is cached then).
 std::shared_ptr<const IntrinsicDomain> intrinsic_domain_for(const Surface& surface, const TextureDomain& domain,
                                                             double bound, uint64_t max_insertions,
-                                                            ThreadPool& pool, bool* from_cache = nullptr,
+                                                            ThreadPool& pool, IntrinsicDomainCache& cache,
+                                                            bool* from_cache = nullptr,
                                                             WorkProgress* progress = nullptr);
 
 // Vertices per bound^2 of area the refinement ends with, for progress estimates: 0.66-0.69
