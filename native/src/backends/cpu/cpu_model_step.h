@@ -17,6 +17,9 @@
 
 namespace moldtex {
 
+// Agents drift apart in memory order as they move: a step regroups them every this many.
+constexpr uint64_t kSortInterval = 16;
+
 // The domain's operators a model's CPU step asks for, built at first use.
 class CpuDomainOperators {
  public:

@@ -14,8 +14,6 @@ namespace moldtex {
 
 namespace {
 
-constexpr uint64_t kSortInterval = 16;
-
 // After the agents: per species, the fixed-point deposit sums (one plane of
 // `lap.area.size()` cells per species) become concentration (amount / cell area) and are
 // cleared, the write stimulus adds, the PDE advances by dt, and the decay map applies.

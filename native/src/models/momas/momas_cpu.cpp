@@ -8,13 +8,12 @@
 #include "backends/cpu/cpu_model_step.h"
 #include "common/error.h"
 #include "domain/surface_diffusion.h"
+#include "models/model.h"
 #include "models/momas/momas_model.h"
 
 namespace moldtex {
 
 namespace {
-
-constexpr uint64_t kSortInterval = 16;
 
 class MomasCpuStep final : public CpuModelStep {
  public:
@@ -26,9 +25,8 @@ class MomasCpuStep final : public CpuModelStep {
   void step(CpuStepContext& x, const StepSettings& settings, uint64_t seed, uint64_t step_index,
             uint32_t* eaters) override {
     if (x.intrinsic)
-      fail(MOLDTEX_ERROR_INVALID_ARGUMENT,
-           "The Intrinsic domain runs the continuous model and Gray-Scott; MoMaS works in texels: use the Texture "
-           "domain");
+      fail(MOLDTEX_ERROR_INVALID_ARGUMENT, "The Intrinsic domain runs " + models_on(MOLDTEX_DOMAIN_INTRINSIC) +
+                                               "; MoMaS works in texels: use the Texture domain");
     const TextureDomain& d = x.domain;
     const moldtex_sim_params& p = settings.params;
     const MomasStepConstants c = momas_constants(settings, d, seed, step_index);
