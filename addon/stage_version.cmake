@@ -14,6 +14,13 @@ function(stage_version file pattern replacement what)
   file(WRITE "${file}" "${staged}")
 endfunction()
 
+# No byte code from the source tree (a package run from addon/ leaves __pycache__ folders).
+file(GLOB_RECURSE caches LIST_DIRECTORIES true "${STAGE}/*")
+list(FILTER caches INCLUDE REGEX "/__pycache__$")
+if(caches)
+  file(REMOVE_RECURSE ${caches})
+endif()
+
 string(REPLACE "." ", " tuple "${VERSION}")
 stage_version("${STAGE}/__init__.py" "\"version\": \\([0-9]+, [0-9]+, [0-9]+\\)" "\"version\": (${tuple})"
               "bl_info \"version\": (a, b, c) entry")

@@ -37,7 +37,7 @@ sys.path.insert(0, os.path.abspath(ARGS.addon_dir))
 import addon_utils  # noqa: E402
 
 addon_utils.enable("moldtex", default_set=True)
-from moldtex import brush  # noqa: E402
+from moldtex.brush import session as brush  # noqa: E402
 
 STATE = {"phase": "setup", "failures": []}
 RESOLUTION = 128

@@ -38,7 +38,7 @@ sys.path.insert(0, HERE)
 import addon_utils  # noqa: E402
 
 addon_utils.enable("moldtex", default_set=True)
-from moldtex import ui  # noqa: E402
+from moldtex.ui import panels as ui  # noqa: E402
 import panel_fit  # noqa: E402
 
 FAILURES = []

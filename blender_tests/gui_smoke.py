@@ -35,7 +35,7 @@ sys.path.insert(0, os.path.abspath(ARGS.addon_dir))
 import addon_utils  # noqa: E402
 
 addon_utils.enable("moldtex", default_set=True)
-from moldtex import live  # noqa: E402
+from moldtex.sim import session as live  # noqa: E402
 
 STATE = {"phase": "start", "steps_at_pause": None, "waited": 0, "failures": []}
 
@@ -97,7 +97,8 @@ def _tick():
         obj.moldtex.agent_count = 50000
         # Run on the first OpenCL device when there is one (the panel then shows
         # "Backend: OpenCL: <device>"), else on Auto.
-        from moldtex import engine, properties
+        from moldtex import engine
+        from moldtex.settings import properties as properties
         devices, _reason = engine.opencl_devices()
         if devices:
             obj.moldtex.backend = properties.device_identifier(devices[0])

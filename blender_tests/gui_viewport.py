@@ -63,7 +63,8 @@ sys.path.insert(0, os.path.abspath(ARGS.addon_dir))
 import addon_utils  # noqa: E402
 
 addon_utils.enable("moldtex", default_set=True)
-from moldtex import live  # noqa: E402
+from moldtex.sim import session as live  # noqa: E402
+from moldtex.settings import units  # noqa: E402
 
 NAME = "Canvas"
 EXPORTS = []  # objects whose mesh live.export_object read (the intrinsic Start)
@@ -226,7 +227,7 @@ def screen_vs_vertices(obj, label):
     without UVs: each cell's expected luminance is the mean, over the mesh vertices in
     it, of the ramp's luminance at the vertex colour the add-on wrote (through the
     material's Map Range: 0 .. the display maximum)."""
-    from moldtex import material
+    from moldtex.colour import material as material
     screen = screen_cells(label)
     table = ramp_table(obj)
     top = material.display_maximum(obj)
@@ -275,7 +276,7 @@ def comparable_pattern(settings):
     the default unit would be half a texel, a pattern finer than the 16 x 16 cells can
     compare."""
     settings.resolution = "256"
-    settings.pattern_scale = live.REFERENCE_RESOLUTION / 256
+    settings.pattern_scale = units.REFERENCE_RESOLUTION / 256
     settings.agent_count = 16000
 
 
@@ -321,7 +322,7 @@ def _tick():
         rv3d.view_location = (0.0, 0.0, 0.0)
         rv3d.view_distance = 2.6
         # Start before Set Up Material sets the material up itself.
-        from moldtex import material
+        from moldtex.colour import material as material
         check(call(bpy.ops.moldtex.start, 'INVOKE_DEFAULT') == {'RUNNING_MODAL'},
               "Start without Set Up Material")
         node = material.moldtex_node(obj, material.TEXTURE_NODE)

@@ -13,8 +13,33 @@ SEED = 7
 
 
 def live():
-    from moldtex import live as live_module
+    from moldtex.sim import session as live_module
     return live_module
+
+
+def convert():
+    from moldtex.sim import convert as convert_module
+    return convert_module
+
+
+def units():
+    from moldtex.settings import units as units_module
+    return units_module
+
+
+def continuous_model():
+    from moldtex.models import continuous as continuous_module
+    return continuous_module
+
+
+def reaction_model():
+    from moldtex.models import gray_scott as gray_scott_module
+    return gray_scott_module
+
+
+def mesh_export():
+    from moldtex.data import mesh_export as mesh_export_module
+    return mesh_export_module
 
 
 def engine():
@@ -78,7 +103,7 @@ def subdivided_plane():
 
 def agent_positions(obj):
     """3D (mesh) positions of every agent of obj's live simulation."""
-    from moldtex.mesh_export import export_object
+    from moldtex.data.mesh_export import export_object
     mesh = export_object(obj, bpy.context.evaluated_depsgraph_get(), "")
     surface = engine().Surface(mesh.positions, mesh.triangles, mesh.uvs, mesh.triangle_uvs)
     try:
@@ -109,9 +134,9 @@ def configure(obj, resolution=RESOLUTION, agents=AGENTS, seed=SEED, **params):
     pattern texel about one texel at this (small, quick) resolution, simulated on the
     texture's own texels (Detail 1×, where Auto would take 2×): the scale and detail the
     tests' step counts and thresholds were made for (Detail's own tests set it)."""
-    from moldtex import live as live_module
+    from moldtex.sim import session as live_module
     settings = obj.moldtex
-    settings.pattern_scale = live_module.REFERENCE_RESOLUTION / int(resolution)
+    settings.pattern_scale = units().REFERENCE_RESOLUTION / int(resolution)
     settings.detail = '1'
     settings.resolution = resolution
     settings.agent_count = agents
@@ -243,7 +268,8 @@ def load_pixels(path):
 
 def fresh_sim(obj):
     """A new engine.Simulation built from obj's settings and mesh as Reset builds it."""
-    from moldtex import live as live_module, mesh_export
+    from moldtex.sim import session as live_module
+    from moldtex.data import mesh_export as mesh_export
     eng = engine()
     mesh = mesh_export.export_object(obj, bpy.context.evaluated_depsgraph_get(),
                                      obj.moldtex.uv_map)
@@ -252,17 +278,17 @@ def fresh_sim(obj):
         settings = obj.moldtex
         info = surface.info()
         area = info["area"]
-        config = live_module.config_from_settings(settings, info)  # (Detail: Auto needs it)
-        continuous = (live_module.continuous_params_from_settings(settings, area)
+        config = convert().config_from_settings(settings, info)  # (Detail: Auto needs it)
+        continuous = (continuous_model().params_from_settings(settings, area)
                       if config["model"] == eng.MODEL_CONTINUOUS else None)
-        reaction = (live_module.reaction_params_from_settings(settings, area)
+        reaction = (reaction_model().params_from_settings(settings, area)
                     if config["model"] == eng.MODEL_GRAY_SCOTT else None)
         sim = eng.Simulation(surface, config,
-                             live_module.params_from_settings(settings, area,
+                             convert().params_from_settings(settings, area,
                                                               config["model"]),
                              None, continuous, reaction)
         if continuous is not None:
-            sim.set_bias(live_module.bias_vectors(live_module.bias_direction_in_mesh(obj),
+            sim.set_bias(continuous_model().bias_vectors(continuous_model().bias_direction_in_mesh(obj),
                                                   sim.triangle_count))
         return sim
     finally:

@@ -51,7 +51,8 @@ def main():
     import numpy as np
     sys.path.insert(0, os.path.abspath(args.addon_dir))
     addon_utils.enable("moldtex", default_set=True)
-    from moldtex import engine, live
+    from moldtex import engine
+    from moldtex.sim import session as live
 
     for config in configs:
         size, agents = (int(v) for v in config.split(":"))

@@ -34,7 +34,7 @@ sys.path.insert(0, os.path.abspath(ARGS.addon_dir))
 import addon_utils  # noqa: E402
 
 addon_utils.enable("moldtex", default_set=True)
-from moldtex import live  # noqa: E402
+from moldtex.sim import session as live  # noqa: E402
 
 STATE = {"phase": "setup", "log": []}
 

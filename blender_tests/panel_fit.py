@@ -144,7 +144,7 @@ class _AnyProps:
 
 def draw_panels(context, width=CONTENT):
     """[(kind, text, room)] of every label the Moldtex panels draw for context."""
-    from moldtex import ui
+    from moldtex.ui import panels as ui
     log = []
     for panel in ui.CLASSES:
         if hasattr(panel, "poll") and not panel.poll(context):

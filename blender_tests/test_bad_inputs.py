@@ -146,7 +146,7 @@ class EnumTests(unittest.TestCase):
 
 class BrushEnumTests(unittest.TestCase):
     def tearDown(self):
-        from moldtex import brush
+        from moldtex.brush import session as brush
         brush.forget()  # leave no stroke history behind for other tests' objects
         h.clear_scene()
     def test_unknown_brush_target_paints_the_default_with_a_note(self):

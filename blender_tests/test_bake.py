@@ -16,7 +16,7 @@ SPF = 3  # steps per frame of the small bakes
 
 
 def bake_module():
-    from moldtex import bake
+    from moldtex.bake import sequence as bake
     return bake
 
 

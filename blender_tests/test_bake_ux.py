@@ -19,7 +19,7 @@ class BakeDefaultsTests(unittest.TestCase):
         h.clear_scene()
 
     def test_default_range_is_two_seconds_not_the_scene(self):
-        from moldtex import bake
+        from moldtex.bake import sequence as bake
         obj = h.plane()
         scene = bpy.context.scene
         scene.frame_start, scene.frame_end = 1, 250
@@ -40,7 +40,7 @@ class BakeDefaultsTests(unittest.TestCase):
 
 class TimingTextTests(unittest.TestCase):
     def test_elapsed_and_estimate(self):
-        from moldtex import bake
+        from moldtex.bake import sequence as bake
         entry = types.SimpleNamespace(
             bake_started=100.0, bake_resumed_frames=0,
             bake_progress={"first_frame": 1, "last_frame": 48, "frames_done": 5})
@@ -67,7 +67,7 @@ class BakingPanelTests(unittest.TestCase):
         shutil.rmtree(self.folder, ignore_errors=True)
 
     def test_stats_follow_the_bake(self):
-        from moldtex import bake
+        from moldtex.bake import sequence as bake
         obj = h.plane(resolution="128", agents=2000)
         self.assertEqual(bpy.ops.moldtex.reset(), {'FINISHED'})
         self.assertEqual(bpy.ops.moldtex.step(steps=40), {'FINISHED'})

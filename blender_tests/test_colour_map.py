@@ -18,7 +18,7 @@ import helpers as h
 
 
 def colour_map():
-    from moldtex import colour_map as module
+    from moldtex.colour import colour_map as module
     return module
 
 

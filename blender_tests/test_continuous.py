@@ -19,7 +19,7 @@ CONTINUOUS_LOOKS = ("branching_veins", "coral_maze", "zebra_stripes", "starburst
 
 
 def presets_module():
-    from moldtex import presets
+    from moldtex.looks import presets as presets
     return presets
 
 
@@ -163,7 +163,7 @@ class ModelTests(unittest.TestCase):
         bpy.context.view_layer.update()
         entry = h.run(obj, 1)
         self.assertEqual(entry.sim.get_continuous_params()["sensor_distance"], before)
-        self.assertAlmostEqual(live.pattern_unit(settings, area),
+        self.assertAlmostEqual(h.units().pattern_unit(settings, area),
                                math.sqrt(area) / 512.0, delta=1e-12)
         # Length mode: the unit is a length in the scene; at object scale 10 a scene
         # length of 0.05 is 0.005 mesh units, so the sensors reach 10 times less far
@@ -222,7 +222,7 @@ class KeepUTests(unittest.TestCase):
 
     def test_agent_count_change_moves_the_deposit_rate_not_u(self):
         obj, cont, kept = self.keeping()
-        self.assertLess(relative(h.live().u_from_settings(obj.moldtex), kept), 1e-6)
+        self.assertLess(relative(h.continuous_model().u_from_settings(obj.moldtex), kept), 1e-6)
         rate = cont.deposit_rate
         obj.moldtex.agent_count = 10000  # 2.5 times the agents ...
         self.assertLess(relative(cont.deposit_rate, rate / 2.5), 1e-6)  # ... deposit less
@@ -278,7 +278,7 @@ class LookTests(unittest.TestCase):
             self.assertEqual(settings.agent_count, 60000, name)  # not resolution-scaled
             self.assertTrue(settings.continuous.keep_u, name)
             self.assertLess(relative(settings.continuous.target_u,
-                                     h.live().u_from_settings(settings)), 1e-6, name)
+                                     h.continuous_model().u_from_settings(settings)), 1e-6, name)
             tip = bpy.types.MOLDTEX_OT_preset_apply.description(
                 bpy.context, type("P", (), {"filepath": available[name]})())
             self.assertIn("Continuous model", tip)
@@ -448,7 +448,7 @@ class BiasTests(unittest.TestCase):
         engine = h.engine()
         with self.assertRaises(engine.EngineError):
             entry.sim.set_bias(array.array("f", [1.0, 0.0, 0.0]) * (triangles - 1))
-        entry.sim.set_bias(live.bias_vectors((0.0, 1.0, 0.0), triangles))
+        entry.sim.set_bias(h.continuous_model().bias_vectors((0.0, 1.0, 0.0), triangles))
         entry.sim.set_bias(None)
         # A non-uniform object scale is in the exported mesh: the direction scales
         # with it (a diagonal in the object's axes leans toward the stretched axis).
@@ -456,7 +456,7 @@ class BiasTests(unittest.TestCase):
         bpy.context.view_layer.update()  # (matrix_world)
         cont.bias_strength = 1.0
         cont.bias_direction = (1.0, 1.0, 0.0)
-        x, y, z = live.bias_direction_in_mesh(obj)
+        x, y, z = h.continuous_model().bias_direction_in_mesh(obj)
         self.assertAlmostEqual(x / y, 3.0, places=4)
 
     def test_bias_along_x_lays_the_trails_along_x(self):
@@ -562,7 +562,7 @@ class ContinuousBakeTests(unittest.TestCase):
                          'SEQUENCE')
 
     def test_png_is_said_to_cut_the_values_off(self):
-        from moldtex import bake
+        from moldtex.bake import sequence as bake
         bpy.ops.mesh.primitive_plane_add(size=2.0)
         obj = h.activate(bpy.context.active_object)
         obj.moldtex.model = 'CONTINUOUS'

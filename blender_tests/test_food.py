@@ -35,7 +35,7 @@ def _food(location=CORNER, strength=16.0, amount=None):
 
 def _mean_distance(obj, target):
     """Mean 3D (world) distance of the live simulation's agents to `target`."""
-    from moldtex.mesh_export import export_object
+    from moldtex.data.mesh_export import export_object
     mesh = export_object(obj, bpy.context.evaluated_depsgraph_get(), "")
     surface = h.engine().Surface(mesh.positions, mesh.triangles, mesh.uvs,
                                  mesh.triangle_uvs)
@@ -95,7 +95,7 @@ class FoodTests(unittest.TestCase):
         # 7, 2026-12-05): an amount of twice that is partly eaten whatever the random
         # draws (200,000, as until then, was eaten up for some of them).
         obj, empty, start, end = self._run(4.0, amount=AMOUNT)
-        from moldtex import live
+        from moldtex.sim import session as live
         status = live.food_status(obj)
         self.assertEqual(len(status), 1)
         name, remaining = status[0]

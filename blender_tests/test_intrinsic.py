@@ -11,7 +11,7 @@ import helpers as h
 
 
 def surface_of(obj):
-    from moldtex import mesh_export
+    from moldtex.data import mesh_export as mesh_export
     arrays = mesh_export.export_object(obj, bpy.context.evaluated_depsgraph_get())
     engine = h.engine()
     return engine.Surface(arrays.positions, arrays.triangles, arrays.uvs, arrays.triangle_uvs)

@@ -136,7 +136,7 @@ class IntrinsicDomainTests(unittest.TestCase):
         cancelling it keeps nothing; a finished build is what Reset then uses."""
         import time
 
-        from moldtex import live
+        from moldtex.sim import session as live
         engine = h.engine()
         obj = intrinsic_suzanne(resolution="1024", seed=3)  # ~300 k vertices: seconds
         depsgraph = bpy.context.evaluated_depsgraph_get()

@@ -101,15 +101,15 @@ class LifecycleTests(unittest.TestCase):
         h.configure(obj, agents=2000)
         h.run(obj, 1)
         entry = h.live().get(obj.name)
-        saved = engine.MAX_STEPS_PER_CALL
-        engine.MAX_STEPS_PER_CALL = 3
+        saved = engine.structs.MAX_STEPS_PER_CALL
+        engine.structs.MAX_STEPS_PER_CALL = 3
         try:
             entry.sim.step(7)
         finally:
-            engine.MAX_STEPS_PER_CALL = saved
+            engine.structs.MAX_STEPS_PER_CALL = saved
         self.assertEqual(entry.sim.get_stats()["step_count"], 8)
         with self.assertRaises(engine.EngineError) as caught:
-            engine._check(engine._lib.moldtex_sim_step(entry.sim.handle, saved + 1), "Stepping")
+            engine._check(engine.library._lib.moldtex_sim_step(entry.sim.handle, saved + 1), "Stepping")
         self.assertIn("chunks", str(caught.exception))
         self.assertEqual(entry.sim.get_stats()["step_count"], 8)
 

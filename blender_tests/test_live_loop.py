@@ -123,7 +123,7 @@ class StepTests(unittest.TestCase):
         properties = bpy.ops.moldtex.step.get_rna_type().properties
         self.assertIn("steps", properties.keys())
         # Adjust Last Operation shows operators that are both REGISTER and UNDO.
-        from moldtex import operators
+        from moldtex.operators import simulation as operators
         self.assertLessEqual({'REGISTER', 'UNDO'}, operators.MOLDTEX_OT_step.bl_options)
         self.assertEqual(bpy.ops.moldtex.step(steps=12), {'FINISHED'})
         self.assertEqual(self.entry.stats["step_count"], 12)
@@ -153,7 +153,8 @@ class StartSetsUpMaterialTests(unittest.TestCase):
     def test_start_sets_up_the_material_when_there_is_none(self):
         # Start needs the interface (gui_viewport.py presses it); the part that sets up
         # the material is this function, which Start calls before showing the image.
-        from moldtex import material, operators
+        from moldtex.colour import material as material
+        from moldtex.operators import simulation as operators
         h.clear_scene()
         obj = h.plane(resolution="128", agents=3000)
         self.assertEqual(bpy.ops.moldtex.reset(), {'FINISHED'})

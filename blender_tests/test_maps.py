@@ -366,9 +366,10 @@ class MapPanelTests(unittest.TestCase):
         h.clear_scene()
 
     def test_maps_panel_draws_every_map_and_fits(self):
-        from moldtex import ui
+        from moldtex.ui import panels as ui
         from moldtex.maps.spec import MAPS as ALL_MAPS
-        MAPS = [spec for spec in ALL_MAPS if 'CONTINUOUS' in spec.models]  # (Gray-Scott's
+        from moldtex.models import continuous
+        MAPS = [spec for spec in ALL_MAPS if spec.key in continuous.MODEL.map_keys]  # (Gray-Scott's
         # feed and kill are drawn only for that model: test_reaction.py)
         obj = maps_plane()
         obj.moldtex.model = 'MOMAS'
@@ -397,7 +398,7 @@ class MapPanelTests(unittest.TestCase):
         self.assertEqual(shown.count("attribute"), len(MAPS) - len(MAPS) // 2)
         self.assertEqual([name for kind, name in log if kind == "operator"],
                          ["moldtex.map_show"] * len(MAPS))  # Show, one per map
-        self.assertLess(ui.CLASSES.index(ui.MOLDTEX_PT_continuous_bias),
+        self.assertLess(ui.CLASSES.index(continuous.MOLDTEX_PT_continuous_bias),
                         ui.CLASSES.index(ui.MOLDTEX_PT_continuous_maps))
         import panel_fit
         if not panel_fit.fonts_work():
@@ -428,7 +429,7 @@ class MapPresetTests(unittest.TestCase):
         h.clear_scene()
 
     def test_presets_leave_maps_alone(self):
-        from moldtex import presets
+        from moldtex.looks import presets as presets
         obj = maps_plane()
         h.activate(obj)
         set_map(obj, "deposit_rate", "Right", at1=3.0)

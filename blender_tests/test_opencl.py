@@ -38,7 +38,7 @@ def first_opencl_device(test):
 
 
 def backend_identifiers(obj):
-    from moldtex import properties
+    from moldtex.settings import properties as properties
     return [item[0] for item in properties.backend_items(obj.moldtex, bpy.context)]
 
 
@@ -56,7 +56,7 @@ class DeviceListTests(unittest.TestCase):
         else:
             self.assertTrue(reason, "no devices and no reason")
         obj = h.add_primitive("sphere")
-        from moldtex import properties
+        from moldtex.settings import properties as properties
         expected = ["AUTO", "CPU"] + [properties.device_identifier(d) for d in devices]
         self.assertEqual(backend_identifiers(obj), expected)
         self.assertEqual(obj.moldtex.backend, "AUTO")  # the default
@@ -67,12 +67,12 @@ class DeviceListTests(unittest.TestCase):
 
     def test_no_opencl_is_a_reason_not_an_exception(self):
         engine = h.engine()
-        saved = engine._lib, engine.LOAD_ERROR, engine._opencl_cache
+        saved = engine.library._lib, engine.library.LOAD_ERROR, engine.library._opencl_cache
         try:
-            engine._lib, engine.LOAD_ERROR, engine._opencl_cache = None, "lib gone", None
+            engine.library._lib, engine.library.LOAD_ERROR, engine.library._opencl_cache = None, "lib gone", None
             devices, reason = engine.opencl_devices(refresh=True)
         finally:
-            engine._lib, engine.LOAD_ERROR, engine._opencl_cache = saved
+            engine.library._lib, engine.library.LOAD_ERROR, engine.library._opencl_cache = saved
         self.assertEqual(devices, [])
         self.assertIn("lib gone", reason)
 
@@ -80,15 +80,15 @@ class DeviceListTests(unittest.TestCase):
         engine = h.engine()
         obj = h.add_primitive("torus")
         h.configure(obj, agents=2000)
-        saved = engine._opencl_cache
+        saved = engine.library._opencl_cache
         why = ("No OpenCL runtime was found (libOpenCL.so.1): install your GPU "
                "driver's OpenCL support")
         try:
-            engine._opencl_cache = ([], why)
+            engine.library._opencl_cache = ([], why)
             self.assertEqual(backend_identifiers(obj), ["AUTO", "CPU"])
             text = labels(draw_all(self, obj))
         finally:
-            engine._opencl_cache = saved
+            engine.library._opencl_cache = saved
             backend_identifiers(obj)  # rebuild the chooser's items
         self.assertIn("OpenCL unavailable", text)
         self.assertIn("libOpenCL.so.1", text)
@@ -105,18 +105,18 @@ class DeviceListTests(unittest.TestCase):
         engine = h.engine()
         obj = h.add_primitive("torus")
         h.configure(obj, agents=2000)
-        saved = engine._opencl_cache
+        saved = engine.library._opencl_cache
         why = ("The OpenCL runtime found no platform (CL_PLATFORM_NOT_FOUND_KHR, no OpenCL "
                "driver is installed (-1001)): install an OpenCL driver, e.g. Debian's "
                "pocl-opencl-icd for the CPU")
         context = types.SimpleNamespace(active_object=obj, scene=bpy.context.scene)
         try:
-            engine._opencl_cache = ([], why)
+            engine.library._opencl_cache = ([], why)
             backend_identifiers(obj)
             self.assertIn("CL_PLATFORM_NOT_", labels(draw_all(self, obj)))
             self.assertEqual(panel_fit.labels_cut(context), [])
         finally:
-            engine._opencl_cache = saved
+            engine.library._opencl_cache = saved
             backend_identifiers(obj)
 
 
@@ -126,7 +126,7 @@ class OpenCLRunTests(unittest.TestCase):
 
     def test_pattern_on_opencl_matches_cpu(self):
         device = first_opencl_device(self)
-        from moldtex import properties
+        from moldtex.settings import properties as properties
         obj = h.add_primitive("sphere")
         h.configure(obj)
         obj.moldtex.backend = properties.device_identifier(device)
@@ -235,7 +235,7 @@ class BackendPersistenceTests(unittest.TestCase):
         return bpy.data.objects[name]
 
     def test_backend_survives_save_and_reload(self):
-        from moldtex import properties
+        from moldtex.settings import properties as properties
         devices, _reason = h.engine().opencl_devices()
         cpu = h.add_primitive("torus")
         cpu.name = "OnCPU"
@@ -280,7 +280,7 @@ class BackendPersistenceTests(unittest.TestCase):
         self.assertEqual(bpy.ops.moldtex.step(steps=2), {'FINISHED'})
         # Picking a backend replaces the missing device.
         settings.backend = "CPU"
-        self.assertEqual(h.live().backend_note(settings), "")
+        self.assertEqual(h.convert().backend_note(settings), "")
         self.assertEqual(settings.backend, "CPU")
 
 

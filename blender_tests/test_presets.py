@@ -41,7 +41,7 @@ BANDS = {
 
 
 def presets_module():
-    from moldtex import presets
+    from moldtex.looks import presets as presets
     return presets
 
 
@@ -111,8 +111,8 @@ class ShippedPresetTests(unittest.TestCase):
         self.assertEqual(applied(pattern_scale=2.0), 15000)  # cells twice as long
         self.assertEqual(applied(pattern_scale=0.5), 240000)
         # Scale: Length at the unit Scale: Object 1 gives (√area / 512): the same count.
-        from moldtex import live
-        area = live.surface_area(obj)
+        from moldtex.sim import session as live
+        area = h.units().surface_area(obj)
         self.assertGreater(area, 0.0)
         count = applied(pattern_scale=1.0, pattern_scale_mode='LENGTH',
                         pattern_length=math.sqrt(area) / 512)
@@ -133,7 +133,7 @@ class ShippedPresetTests(unittest.TestCase):
         self.assertEqual(execute_preset(presets_module().find("lava_rivers")), {'FINISHED'})
         self.assertIsNone(obj.active_material)  # nothing to change yet: remembered
         self.assertEqual(bpy.ops.moldtex.setup_material(), {'FINISHED'})
-        from moldtex import material
+        from moldtex.colour import material as material
         remembered, interpolation = material.preset_ramp(obj)
         self.assertEqual(len(remembered), 6)  # lava_rivers.py has six stops
         self.assertEqual(ramp_of(obj), ([(round(p, 4), tuple(round(c, 4) for c in color))

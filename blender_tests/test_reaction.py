@@ -23,7 +23,7 @@ SCALE = 4.0
 
 
 def presets_module():
-    from moldtex import presets
+    from moldtex.looks import presets as presets
     return presets
 
 
@@ -62,7 +62,7 @@ class ReactionModelTests(unittest.TestCase):
         self.assertEqual(entry.stats["agent_count"], 0)
         self.assertAlmostEqual(entry.stats["time"], 5.0, places=5)  # 5 steps of 1 s
         # Rates in pattern units² per second become mesh units² through the unit.
-        unit = live.pattern_unit(obj.moldtex, entry.surface_info["area"])
+        unit = h.units().pattern_unit(obj.moldtex, entry.surface_info["area"])
         core = sim.get_reaction_params()
         reaction = obj.moldtex.reaction
         self.assertAlmostEqual(core["diffusion_u"] / (reaction.diffusion_u * unit * unit),
@@ -123,7 +123,7 @@ class ReactionModelTests(unittest.TestCase):
             obj.moldtex.model = 'MOMAS'
             h.run(obj, 1)
             bpy.ops.moldtex.step(steps=1)
-            from moldtex import material
+            from moldtex.colour import material as material
             material.sync_display_range(obj)
             self.assertNotIn("Moldtex V", nodes)
             self.assertEqual(span.inputs[0].links[0].from_node.name, "Moldtex Texture")

@@ -32,7 +32,7 @@ def _grid():
 
 def _surface(obj):
     """An engine.Surface of obj's evaluated mesh, in the add-on's triangle order."""
-    from moldtex.mesh_export import export_object
+    from moldtex.data.mesh_export import export_object
     mesh = export_object(obj, bpy.context.evaluated_depsgraph_get(), "")
     return h.engine().Surface(mesh.positions, mesh.triangles, mesh.uvs, mesh.triangle_uvs)
 
@@ -166,8 +166,8 @@ class SeedAndFieldTests(unittest.TestCase):
         image.pixels.foreach_set(array.array("f", [0.1, 0, 0, 1, 0.2, 0, 0, 1,
                                                    0.3, 0, 0, 1, 0.4, 0, 0, 1]))
         obj.moldtex.fields_image = image
-        from moldtex import live
-        fields = live.fields_from_settings(obj.moldtex, 4, 4)
+        from moldtex.sim import session as live
+        fields = h.convert().fields_from_settings(obj.moldtex, 4, 4)
         red = [round(fields[4 * i], 4) for i in range(16)]
         self.assertEqual(red, [0.1, 0.1, 0.2, 0.2] * 2 + [0.3, 0.3, 0.4, 0.4] * 2)
 

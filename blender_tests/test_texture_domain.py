@@ -101,7 +101,7 @@ class DetailTests(unittest.TestCase):
         h.clear_scene()
 
     def test_auto_detail_follows_the_texels_per_unit(self):
-        from moldtex import live
+        from moldtex.sim import session as live
         bpy.ops.mesh.primitive_uv_sphere_add()
         obj = bpy.context.active_object
         obj.moldtex.agent_count = 20000  # otherwise the add-on's defaults
@@ -110,7 +110,7 @@ class DetailTests(unittest.TestCase):
         entry = h.run(obj, 3)
         # Its UVs fill the texture but for the poles' teeth: about 0.97 texels per unit,
         # so Auto takes 2 (1.9 or more), and the core runs at 1024².
-        per_unit = live.texels_per_unit(entry, obj.moldtex)
+        per_unit = h.convert().texels_per_unit(entry, obj.moldtex)
         self.assertAlmostEqual(per_unit, 0.97, delta=0.03)
         self.assertEqual(entry.sim.get_config()["detail"], 2)
         self.assertEqual(tuple(obj.moldtex.image.size), (512, 512))
@@ -142,12 +142,12 @@ class DetailTests(unittest.TestCase):
         # unit, as close to two as it gets), and at most 2× above (its cost: PERFORMANCE).
         obj.moldtex.detail = 'AUTO'
         entry = h.run(obj, 1)
-        self.assertAlmostEqual(live.texels_per_unit(entry, obj.moldtex), 0.24, delta=0.01)
+        self.assertAlmostEqual(h.convert().texels_per_unit(entry, obj.moldtex), 0.24, delta=0.01)
         self.assertEqual(entry.sim.get_config()["detail"], 4)
         obj.moldtex.resolution = '512'
         obj.moldtex.pattern_scale = 0.5
         entry = h.run(obj, 1)
-        self.assertAlmostEqual(live.texels_per_unit(entry, obj.moldtex), 0.48, delta=0.02)
+        self.assertAlmostEqual(h.convert().texels_per_unit(entry, obj.moldtex), 0.48, delta=0.02)
         self.assertEqual(entry.sim.get_config()["detail"], 2)
 
 

@@ -79,7 +79,7 @@ class OperatorProps:
 
 
 def draw_all(test, obj):
-    from moldtex import ui
+    from moldtex.ui import panels as ui
     log = []
     context = types.SimpleNamespace(active_object=obj, scene=bpy.context.scene)
     for panel in ui.CLASSES:
@@ -192,15 +192,15 @@ class PanelTests(unittest.TestCase):
         # Blender's plane: UVs fill [0, 1]², so a texel's side is √(area) / resolution and
         # the pattern unit, Pattern Scale × √(area) / 512, spans Scale × resolution / 512
         # texels (h.configure's scale makes that 1 at any resolution): known answers.
-        from moldtex import live
+        from moldtex.sim import session as live
         obj = h.plane(resolution="128")  # (Detail 1×)
         entry = h.run(obj, 1)
-        self.assertAlmostEqual(live.texels_per_unit(entry, obj.moldtex), 1.0, places=4)
+        self.assertAlmostEqual(h.convert().texels_per_unit(entry, obj.moldtex), 1.0, places=4)
         text = labels(draw_all(self, obj))
         self.assertIn("Texels / Unit 1.0", text)
         self.assertNotIn("Under one simulated texel per pattern unit", text)
         obj.moldtex.pattern_scale = 2.0  # a unit of half a texel: flagged
-        self.assertAlmostEqual(live.texels_per_unit(entry, obj.moldtex), 0.5, places=4)
+        self.assertAlmostEqual(h.convert().texels_per_unit(entry, obj.moldtex), 0.5, places=4)
         text = labels(draw_all(self, obj))
         self.assertIn("Texels / Unit 0.5", text)
         self.assertIn("Under one simulated texel per pattern unit", text)
@@ -212,10 +212,10 @@ class PanelTests(unittest.TestCase):
         self.assertIn("Simulated 256 × 256 (2×)", text)
         self.assertNotIn("Under one simulated texel per pattern unit", text)
         obj.moldtex.pattern_scale = 8.0
-        self.assertAlmostEqual(live.texels_per_unit(entry, obj.moldtex), 2.0, places=4)
+        self.assertAlmostEqual(h.convert().texels_per_unit(entry, obj.moldtex), 2.0, places=4)
         # Texel units and the continuous model have no pattern unit in texels to show.
         obj.moldtex.pattern_units = 'TEXELS'
-        self.assertIsNone(live.texels_per_unit(entry, obj.moldtex))
+        self.assertIsNone(h.convert().texels_per_unit(entry, obj.moldtex))
         self.assertNotIn("Texels / Unit", labels(draw_all(self, obj)))
 
     def test_brush_panel_follows_the_target(self):
@@ -249,13 +249,13 @@ class PanelTests(unittest.TestCase):
 
     def test_engine_load_error_is_shown(self):
         engine = h.engine()
-        saved = engine._lib, engine.LOAD_ERROR
+        saved = engine.library._lib, engine.library.LOAD_ERROR
         try:
-            engine._lib = None
-            engine.LOAD_ERROR = "libmoldtex.so was not found next to the add-on"
+            engine.library._lib = None
+            engine.library.LOAD_ERROR = "libmoldtex.so was not found next to the add-on"
             text = labels(draw_all(self, None))
         finally:
-            engine._lib, engine.LOAD_ERROR = saved
+            engine.library._lib, engine.library.LOAD_ERROR = saved
         self.assertIn("Engine unavailable", text)
         self.assertIn("not found", text)
 
@@ -323,8 +323,8 @@ class PanelLayoutTests(unittest.TestCase):
         self.assertGreater(start, 0)
 
     def test_short_labels_name_each_setting_and_tooltips_the_long_name(self):
-        from moldtex import ui
-        from moldtex.properties import ensure_species
+        from moldtex.ui import panels as ui
+        from moldtex.settings.properties import ensure_species
         settings = h.add_primitive("torus").moldtex
         settings.species_count = 2
         ensure_species(settings)
@@ -366,7 +366,7 @@ class PanelLayoutTests(unittest.TestCase):
         self.assertAlmostEqual(h.live().get(obj.name).sim.get_params()["vision_angle"],
                                40.0, places=4)  # the core still gets degrees
         settings.species_count = 2
-        from moldtex.properties import ensure_species
+        from moldtex.settings.properties import ensure_species
         ensure_species(settings)
         item = settings.species[1]
         item.vision_angle_ui = math.radians(12.5)
@@ -382,7 +382,7 @@ class LoaderTests(unittest.TestCase):
         h.configure(obj, agents=1000)
         os.environ["MOLDTEX_LIBRARY"] = "/nonexistent/libmoldtex.so"
         try:
-            engine._load()
+            engine.library._load()
             self.assertFalse(engine.available())
             self.assertIn("/nonexistent/libmoldtex.so", engine.status_text())
             with self.assertRaises(RuntimeError) as caught:  # CANCELLED + report
@@ -392,6 +392,6 @@ class LoaderTests(unittest.TestCase):
             self.assertEqual(bpy.ops.moldtex.setup_material(), {'FINISHED'})
         finally:
             del os.environ["MOLDTEX_LIBRARY"]
-            engine._load()
+            engine.library._load()
         self.assertTrue(engine.available(), engine.status_text())
         self.assertEqual(bpy.ops.moldtex.step(), {'FINISHED'})

@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
-"""Checks the add-on's ctypes mirrors (addon/moldtex/engine.py) against the C header.
+"""Checks the add-on's ctypes mirrors (addon/moldtex/engine/structs.py) against the C header.
 
 Every struct of native/include/moldtex.h is compiled into a small C program that prints
 each field's offset and size and the struct's sizeof, as the C compiler lays them out;
-every ctypes.Structure in engine.py (MeshDesc mirrors moldtex_mesh_desc, ...) must have
+every ctypes.Structure in engine/structs.py (MeshDesc mirrors moldtex_mesh_desc, ...) must have
 the same fields in the same order, at the same offsets, of the same sizes. A struct
 changed on one side only fails here, with the field named.
 
@@ -21,7 +21,7 @@ import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 HEADER = os.path.join(ROOT, "native", "include", "moldtex.h")
-ENGINE = os.path.join(ROOT, "addon", "moldtex", "engine.py")
+ENGINE = os.path.join(ROOT, "addon", "moldtex", "engine", "structs.py")
 
 
 def header_structs(text):

@@ -152,7 +152,7 @@ SCENES = {"stripes_along_a_limb": stripes_along_a_limb, "veins_toward_a_sink": v
 def grow(obj, seconds):
     """Reset and run `seconds` of simulated time; returns the live entry."""
     import bpy
-    from moldtex import live
+    from moldtex.sim import session as live
     activate(obj)
     if bpy.ops.moldtex.setup_material() != {'FINISHED'}:
         fail("Setup Material failed")

@@ -1,26 +1,25 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Moldtex: grows Physarum slime mold (MoMaS, or the continuous model of Layton et al.)
-over a mesh's UV layout into a texture.
+and reaction-diffusion patterns over a mesh into a texture.
 
-Layout (engine never imports bpy; UI never calls ctypes):
-  engine.py       ctypes binding of libmoldtex.so (next to this file)
-  mesh_export.py  evaluated mesh -> flat arrays
-  live.py         live simulations keyed by object name
-  properties.py   per-object settings (Object.moldtex)
-  operators.py    Start/Pause, Step, Reset, Set Up Material, Bake, Use Baked Sequence
-  brush.py        surface brushes (fields, slime, food) and their stroke history
-  brush_ops.py    the viewport brush tool, scripted strokes, Undo/Redo Stroke
-  bake.py         baking image sequences (core bake worker) and their playback
-  presets.py      looks: preset menu, saving presets, ramp helpers
-  cli.py          headless bake (blender -P cli.py --, blender --command moldtex bake)
-  image_io.py     pheromone image and fast pixel upload
-  material.py     node setup
-  colour_map.py   Colour Map from Image (the ramp from an exemplar image, Isomap in the core)
-  handlers.py     load / depsgraph / undo / save handlers
-  ui.py           sidebar panel
-  maps/           parameter maps and stimuli of the continuous model (settings, sampling,
-                  Show operator; registered before properties) and the surface map
-                  tools (geodesic distance, Laplace blend, blur, gradient)
+Layout, by feature (docs/ARCHITECTURE.md draws it; tools/check_addon_imports.py keeps it
+free of import cycles, the binding free of bpy and the UI free of ctypes):
+  engine/     ctypes binding of libmoldtex.so (next to this file); never imports bpy
+  data/       Blender data <-> arrays: mesh export, pheromone images, vertex colours
+  settings/   per-object settings (Object.moldtex), enums, the pattern unit, and the
+              events a setting change raises for the features that answer it
+  models/     one module per model (settings, conversion, display, panels, preset
+              fields) behind models/base.py's Model; models/__init__.py lists them
+  maps/       parameter maps and stimuli, and the surface map tools
+  sim/        the live session: simulations by object, settings -> core structures
+              (convert.py), load / depsgraph / undo / save handlers
+  colour/     Set Up Material and its nodes, Colour Map from Image
+  looks/      presets: the menu, saving, how a preset's agent count scales
+  brush/      surface brushes and their stroke history; the viewport tool
+  bake/       baking image sequences and their playback
+  operators/  Start/Pause, Step, Reset, Set Up Material, Bake, Use Baked Sequence
+  ui/         the sidebar panels (draw only) and their layout helpers
+  cli.py      headless bake (blender -P cli.py --, blender --command moldtex bake)
 """
 
 bl_info = {
@@ -34,26 +33,31 @@ bl_info = {
     "category": "Material",
 }
 
-if "live" in locals():
-    import importlib
-    # Re-enabling after a reload: free what the old module held, then reload all.
+if "_MODULES" in locals():
+    # Re-enabling after a reload: free what the old session held, then load every module
+    # afresh (the imports below find none of them cached).
+    import sys
     live.free_all()
-    for _module in (engine, mesh_export, maps.spec, maps.settings, maps.sampling, maps.operators,
-                    maps.tool_settings, maps.mesh_values, maps.tools, maps):
-        importlib.reload(_module)
-    for _module in (live, properties, image_io, material, colour_map, bake, presets,
-                    operators, brush, brush_ops, handlers, ui, cli):
-        importlib.reload(_module)
+    for _name in [name for name in sys.modules if name.startswith(__name__ + ".")]:
+        del sys.modules[_name]
 
 import bpy  # noqa: E402
 
-from . import maps  # noqa: E402  (before live and properties, which use it)
-from . import engine, mesh_export, live, properties, image_io, material  # noqa: E402
-from . import colour_map  # noqa: E402
-from . import bake, presets, operators, brush, brush_ops, handlers, ui, cli  # noqa: E402
+from . import engine, models  # noqa: E402
+from .maps import operators as map_operators, settings as map_settings  # noqa: E402
+from .maps import tool_settings as map_tool_settings, tools as map_tools  # noqa: E402
+from .settings import properties  # noqa: E402
+from .sim import handlers, session as live  # noqa: E402
+from .colour import colour_map, material  # noqa: E402
+from .looks import presets  # noqa: E402
+from .brush import operators as brush_ops, session as brush  # noqa: E402
+from .operators import simulation as operators  # noqa: E402
+from .ui import panels as ui  # noqa: E402
+from . import cli  # noqa: E402
 
-_MODULES = (maps, properties, brush, presets, operators, colour_map, brush_ops, ui,
-            handlers)
+# In the order they register (a PropertyGroup before the groups that point to it).
+_MODULES = (models, map_settings, map_operators, map_tool_settings, map_tools, properties,
+            live, material, brush, presets, operators, colour_map, brush_ops, ui, handlers)
 _cli_commands = []  # handles of bpy.utils.register_cli_command (Blender 4.2+)
 
 

@@ -116,14 +116,15 @@ def _addon_package():
                 bpy.types, "MOLDTEX_OT_bake"):
             raise RuntimeError(f"the Moldtex add-on in {ADDON_DIR} could not be enabled "
                                f"(see the messages above)")
-    module_name = bpy.types.MOLDTEX_OT_bake.__module__  # "<package>.operators"
-    return importlib.import_module(module_name.rpartition(".")[0])
+    module_name = bpy.types.MOLDTEX_OT_bake.__module__  # "<package>.operators.simulation"
+    return importlib.import_module(module_name.rsplit(".", 2)[0])
 
 
 def _apply_preset(bpy, package, obj, name):
-    path = package.presets.find(name)
+    presets = importlib.import_module(package.__name__ + ".looks.presets")
+    path = presets.find(name)
     if not path:
-        known = ", ".join(sorted(package.presets.available())) or "none"
+        known = ", ".join(sorted(presets.available())) or "none"
         raise UsageError(f"there is no preset '{name}' (presets: {known})")
     view_layer = bpy.context.view_layer
     if obj.name in view_layer.objects:
@@ -202,7 +203,8 @@ def run(argv, prog="cli.py"):
             _say("the bake did not finish (cancelled or interrupted); rerun with --resume "
                  "to continue it", error=True)
             return EXIT_FAILURE
-        plan = package.bake.plan_for(obj, bpy.context.scene)
+        sequence = importlib.import_module(package.__name__ + ".bake.sequence")
+        plan = sequence.plan_for(obj, bpy.context.scene)
         _say(f"{plan.frame_count} frames {plan.describe_files()} in {plan.directory}")
         _say(f"metrics {plan.metrics_path}")
         if args.save_as:

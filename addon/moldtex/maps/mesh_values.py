@@ -13,7 +13,7 @@ import array
 import math
 
 from .. import engine
-from ..mesh_export import (MeshExportError, _named_values, _vertex_group_weights,
+from ..data.mesh_export import (MeshExportError, _named_values, _vertex_group_weights,
                            check_object, export_scale)
 
 

@@ -12,9 +12,10 @@ user can act on."""
 import array
 import math
 
-from .. import engine, image_io
-from ..mesh_export import LUMINANCE, MeshExportError, export_object, read_corner_fields
-from .spec import MAPS, MULTIPLIER
+from .. import engine, models
+from ..data import image_io
+from ..data.mesh_export import LUMINANCE, MeshExportError, export_object, read_corner_fields
+from .spec import BY_KEY, MAPS, MULTIPLIER
 
 WHERE = "Moldtex ▸ Maps"
 
@@ -205,7 +206,6 @@ def all_kinds():
 
 
 def kinds_for_model(model):
-    """The maps a simulation of engine.MODEL_* `model` reads (none for MoMaS)."""
-    from .spec import kinds_for
-    names = {engine.MODEL_CONTINUOUS: 'CONTINUOUS', engine.MODEL_GRAY_SCOTT: 'GRAY_SCOTT'}
-    return kinds_for(names[model]) if model in names else []
+    """engine.MAP_* of the maps a simulation of engine.MODEL_* `model` reads (its
+    Model.map_keys; none for MoMaS)."""
+    return [BY_KEY[key].kind for key in models.of_engine_id(model).map_keys]

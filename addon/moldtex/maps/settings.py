@@ -5,7 +5,7 @@ One slot per map of maps/spec.py (a PropertyGroup class each, so that each has i
 defaults and tooltips): whether it is on, where its values come from (a vertex group
 or mesh attribute by name, or an image in the object's UV space), and how a value v
 in [0, 1] becomes what the core takes (At 0 / At 1 for the multipliers, Strength for
-the stimuli). A change is sent to the live simulation at once (live.push_maps); the
+the stimuli). A change is sent to the live simulation at once (settings/events.py: the live session pushes it); the
 values of a painted group or image are read again on Reset.
 """
 
@@ -13,6 +13,7 @@ import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, PointerProperty, StringProperty
 
 from .. import engine
+from ..settings import events
 from .spec import MAPS, MULTIPLIER
 
 # The numbers are what a .blend stores.
@@ -29,9 +30,7 @@ def _maps_changed(self, context):
     obj = self.id_data
     if not isinstance(obj, bpy.types.Object):
         return
-    from .. import live
-    from ..properties import _push  # (properties imports this module)
-    _push(obj, live.push_maps)
+    events.changed(obj, "maps")
 
 
 def _slot_class(spec):

@@ -14,16 +14,13 @@ MULTIPLIER = "MULTIPLIER"
 STIMULUS = "STIMULUS"
 
 
-CONTINUOUS = ("CONTINUOUS",)
-GRAY_SCOTT = ("GRAY_SCOTT",)
-
 
 class MapSpec:
     __slots__ = ("key", "kind", "label", "name", "role", "at0", "at1", "strength",
-                 "meaning", "models")
+                 "meaning")
 
     def __init__(self, key, kind, label, name, role, meaning, at0=1.0, at1=2.0,
-                 strength=1.0, models=CONTINUOUS):
+                 strength=1.0):
         self.key = key            # property name in settings.maps (maps/settings.py)
         self.kind = kind          # engine.MAP_*
         self.label = label        # the panel's short label (fits the sidebar)
@@ -31,7 +28,7 @@ class MapSpec:
         self.role = role          # MULTIPLIER or STIMULUS
         self.meaning = meaning    # what the map does, for its tooltip
         self.at0, self.at1, self.strength = at0, at1, strength
-        self.models = models      # the models (settings.model) that read it
+        # (which models read it: their Model.map_keys, models/)
 
 
 # Defaults an artist can read off the panel: a multiplier leaves the parameter as it is
@@ -69,25 +66,19 @@ MAPS = (
             "rate × U per second, which then spreads and decays with the trails (alone "
             "it holds u / U at Strength)", strength=1.0),
     MapSpec("diffusion_rate", engine.MAP_DIFFUSION_RATE, "Diffusion", "Diffusion Rate",
-            MULTIPLIER, "scales how fast pheromone (Gray-Scott: U and V) spreads there "
-            "(Eq. 6's per-cell rate; larger Gray-Scott features); 0 on a band makes a "
-            "wall nothing crosses", models=CONTINUOUS + GRAY_SCOTT),
+            MULTIPLIER, "scales how fast pheromone (or a reaction's chemicals) spreads "
+            "there (Eq. 6's per-cell rate; larger reaction features); 0 on a band makes "
+            "a wall nothing crosses"),
     MapSpec("decay_rate", engine.MAP_DECAY_RATE, "Decay", "Decay Rate", MULTIPLIER,
             "scales how fast pheromone fades there (fainter trails where higher)"),
     MapSpec("feed", engine.MAP_FEED, "Feed", "Feed", MULTIPLIER,
-            "scales Gray-Scott's feed F there (capped at 1): with the kill map it moves "
-            "the pattern between spots, stripes and worms, or switches it off",
-            models=GRAY_SCOTT),
+            "scales the reaction's feed F there (capped at 1): with the kill map it "
+            "moves the pattern between spots, stripes and worms, or switches it off"),
     MapSpec("kill", engine.MAP_KILL, "Kill", "Kill", MULTIPLIER,
-            "scales Gray-Scott's kill k there (capped at 1); twice the kill of the "
-            "classic looks leaves the surface bare there", models=GRAY_SCOTT),
+            "scales the reaction's kill k there (capped at 1); twice the kill of the "
+            "classic looks leaves the surface bare there"),
 )
 
-
-def kinds_for(model):
-    """engine.MAP_* of the maps `model` (settings.model: 'CONTINUOUS', 'GRAY_SCOTT')
-    reads; none for MoMaS."""
-    return [spec.kind for spec in MAPS if model in spec.models]
 
 BY_KEY = {spec.key: spec for spec in MAPS}
 assert sorted(spec.kind for spec in MAPS) == list(range(engine.MAP_COUNT))

@@ -11,7 +11,7 @@ import array
 import bpy
 
 from .. import engine
-from ..mesh_export import MeshExportError
+from ..data.mesh_export import MeshExportError
 from . import mesh_values
 from .mesh_values import MapToolError
 

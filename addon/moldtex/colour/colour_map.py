@@ -12,7 +12,9 @@ the object and Set Up Material uses them.
 import bpy
 from bpy.props import BoolProperty, FloatProperty, IntProperty, StringProperty
 
-from . import engine, image_io, material
+from .. import engine
+from ..data import image_io
+from . import material
 
 # Below this, one variable does not explain the image's colours well (e.g. two unrelated
 # colour groups): the ramp is still written, with a warning.

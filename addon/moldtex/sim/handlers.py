@@ -4,7 +4,9 @@
 import bpy
 from bpy.app.handlers import persistent
 
-from . import brush, image_io, live
+from ..brush import session as brush
+from ..data import image_io
+from . import session as live
 
 
 @persistent

@@ -9,188 +9,34 @@ property's tooltip (its description)."""
 
 import bpy
 
-from . import bake, brush, engine, live, material, presets
-from .mesh_export import (MeshExportError, check_transform, length_in_scene_units,
-                          resolve_uv_map_name)
-from .properties import invalid_enum_notes
-from .maps.settings import slots as map_slots
+from ..bake import sequence as bake
+from ..brush import session as brush
+from .. import engine
+from .. import models
+from ..sim import convert
+from ..sim import session as live
+from ..looks import presets
+from ..data.mesh_export import MeshExportError, check_transform, resolve_uv_map_name
+from ..settings.enums import invalid_enum_notes
+from ..maps.settings import slots as map_slots
 
-# Short labels shown in the panel: property identifier -> label.
-LABELS = {
-    "resolution": "Texture",
-    "intrinsic_size": "Tri. Size",
-    "pattern_scale_mode": "Scale",
-    "pattern_scale": "Factor",
-    "pattern_length": "Length",
-    "agent_count": "Agents",
-    "steps_per_update": "Steps",
-    "update_time": "Update",
-    "movement_speed": "Speed",
-    "turn_speed": "Turning",
-    "vision_distance": "Sight",
-    "vision_angle_ui": "Angle",
-    "sensor_size": "Sensor",
-    "evaporation_rate": "Decay",
-    "diffusion_rate": "Diffusion",
-    "thread_count": "Threads",
-    "species_count": "Species",
-    "fields_image": "Image",
-    "food_collection": "Empties",
-    "hunger_rate": "Hunger",
-    "food_radius": "Radius",
-    "bake_frame_start": "Start",
-    "bake_frame_end": "End",
-    "bake_steps_per_frame": "Per Frame",
-    "bake_directory": "Folder",
-    "bake_prefix": "Prefix",
-    # Gray-Scott (settings.reaction)
-    "feed": "Feed",
-    "kill": "Kill",
-    "diffusion_u": "Spread U",
-    "diffusion_v": "Spread V",
-    "seed_count": "Seeds",
-    # the continuous model (settings.continuous; time_step is shared)
-    "move_rate": "Speed",
-    "turn_rate": "Turning",
-    "turn_frequency": "Decisions",
-    "sensor_distance": "Sight",
-    "sensor_angle": "Angle",
-    "deposit_rate": "Deposit",
-    "decay_rate": "Decay",
-    "display_range": "Display",
-    "mean_lifetime": "Lifetime",
-    "activation_time": "Activation",
-    "bias_strength": "Strength",
-    "bias_symmetry": "Symmetry",
-    "bias_spawn": "Spawn",
-    "bias_direction": "Toward",  # a vector: Blender draws "Toward X", "Y", "Z"
-    "bias_source": "Source",
-    "boundary": "Edges",
-    # the Map Tools panel (Object.moldtex_map_tools)
-    "time_factor": "Smooth",
-    "gradient_normalize": "Unit",
-    "bias_attribute": "Attribute",
-    # ("Direction X" is cut at the default width)
-    # the Brush panel (scene settings)
-    "target": "Paint",
-    "agents_per_dab": "Agents",
-    "food_strength": "Strength",
-    "food_amount": "Amount",
-}
+from .layout import (COARSE_TEXELS_PER_UNIT, SubPanel as _SubPanel, mesh_object as _mesh_object,
+                     split as _split, wrapped as _wrapped)
+from . import layout as _layout
+
+# Every short label: the panels' own and each model's (test_ui checks them all).
+LABELS = dict(_layout.LABELS)
+for _model in models.MODELS:
+    LABELS.update(_model.labels)
 
 
 def _prop(layout, data, name, **kwargs):
-    """layout.prop with the panel's short label."""
-    if name in LABELS and "text" not in kwargs:
-        kwargs["text"] = LABELS[name]
-    layout.prop(data, name, **kwargs)
+    _layout.prop(layout, data, name, labels=LABELS, **kwargs)
 
 
-def _split(layout):
-    """A column in Blender's property-split layout (labels left, values right)."""
-    column = layout.column(align=True)
-    column.use_property_split = True
-    column.use_property_decorate = False
-    return column
-
-
-# Characters a line of the sidebar shows at its default width next to an icon, inside
-# a box (seen in Blender 3.4; blender_tests/panel_fit.py checks every line drawn);
-# longer lines would be cut with an ellipsis.
-WIDTH = 21
-# Below this many texels per pattern unit the panel suggests a higher Resolution (the
-# default, 512² at Pattern Scale 1 on a layout that fills the texture, gives 1).
-COARSE_TEXELS_PER_UNIT = 0.95
-
-
-def _char_width(ch):
-    """A character's width in WIDTH's units: capitals and m, w are drawn wider than
-    the lower-case letters a line's count is measured in."""
-    return 1.3 if ch.isupper() or ch in "mw" else 1.0
-
-
-def _wrap(text, width=WIDTH):
-    """Lines of at most `width` units (_char_width), broken between words; a word
-    longer than a line (a driver's CL_PLATFORM_NOT_FOUND_KHR) in pieces. Counting
-    characters alone cut such capitals at the sidebar's edge."""
-    lines, line, used = [], "", 0.0
-    for word in text.split():
-        size = sum(_char_width(ch) for ch in word)
-        if line and used + 1.0 + size <= width:
-            line, used = f"{line} {word}", used + 1.0 + size
-            continue
-        if line:
-            lines.append(line)
-        line, used = "", 0.0
-        for ch in word:  # (most words fit whole)
-            if line and used + _char_width(ch) > width:
-                lines.append(line)
-                line, used = "", 0.0
-            line, used = line + ch, used + _char_width(ch)
-    if line:
-        lines.append(line)
-    return lines
-
-
-def _wrapped(layout, text, icon='NONE', width=WIDTH):
-    lines = _wrap(text, width) or [""]
-    column = layout.column(align=True)
-    for index, line in enumerate(lines):
-        column.label(text=line, icon=icon if index == 0 else 'BLANK1')
-
-
-def _mesh_object(context):
-    obj = context.active_object
-    return obj if obj is not None and obj.type == 'MESH' else None
-
-
-def _continuous(obj):
-    return obj is not None and obj.moldtex.model == 'CONTINUOUS'
-
-
-def _gray_scott(obj):
-    return obj is not None and obj.moldtex.model == 'GRAY_SCOTT'
-
-
-def _scene_length(context, value):
-    """A length in scene units as Blender writes it (e.g. "5.86 mm")."""
-    scene = getattr(context, "scene", None)
-    units = scene.unit_settings if scene is not None else None
-    if units is None or units.system == 'NONE':
-        return f"{value:.4g}"
-    try:
-        return bpy.utils.units.to_string(units.system, 'LENGTH',
-                                         value * units.scale_length, precision=3)
-    except (AttributeError, TypeError, ValueError):
-        return f"{value:.4g}"
-
-
-def _pattern_unit_text(context, obj):
-    """ "Unit: 5.86 mm" (the pattern unit in the scene), or how to learn it."""
-    settings = obj.moldtex
-    area = live.surface_area(obj, compute=False)
-    unit = live.pattern_unit(settings, area)
-    if unit <= 0.0:
-        return "Unit: known after Reset (it needs the surface's area)"
-    try:
-        world = length_in_scene_units(obj, unit)
-    except MeshExportError:
-        return ""
-    return f"Unit: {_scene_length(context, world)} on the object"
-
-
-def _u_text(obj):
-    """ "U 0.0123" from the live continuous simulation's stats, else from the settings
-    (Eq. 5 with the last known area); "" when neither is known."""
-    entry = live.get(obj.name)
-    stats = entry.stats if entry is not None and entry.has_sim else None
-    if stats and live.sim_model(entry) == engine.MODEL_CONTINUOUS and "u_metric" in stats:
-        value = stats["u_metric"]
-    else:
-        value = live.u_from_settings(obj.moldtex, compute=False)
-    if value is None:
-        return ""
-    return "U ∞ (no decay)" if value == float("inf") else f"U {value:.4g}"
+def _model(obj):
+    """The models.base.Model obj's settings ask for."""
+    return convert.model_for(obj.moldtex)
 
 
 class MOLDTEX_PT_main(bpy.types.Panel):
@@ -219,7 +65,7 @@ class MOLDTEX_PT_main(bpy.types.Panel):
         # The model comes first: every setting below depends on it.
         row = layout.row(align=True)
         row.prop(settings, "model", expand=True)
-        if settings.model != 'MOMAS':  # (MoMaS works in texels)
+        if len(_model(obj).domains) > 1:  # (MoMaS works in texels)
             row = layout.row(align=True)
             row.prop(settings, "domain", expand=True)
         row = layout.row(align=True)
@@ -232,11 +78,14 @@ class MOLDTEX_PT_main(bpy.types.Panel):
             check_transform(obj)
         except MeshExportError as error:
             _wrapped(layout.box(), str(error), icon='ERROR')
-        for note in invalid_enum_notes(settings) + invalid_enum_notes(settings.continuous):
+        notes = invalid_enum_notes(settings) + [
+            note for model in models.MODELS if model.settings_name
+            for note in invalid_enum_notes(getattr(settings, model.settings_name))]
+        for note in notes:
             _wrapped(layout, note + " Reset fixes it.", icon='ERROR')
         column = _split(layout)
         if len(obj.data.uv_layers) == 0:
-            if live.domain_of(settings) == engine.DOMAIN_INTRINSIC:
+            if convert.domain_of(settings) == engine.DOMAIN_INTRINSIC:
                 # It runs: only the texture needs UVs (the pattern goes to the vertices).
                 box = layout.box()
                 _wrapped(box, "No UV map: the Intrinsic domain still runs, and shows the "
@@ -266,7 +115,7 @@ class MOLDTEX_PT_main(bpy.types.Panel):
         # The controls used every minute (the rest is in the sub-panels below).
         column = _split(layout)
         _prop(column, settings, "resolution")
-        if not _gray_scott(obj):  # (no agents there)
+        if _model(obj).has_agents:
             _prop(column, settings, "agent_count")
         _prop(column, settings, "steps_per_update")
         if settings.steps_per_update == 0:
@@ -318,36 +167,17 @@ class MOLDTEX_PT_main(bpy.types.Panel):
             if running and entry.steps_per_second > 0.0:
                 grid.label(text="Speed")
                 grid.label(text=f"{entry.steps_per_second:,.0f} steps/s")
-            continuous = live.sim_model(entry) == engine.MODEL_CONTINUOUS
-            reaction = live.sim_model(entry) == engine.MODEL_GRAY_SCOTT
-            if (continuous or reaction) and not entry.baking:
+            model = convert.sim_model_for(entry)
+            if model.simulated_time and not entry.baking:
                 grid.label(text="Time")
                 grid.label(text=f"{stats.get('time', 0.0):,.2f} s")
-            if not reaction:
+            if model.has_agents:
                 grid.label(text="Agents")
                 grid.label(text=f"{stats['agent_count']:,}")
-            if reaction:
-                # coverage = mean V, presence = the area share where V > 0.1.
-                grid.label(text="Mean V")
-                grid.label(text=f"{stats['coverage']:.3f}")
-                grid.label(text="V > 0.1")
-                grid.label(text=f"{100.0 * stats['presence']:.1f} %")
-            elif continuous:
-                # U (Eq. 5) and the mean concentration in units of it (1 = the
-                # uniform steady state, reached after a few 1 / decay rate).
-                u_value = stats.get("u_metric", 0.0)
-                grid.label(text="U")
-                grid.label(text="∞" if u_value == float("inf") else f"{u_value:.4g}")
-                grid.label(text="Mean")
-                mean = stats.get("mean_concentration", 0.0)
-                grid.label(text=f"{mean / u_value:.3f} U" if 0.0 < u_value < float("inf")
-                           else f"{mean:.4g}")
-            else:
-                grid.label(text="Coverage")
-                grid.label(text=f"{100.0 * stats['coverage']:.1f} %")
-                grid.label(text="Presence")
-                grid.label(text=f"{100.0 * stats['presence']:.1f} %")
-            per_unit = live.texels_per_unit(entry, obj.moldtex)
+            for label, text in model.stats_rows(stats):
+                grid.label(text=label)
+                grid.label(text=text)
+            per_unit = convert.texels_per_unit(entry, obj.moldtex)
             detail = int(entry.config.get("detail", 1) or 1) if entry.config else 1
             if per_unit is not None:
                 grid.label(text="Texels / Unit")
@@ -385,198 +215,6 @@ def _domain_text(info):
     if info.get("skipped_faces"):
         text += f"; {info['skipped_faces']:,} left above the size at sharp corners"
     return text
-
-
-class _SubPanel:
-    bl_space_type = 'VIEW_3D'
-    bl_region_type = 'UI'
-    bl_category = "Moldtex"
-    bl_parent_id = "MOLDTEX_PT_main"
-
-    @classmethod
-    def poll(cls, context):
-        return _mesh_object(context) is not None
-
-
-class _MomasPanel(_SubPanel):
-    @classmethod
-    def poll(cls, context):
-        obj = _mesh_object(context)
-        return obj is not None and not _continuous(obj) and not _gray_scott(obj)
-
-
-class _ReactionPanel(_SubPanel):
-    @classmethod
-    def poll(cls, context):
-        return _gray_scott(_mesh_object(context))
-
-
-class _ContinuousPanel(_SubPanel):
-    @classmethod
-    def poll(cls, context):
-        return _continuous(_mesh_object(context))
-
-
-def _draw_pattern_scale(layout, settings, active=True):
-    column = layout.column(align=True)
-    column.active = active
-    _prop(column.row(align=True), settings, "pattern_scale_mode", expand=True)
-    if settings.pattern_scale_mode == 'LENGTH':
-        _prop(column, settings, "pattern_length")
-    else:
-        _prop(column, settings, "pattern_scale")
-
-
-def _draw_pattern_unit(layout, context, obj, what):
-    """The pattern scale settings, then the unit on the object and what is in it."""
-    _draw_pattern_scale(_split(layout), obj.moldtex)
-    text = _pattern_unit_text(context, obj)
-    if text:
-        _wrapped(layout, f"{text} ({what})", icon='DRIVER_DISTANCE')
-
-
-class MOLDTEX_PT_agents(_MomasPanel, bpy.types.Panel):
-    bl_label = "Agents"
-    bl_idname = "MOLDTEX_PT_agents"
-
-    def draw(self, context):
-        settings = context.active_object.moldtex
-        units = _split(self.layout)
-        _prop(units, settings, "pattern_units")
-        _draw_pattern_scale(units, settings, settings.pattern_units == 'SURFACE')
-        _prop(units, settings, "time_step")
-        column = _split(self.layout)
-        for name in ("movement_speed", "turn_speed", "vision_distance", "vision_angle_ui",
-                     "sensor_size"):
-            _prop(column, settings, name)
-
-
-class MOLDTEX_PT_pheromone(_MomasPanel, bpy.types.Panel):
-    bl_label = "Pheromone"
-    bl_idname = "MOLDTEX_PT_pheromone"
-
-    def draw(self, context):
-        settings = context.active_object.moldtex
-        column = _split(self.layout)
-        for name in ("evaporation_rate", "diffusion_rate", "deposit", "substeps"):
-            _prop(column, settings, name)
-
-
-class MOLDTEX_PT_reaction(_ReactionPanel, bpy.types.Panel):
-    bl_label = "Reaction"
-    bl_idname = "MOLDTEX_PT_reaction"
-
-    def draw(self, context):
-        obj = context.active_object
-        settings = obj.moldtex
-        reaction = settings.reaction
-        layout = self.layout
-        _draw_pattern_unit(layout, context, obj, "rates below are in units² / s")
-        column = _split(layout)
-        for name in ("feed", "kill", "diffusion_u", "diffusion_v", "time_step"):
-            _prop(column, reaction, name)
-        column = _split(layout)
-        column.label(text="Applied on Reset", icon='FILE_REFRESH')
-        _prop(column, reaction, "seed_count")
-        _prop(column, reaction, "seed_radius", text="Radius")
-        _prop(_split(layout), reaction, "display_range")
-
-
-# The continuous model's sub-panels follow layton-intrinsic-slime.md Table 1: Agent,
-# Pheromone, Turnover; its Simulation group (time step, integrator) heads the
-# Simulation sub-panel.
-
-class MOLDTEX_PT_continuous_agents(_ContinuousPanel, bpy.types.Panel):
-    bl_label = "Agents"
-    bl_idname = "MOLDTEX_PT_continuous_agents"
-
-    def draw(self, context):
-        obj = context.active_object
-        settings = obj.moldtex
-        layout = self.layout
-        _draw_pattern_unit(layout, context, obj, "lengths below are in units")
-        column = _split(layout)
-        for name in ("move_rate", "turn_rate", "turn_frequency", "sensor_distance",
-                     "sensor_angle"):
-            _prop(column, settings.continuous, name)
-        if settings.continuous.sensor_angle < 0.0:
-            _wrapped(layout, "Negative angle: agents turn away from pheromone "
-                             "(chemo-repulsion).", icon='INFO')
-
-
-class MOLDTEX_PT_continuous_pheromone(_ContinuousPanel, bpy.types.Panel):
-    bl_label = "Pheromone"
-    bl_idname = "MOLDTEX_PT_continuous_pheromone"
-
-    def draw(self, context):
-        obj = context.active_object
-        cont = obj.moldtex.continuous
-        layout = self.layout
-        column = _split(layout)
-        for name in ("deposit_rate", "diffusion_rate", "decay_rate", "keep_u"):
-            _prop(column, cont, name)
-        text = _u_text(obj)
-        if text:
-            kept = " (kept)" if cont.keep_u else ""
-            _wrapped(layout, f"{text}{kept}: the uniform steady state, Eq. 5",
-                     icon='INFO')
-        else:
-            _wrapped(layout, "U (Eq. 5) is known after Reset: it needs the surface's "
-                             "area.", icon='INFO')
-        _prop(_split(layout), cont, "display_range")
-        if (material.moldtex_node(obj, material.TEXTURE_NODE) is not None
-                and material.moldtex_node(obj, material.RANGE_NODE) is None):
-            _wrapped(layout, "The material predates the display range: press Set Up "
-                             "Material to show u / U.", icon='ERROR')
-
-
-class MOLDTEX_PT_continuous_turnover(_ContinuousPanel, bpy.types.Panel):
-    bl_label = "Turnover"
-    bl_idname = "MOLDTEX_PT_continuous_turnover"
-
-    def draw(self, context):
-        cont = context.active_object.moldtex.continuous
-        layout = self.layout
-        column = _split(layout)
-        _prop(column, cont, "mean_lifetime")
-        sub = column.column(align=True)
-        sub.active = cont.mean_lifetime > 0.0
-        _prop(sub, cont, "activation_time")
-        _prop(column, cont, "boundary")
-        if cont.mean_lifetime <= 0.0:
-            _wrapped(layout, "Lifetime 0: agents live for ever (no turnover).",
-                     icon='INFO')
-
-
-class MOLDTEX_PT_continuous_bias(_ContinuousPanel, bpy.types.Panel):
-    bl_label = "Bias"
-    bl_idname = "MOLDTEX_PT_continuous_bias"
-    bl_options = {'DEFAULT_CLOSED'}
-
-    def draw(self, context):
-        cont = context.active_object.moldtex.continuous
-        layout = self.layout
-        column = _split(layout)
-        _prop(column, cont, "bias_strength")
-        sub = column.column(align=True)
-        sub.active = cont.bias_strength > 0.0 or cont.bias_spawn
-        _prop(sub, cont, "bias_symmetry")
-        _prop(sub, cont, "bias_source")
-        if cont.bias_source == 'ATTRIBUTE':
-            sub.prop_search(cont, "bias_attribute", context.active_object.data, "attributes",
-                            text=LABELS["bias_attribute"])
-        else:
-            _prop(sub, cont, "bias_direction")
-        _prop(column, cont, "bias_spawn")
-        if cont.bias_strength <= 0.0 and not cont.bias_spawn:
-            _wrapped(layout, "Strength 0: no pull (agents turn only toward pheromone).",
-                     icon='INFO')
-        elif cont.bias_source == 'ATTRIBUTE':
-            _wrapped(layout, "Each face's vector (object axes) from the attribute; "
-                             "Map Tools ▸ Gradient to Bias writes one.", icon='INFO')
-        else:
-            _wrapped(layout, "Direction in the object's axes, along each face.",
-                     icon='INFO')
 
 
 class MOLDTEX_PT_map_tools(_SubPanel, bpy.types.Panel):
@@ -626,7 +264,7 @@ class MOLDTEX_PT_continuous_maps(_SubPanel, bpy.types.Panel):
     @classmethod
     def poll(cls, context):
         obj = _mesh_object(context)
-        return _continuous(obj) or _gray_scott(obj)
+        return obj is not None and bool(_model(obj).map_keys)
 
     def draw(self, context):
         obj = context.active_object
@@ -635,9 +273,9 @@ class MOLDTEX_PT_continuous_maps(_SubPanel, bpy.types.Panel):
         if entry is not None and entry.maps_error:
             _wrapped(layout, entry.maps_error, icon='ERROR')
         enabled = 0
-        model = obj.moldtex.model
+        read = _model(obj).map_keys
         for spec, slot in map_slots(obj.moldtex):
-            if model not in spec.models:
+            if spec.key not in read:
                 continue
             enabled += bool(slot.enabled)
             _draw_map(layout, obj, spec, slot)
@@ -684,22 +322,21 @@ class MOLDTEX_PT_setup(_SubPanel, bpy.types.Panel):
     def draw(self, context):
         settings = context.active_object.moldtex
         layout = self.layout
-        if _continuous(context.active_object):
-            column = _split(layout)
-            _prop(column, settings, "time_step")
-            _prop(column, settings.continuous, "integrator")
+        model = _model(context.active_object)
+        column = _split(layout)
+        model.draw_setup(column, settings)
         column = _split(layout)
         column.label(text="Applied on Reset", icon='FILE_REFRESH')
         _prop(column, settings, "seed")
-        if settings.model == 'MOMAS' and settings.pattern_units == 'SURFACE':
+        if model.pattern_lengths and settings.pattern_units == 'SURFACE':
             _prop(column, settings, "detail")  # (MoMaS' surface units only)
-        if settings.model != 'MOMAS' and settings.domain == 'INTRINSIC':
+        if engine.DOMAIN_INTRINSIC in model.domains and settings.domain == 'INTRINSIC':
             _prop(column, settings, "intrinsic_size")
         _prop(column, settings, "backend")
         note = live.backend_note(settings)
         if note:  # e.g. a file saved on a machine with another GPU
             _wrapped(layout, note, icon='ERROR')
-        devices, reason = live.opencl_devices()
+        devices, reason = convert.opencl_devices()
         if not devices:
             _wrapped(layout, f"OpenCL unavailable: {reason}", icon='INFO')
         column = _split(layout)
@@ -717,7 +354,8 @@ class MOLDTEX_PT_species(_SubPanel, bpy.types.Panel):
         layout = self.layout
         column = _split(layout)
         column.label(text="Applied on Reset", icon='FILE_REFRESH')
-        if not _gray_scott(context.active_object):
+        model = _model(context.active_object)
+        if model.has_agents:
             _prop(column, settings, "species_count")
         _prop(column, settings, "seed_shape")
         if settings.seed_shape in {'CIRCLE', 'STARBURST'}:
@@ -728,26 +366,22 @@ class MOLDTEX_PT_species(_SubPanel, bpy.types.Panel):
             _wrapped(layout, "Centre: the surface point nearest the 3D cursor.",
                      icon='PIVOT_CURSOR')
         _draw_fields(layout, context.active_object)
-        if _gray_scott(context.active_object):
-            _wrapped(layout, "Gray-Scott: no agents or species; its seeds start where "
-                             "the Spawn field says (Start: Spawn Map), else anywhere.",
-                     icon='INFO')
+        if not model.has_agents:
+            _wrapped(layout, model.start_note, icon='INFO')
             return
         _draw_food(layout, context.active_object)
         count = settings.species_count
         if count < 2:
             return
-        continuous = _continuous(context.active_object)
-        if continuous:
-            _wrapped(layout, "Continuous model: its settings apply to every species; "
-                             "each keeps its colour and attractions.", icon='INFO')
+        if model.species_note:
+            _wrapped(layout, model.species_note, icon='INFO')
         for index in range(min(count, len(settings.species))):
             item = settings.species[index]
             box = layout.box()
             row = box.row()
             row.label(text=f"Species {index + 1}")
             row.prop(item, "color", text="")
-            if not continuous:
+            if model.species_params:
                 column = _split(box)
                 for name in ("movement_speed", "turn_speed", "vision_distance",
                              "vision_angle_ui", "deposit"):
@@ -779,7 +413,7 @@ def _draw_fields(layout, obj):
                           "where agents start.", icon='ERROR')
         return
     column = _split(box)
-    for name in live.FIELD_ATTRIBUTES:
+    for name in convert.FIELD_ATTRIBUTES:
         column.prop_search(settings, name, obj, "vertex_groups", icon='GROUP_VERTEX',
                            **_SUGGESTIONS)
     if settings.seed_shape == 'SPAWN_MAP' and not settings.spawn_attribute:
@@ -934,9 +568,8 @@ class MOLDTEX_PT_brush(_SubPanel, bpy.types.Panel):
                                  "paints only a Fields image.", icon='ERROR')
             elif obj.moldtex.fields_image is None:
                 _wrapped(layout, "The first stroke makes a Fields image.", icon='INFO')
-        elif settings.target == 'SLIME' and _gray_scott(obj):
-            _wrapped(layout, "Gray-Scott: each dab seeds V in the live simulation (erase "
-                             "clears it; Reset starts over).", icon='INFO')
+        elif settings.target == 'SLIME' and not _model(obj).has_agents:
+            _wrapped(layout, _model(obj).slime_note, icon='INFO')
         elif settings.target == 'SLIME':
             _prop(column, settings, "agents_per_dab")
             if obj.moldtex.species_count > 1:
@@ -956,13 +589,11 @@ class MOLDTEX_PT_brush(_SubPanel, bpy.types.Panel):
         sub.operator("moldtex.brush_redo", icon='LOOP_FORWARDS', text=f"Redo ({undone})")
 
 
-CLASSES = (MOLDTEX_PT_main, MOLDTEX_PT_agents, MOLDTEX_PT_pheromone, MOLDTEX_PT_reaction,
-           MOLDTEX_PT_continuous_agents, MOLDTEX_PT_continuous_pheromone,
-           MOLDTEX_PT_continuous_turnover, MOLDTEX_PT_continuous_bias, MOLDTEX_PT_species, MOLDTEX_PT_brush,
-           MOLDTEX_PT_map_tools, MOLDTEX_PT_setup, MOLDTEX_PT_bake)
-# The Maps sub-panel follows Bias (the sidebar shows panels in registration order).
-_at = CLASSES.index(MOLDTEX_PT_continuous_bias) + 1
-CLASSES = CLASSES[:_at] + (MOLDTEX_PT_continuous_maps,) + CLASSES[_at:]
+# The sidebar shows sub-panels in registration order: the models' own (each drawn only
+# for its model) after the main panel, then the Maps sub-panel and the shared ones.
+CLASSES = ((MOLDTEX_PT_main,) + tuple(panel for model in models.MODELS for panel in model.panels)
+           + (MOLDTEX_PT_continuous_maps, MOLDTEX_PT_species, MOLDTEX_PT_brush,
+              MOLDTEX_PT_map_tools, MOLDTEX_PT_setup, MOLDTEX_PT_bake))
 # (Resolution, Agents and Steps per Update are on the main panel; the Simulation
 # sub-panel keeps what is changed rarely: seed, backend, threads, image.)
 

@@ -18,15 +18,15 @@ Keep U off first and sets it last, and gives a fixed agent count: that model's l
 does not depend on the texture resolution. Its ramp spans u / U from 0 to
 s.continuous.display_range.
 
-A Gray-Scott look sets s.model = 'GRAY_SCOTT' and s.reaction (diffusion rates in
-pattern units² per second, the seed radius in pattern units); its ramp spans V from 0
-to s.reaction.display_range.
+Another model's look sets s.model and that model's own settings group (its
+models/<name>.py lists the fields a preset writes); its ramp spans 0 to that group's
+display_range.
 
 Presets neither store nor change the parameter maps (s.maps, maps/): a look is about
 the parameters, while a map names one object's vertex groups and images, which another
 object would not have (applying a look keeps the object's maps as they are).
 
-scaled_agent_count and apply_ramp are methods of the settings (properties.py), so a
+scaled_agent_count and apply_ramp are methods of the settings (settings/properties.py), so a
 preset never imports this add-on, whose module name differs between installs
 ("moldtex" as a legacy add-on, "bl_ext.<repository>.moldtex" as a 4.2 extension).
 
@@ -50,26 +50,19 @@ import os
 import bpy
 from bl_operators.presets import AddPresetBase
 
-from . import engine, live, material
+from .. import engine, models
+from ..colour import material
+from ..settings.enums import enum_value
+from . import scaling
 
 SUBDIR = "moldtex"
 MENU_IDNAME = "MOLDTEX_MT_presets"
-REFERENCE_RESOLUTION = 512  # agent counts in presets are for 512 x 512 pattern units
 AGENT_COUNT_COMMENT = "agents on 512 x 512 pattern units"
-MAX_AGENTS = 67108864
 
 # Settings a preset sets (besides the model, the agent count and the ramp): MoMaS'...
 PRESET_PROPERTIES = ("movement_speed", "turn_speed", "vision_distance", "vision_angle",
                      "evaporation_rate", "diffusion_rate", "deposit", "substeps")
-# ... and the continuous model's (settings.continuous; Keep U is set last, so that the U
-# it keeps is the one of the preset's own values).
-CONTINUOUS_PRESET_PROPERTIES = ("move_rate", "turn_rate", "turn_frequency",
-                                "sensor_distance", "sensor_angle", "deposit_rate",
-                                "diffusion_rate", "decay_rate", "mean_lifetime",
-                                "activation_time", "integrator", "display_range")
-# ... and Gray-Scott's (settings.reaction; written as r.<name>).
-REACTION_PRESET_PROPERTIES = ("feed", "kill", "diffusion_u", "diffusion_v", "time_step",
-                              "seed_count", "seed_radius", "display_range")
+# ... and each model's own (models/: Model.preset_alias and preset_fields).
 
 
 def shipped_directory():
@@ -157,46 +150,9 @@ def menu_label(obj):
     return name or "Presets"
 
 
-def agents_per_preset_agent(settings, area=None):
-    """How many agents `settings` (a MoMaS look) needs for each agent a preset counts:
-    a preset's count is for REFERENCE_RESOLUTION² pattern units over the object, which
-    Units: Texels makes texels of a 512² texture and Units: Surface √(area) / 512 × 1
-    (Pattern Scale 1). So in texel units the count follows the resolution (4× agents per
-    doubling, the same agents per texel), and in surface units it does not: there the
-    pattern unit, not the texel, is fixed on the model, and 4× agents at 1024² grew a
-    denser network (marble on a torus, 300 steps, 2 seeds: dark share 0.08 at 1024² with
-    240 000 agents against 0.12-0.14 at 512² and 1024² with 60 000). It follows the
-    pattern unit instead: Pattern Scale 2 makes cells twice as long, so a quarter of the
-    agents keeps as many per cell. area: the surface's area (mesh units²), needed for
-    Scale: Length only (live.surface_area when None; 1 when unknown)."""
-    if getattr(settings, "pattern_units", 'SURFACE') != 'SURFACE':
-        return (int(settings.resolution) / REFERENCE_RESOLUTION) ** 2
-    if getattr(settings, "pattern_scale_mode", 'OBJECT') != 'LENGTH':
-        return 1.0 / float(settings.pattern_scale) ** 2
-    obj = settings.id_data
-    if area is None and obj is not None:
-        area = live.surface_area(obj)
-    unit = live.pattern_unit(settings, area)
-    if not area or area <= 0.0 or unit <= 0.0:
-        return 1.0
-    return area / (REFERENCE_RESOLUTION * unit) ** 2
-
-
-def scaled_agent_count(agents_at_512, factor):
-    """`agents_at_512` agents of a preset times `factor` (agents_per_preset_agent),
-    bounded to the core's limits."""
-    count = round(float(agents_at_512) * float(factor))
-    return max(1, min(MAX_AGENTS, int(count)))
-
-
-def apply_ramp(obj, stops, interpolation='LINEAR'):
-    """Sets the Moldtex Ramp node of obj's material to `stops` ([(position, (r, g, b,
-    a)), ...]) if it exists, and remembers them so that a later Set Up Material (or a
-    bake's playback setup) uses them too."""
-    material.store_preset_ramp(obj, stops, interpolation)
-    node = material.moldtex_node(obj, material.RAMP_NODE)
-    if node is not None:
-        material.set_ramp(node, stops, interpolation)
+agents_per_preset_agent = scaling.agents_per_preset_agent
+scaled_agent_count = scaling.scaled_agent_count
+apply_ramp = material.apply_ramp
 
 
 def current_ramp(obj):
@@ -215,7 +171,6 @@ def _literal(value):
 
 def preset_text(obj, title=""):
     """The preset file for obj's current look, in the shipped presets' format."""
-    from .properties import enum_value
     settings = obj.moldtex
     cont = settings.continuous
     model = enum_value(settings, "model")
@@ -226,13 +181,17 @@ def preset_text(obj, title=""):
     for name in PRESET_PROPERTIES:
         lines.append(f"s.{name} = {_literal(getattr(settings, name))}")
     lines.append(f"s.time_step = {_literal(settings.time_step)}")
-    for name in CONTINUOUS_PRESET_PROPERTIES:
-        value = enum_value(cont, name) if name == "integrator" else getattr(cont, name)
-        lines.append(f"c.{name} = {_literal(value)}")
-    lines.append("r = s.reaction")
-    for name in REACTION_PRESET_PROPERTIES:
-        lines.append(f"r.{name} = {_literal(getattr(settings.reaction, name))}")
-    if model in ('CONTINUOUS', 'GRAY_SCOTT'):
+    for own in models.MODELS:
+        if not own.preset_fields:
+            continue
+        group = getattr(settings, own.settings_name)
+        if own.preset_alias != "c":  # (c = s.continuous is written above, for Keep U)
+            lines.append(f"{own.preset_alias} = s.{own.settings_name}")
+        for name in own.preset_fields:
+            value = (enum_value(group, name)
+                     if group.bl_rna.properties[name].type == 'ENUM' else getattr(group, name))
+            lines.append(f"{own.preset_alias}.{name} = {_literal(value)}")
+    if not models.of_key(model).scaled_presets:
         # These models' looks do not depend on the resolution.
         lines.append(f"s.agent_count = {int(settings.agent_count)}")
     else:
@@ -326,12 +285,13 @@ preset, or remove one of your presets"""
     bl_label = "Add Moldtex Preset"
     preset_menu = MENU_IDNAME
     preset_subdir = SUBDIR
-    preset_defines = ["obj = bpy.context.object", "s = obj.moldtex", "c = s.continuous",
-                      "r = s.reaction"]
+    preset_defines = (["obj = bpy.context.object", "s = obj.moldtex"]
+                      + [f"{m.preset_alias} = s.{m.settings_name}" for m in models.MODELS
+                         if m.preset_fields])
     preset_values = (["s.model"] + [f"s.{name}" for name in PRESET_PROPERTIES]
                      + ["s.time_step"]
-                     + [f"c.{name}" for name in CONTINUOUS_PRESET_PROPERTIES]
-                     + [f"r.{name}" for name in REACTION_PRESET_PROPERTIES]
+                     + [f"{m.preset_alias}.{name}" for m in models.MODELS
+                        for name in m.preset_fields]
                      + ["s.agent_count", "c.keep_u"])
 
     @classmethod

@@ -11,34 +11,25 @@ This module talks to the core only through engine.py.
 """
 
 import array
-import math
 import time
 import zlib
 
-from . import engine, image_io, vertex_colours
-from .maps import mesh_values
-from .maps import sampling as map_sampling
-from .mesh_export import (MeshExportError, export_object, export_scale,
-                          length_in_mesh_units, no_uv_map_message, read_corner_fields,
-                          resolve_uv_map_name, world_to_mesh)
+from .. import engine, models
+from ..data import image_io, vertex_colours
+from ..data.mesh_export import (MeshExportError, export_object, length_in_mesh_units,
+                                no_uv_map_message, resolve_uv_map_name)
+from ..maps import sampling as map_sampling
+from ..settings import events
+from ..settings.enums import repair_enums
+from ..settings.properties import ensure_species
+from . import registry
+from .convert import (CENTERED_SHAPES, backend_note, check_seed_radius, check_spawn_map,
+                      config_from_settings, detail_for, fields_from_settings,
+                      food_from_settings, params_from_settings, seed_center, sim_model,
+                      sim_model_for, model_for, species_params_from_settings)
 
-# name -> LiveSim
-_registry = {}
-
-PARAM_PROPERTIES = ("movement_speed", "turn_speed", "vision_distance", "vision_angle",
-                    "evaporation_rate", "diffusion_rate", "deposit", "substeps",
-                    "thread_count", "sensor_size")
-CONFIG_PROPERTIES = ("resolution", "agent_count", "seed", "uv_map", "backend_type",
-                     "opencl_platform", "opencl_device", "opencl_device_name",
-                     "opencl_platform_name", "species_count", "seed_shape", "seed_radius",
-                     "seed_rays")
-SPECIES_PROPERTIES = ("movement_speed", "turn_speed", "vision_distance", "vision_angle",
-                      "deposit")
-SEED_SHAPES = {"RANDOM": engine.SEED_RANDOM, "SPAWN_MAP": engine.SEED_SPAWN_MAP,
-               "CIRCLE": engine.SEED_CIRCLE, "BIG_BANG": engine.SEED_BIG_BANG,
-               "STARBURST": engine.SEED_STARBURST}
-CENTERED_SHAPES = {"CIRCLE", "BIG_BANG", "STARBURST"}
-
+# name -> LiveSim (sim/registry.py, where the settings read them)
+_registry = registry._entries
 
 class LiveSim:
     """One object's simulation and what it was built from."""
@@ -53,7 +44,7 @@ class LiveSim:
         self.config = None        # dict the sim was created with
         self.uv_map = ""          # UV map name the sim was built on
         self.uv_map_setting = ""  # settings.uv_map at build time ("" = render UV map)
-        self.reaction_seeds = None  # reaction_seeds(settings) at build time (Gray-Scott)
+        self.reset_key = None     # the model's reset_key(settings) at build time
         self.signature = None     # MeshArrays.signature of the mesh it was built on
         self.surface_info = {}
         self.pixels = None        # persistent array('f') for read_rgba + foreach_set
@@ -89,7 +80,7 @@ class LiveSim:
         self.fields_crc = None
         self.fields_polled = 0.0
         # (direction in mesh coordinates or None, triangle count) of the bias vectors
-        # last given to the continuous model's simulation (_push_bias).
+        # last given to the continuous model's simulation (models/continuous.push_bias).
         self.bias_key = None
         # Parameter maps (maps/): {engine.MAP_*: maps.sampling key} of the values last
         # given to the continuous model's simulation (_push_maps), and the last error
@@ -151,12 +142,8 @@ class LiveSim:
         self.stop_requested = True
 
 
-def get(name):
-    return _registry.get(name)
-
-
-def names():
-    return list(_registry)
+get = registry.get
+names = registry.names
 
 
 def free(name):
@@ -179,466 +166,6 @@ def mark_dirty(name=None):
     for key in list(_build_exports):
         if name is None or key == name:
             del _build_exports[key]
-
-
-def opencl_devices():
-    """engine.opencl_devices(): (devices, reason), read once and cached."""
-    return engine.opencl_devices()
-
-
-def find_opencl_device(settings):
-    """The engine's device (dict) that the settings' stored OpenCL choice means, or
-    None, and a note for the user when the choice cannot be honoured here ("" if it
-    can, or if the stored indices are to be used as they are)."""
-    devices, reason = engine.opencl_devices()
-    name = settings.opencl_device_name
-    platform, index = settings.opencl_platform, settings.opencl_device
-    if not name:
-        # Set by a script through the indices: use them as they are (the core reports
-        # a device that does not exist when the simulation is created).
-        for device in devices:
-            if (device["platform_index"], device["device_index"]) == (platform, index):
-                return device, ""
-        return None, ""
-    # Chosen in the panel: find the device by name, so that a file still finds its
-    # device when the platforms are listed in another order.
-    same_name = [d for d in devices if d["name"] == name and (
-        not settings.opencl_platform_name
-        or d["platform_name"] == settings.opencl_platform_name)]
-    for device in same_name:
-        if (device["platform_index"], device["device_index"]) == (platform, index):
-            return device, ""
-    if same_name:
-        return same_name[0], ""
-    where = (f"OpenCL is unavailable here ({reason.rstrip('.')})" if not devices
-             else "this machine does not have it")
-    return None, (f"The OpenCL device '{name}' chosen in this file cannot be used: "
-                  f"{where}. Auto is used instead. Pick a Backend to change it.")
-
-
-def backend_from_settings(settings):
-    """(config fields for the backend, note): note says why the choice is not used."""
-    fields = {"backend": engine.BACKEND_AUTO, "opencl_platform": 0, "opencl_device": 0}
-    if settings.backend_type == 'CPU':
-        fields["backend"] = engine.BACKEND_CPU
-    elif settings.backend_type == 'OPENCL':
-        device, note = find_opencl_device(settings)
-        if device is not None:
-            fields.update(backend=engine.BACKEND_OPENCL,
-                          opencl_platform=device["platform_index"],
-                          opencl_device=device["device_index"])
-        elif not note:
-            fields.update(backend=engine.BACKEND_OPENCL,
-                          opencl_platform=int(settings.opencl_platform),
-                          opencl_device=int(settings.opencl_device))
-        else:
-            return fields, note
-    return fields, ""
-
-
-def backend_note(settings):
-    """Why the settings' backend choice cannot be used on this machine, or ""."""
-    if settings.backend_type != 'OPENCL':
-        return ""
-    return find_opencl_device(settings)[1]
-
-
-MODELS = {"MOMAS": engine.MODEL_MOMAS, "CONTINUOUS": engine.MODEL_CONTINUOUS,
-          "GRAY_SCOTT": engine.MODEL_GRAY_SCOTT}
-INTEGRATORS = {"AUTO": engine.INTEGRATOR_AUTO, "FORWARD": engine.INTEGRATOR_FORWARD,
-               "BACKWARD": engine.INTEGRATOR_BACKWARD}
-
-
-def model_of(settings):
-    """engine.MODEL_* the settings ask for (a value this version does not know reads as
-    MoMaS, the default)."""
-    from .properties import enum_value  # (properties imports this module)
-    return MODELS.get(enum_value(settings, "model"), engine.MODEL_MOMAS)
-
-
-def sim_model(entry):
-    """engine.MODEL_* of entry's simulation (the settings may ask for another one until
-    Reset), or None without a simulation."""
-    if entry is None or entry.config is None:
-        return None
-    return entry.config.get("model", engine.MODEL_MOMAS)
-
-
-DOMAINS = {"TEXTURE": engine.DOMAIN_TEXTURE, "INTRINSIC": engine.DOMAIN_INTRINSIC}
-
-
-def domain_of(settings):
-    """engine.DOMAIN_* the settings ask for: Intrinsic only for the models that run on
-    it (MoMaS works in texels, so a MoMaS simulation keeps the texture whatever the
-    setting says)."""
-    from .properties import enum_value  # (properties imports this module)
-    if model_of(settings) == engine.MODEL_MOMAS:
-        return engine.DOMAIN_TEXTURE
-    return DOMAINS.get(enum_value(settings, "domain"), engine.DOMAIN_TEXTURE)
-
-
-def config_from_settings(settings, surface_info=None):
-    """The core's config for settings; `surface_info` (the surface's area and UV area,
-    engine.Surface.info) decides Detail: Auto, which is 1 where it is not given."""
-    from .properties import enum_value  # (properties imports this module)
-    size = int(enum_value(settings, "resolution"))
-    domain = domain_of(settings)
-    config = {"model": model_of(settings), "domain": domain,
-              "intrinsic_bound": (float(settings.intrinsic_size)
-                                  if domain == engine.DOMAIN_INTRINSIC else 0.0),
-              "width": size, "height": size, "agent_count": int(settings.agent_count),
-              "seed": int(settings.seed), "species_count": int(settings.species_count),
-              "seed_shape": SEED_SHAPES[enum_value(settings, "seed_shape")],
-              "seed_radius": float(settings.seed_radius),
-              "seed_rays": int(settings.seed_rays),
-              "detail": detail_for(settings, size, surface_info)}
-    config.update(backend_from_settings(settings)[0])
-    return config
-
-
-# Detail: Auto doubles the detail while the simulation has fewer texels per pattern unit
-# than this (a UV sphere's poles need two: README, "Units: Surface") and its size stays
-# within AUTO_DETAIL_MAX_SIZE[detail] texels per side: 4x only up to 1024^2 simulated,
-# since on Suzanne (Subdivision 2, 512^2, the defaults) a step takes 4.8 ms at 1x, 11 ms
-# at 2x (1024^2) and 32-41 ms at 4x (2048^2; PERFORMANCE).
-AUTO_DETAIL_TEXELS_PER_UNIT = 1.9
-AUTO_DETAIL_MAX_SIZE = {2: 4096, 4: 1024}
-
-
-def detail_for(settings, size, surface_info=None):
-    """Simulated texels per image texel and axis (the core's config.detail): 1 except for
-    MoMaS in surface units; there the Detail setting, or for Auto the smallest of 1, 2
-    and 4 that gives AUTO_DETAIL_TEXELS_PER_UNIT simulated texels per pattern unit, as
-    far as AUTO_DETAIL_MAX_SIZE allows (1 where the surface is not known)."""
-    if model_of(settings) != engine.MODEL_MOMAS or \
-            _enum(settings, "pattern_units", 'SURFACE') != 'SURFACE':
-        return 1
-    choice = _enum(settings, "detail", 'AUTO')
-    if choice != 'AUTO':
-        return int(choice)
-    per_unit = _per_unit(settings, surface_info or {}, size, size)
-    if per_unit is None:
-        return 1
-    detail = 1
-    while (detail < 4 and per_unit * detail < AUTO_DETAIL_TEXELS_PER_UNIT
-           and 2 * detail * size <= AUTO_DETAIL_MAX_SIZE[2 * detail]):
-        detail *= 2
-    return detail
-
-
-# Surface units: a pattern scale of 1 makes one pattern "texel" the side of a square of
-# 1/512² of the object's area (the texel of a 512² texture on a UV layout that fills it),
-# so at the default resolution the look is MoMaS' and higher resolutions sharpen it.
-REFERENCE_RESOLUTION = 512
-
-
-def pattern_unit(settings, area):
-    """The pattern unit in mesh units: the length every pattern length of both models is
-    a multiple of (MoMaS' surface-unit "texel", the continuous model's lengths).
-    Pattern Scale Mode 'OBJECT': Pattern Scale × √(area) / 512, area being the surface's
-    3D area in mesh units² (0 where it is not known yet); 'LENGTH': the Pattern Length,
-    a length in the scene, in the mesh's units (object scale applied)."""
-    if _enum(settings, "pattern_scale_mode", 'OBJECT') == 'LENGTH':
-        obj = settings.id_data
-        length = float(settings.pattern_length)
-        return length_in_mesh_units(obj, length) if obj is not None else length
-    if not area or area <= 0:
-        return 0.0
-    return math.sqrt(area) / REFERENCE_RESOLUTION * float(settings.pattern_scale)
-
-
-def length_unit(settings, area):
-    """The core's length_unit (mesh units) for settings on a surface of 3D area `area`:
-    0 in texel units, or where the area is not known yet."""
-    if _enum(settings, "pattern_units", 'SURFACE') != 'SURFACE':
-        return 0.0
-    return pattern_unit(settings, area)
-
-
-def texels_per_unit(entry, settings):
-    """How many texels of entry's texture span one pattern unit (MoMaS in surface units):
-    the unit over the side of the mean texel, √(3D area / (UV area × width × height)).
-    Under about two, detail finer than a unit and a UV sphere's poles come out thin
-    (README, "Units: Surface"). None where it does not apply or is not known yet."""
-    if sim_model(entry) != engine.MODEL_MOMAS or not entry.has_sim:
-        return None
-    if _enum(settings, "pattern_units", 'SURFACE') != 'SURFACE':
-        return None
-    return _per_unit(settings, entry.surface_info,
-                     entry.config.get("width", 0), entry.config.get("height", 0))
-
-
-def _per_unit(settings, surface_info, width, height):
-    """Texels of a width × height texture per pattern unit on a surface of
-    surface_info's area and UV area: the unit over the side of the mean texel,
-    √(3D area / (UV area × width × height)); None where any of them is unknown."""
-    area = surface_info.get("area") or 0.0
-    uv_area = surface_info.get("uv_area") or 0.0
-    unit = pattern_unit(settings, area)
-    if not (area > 0.0 and uv_area > 0.0 and width > 0 and height > 0 and unit > 0.0):
-        return None
-    return unit / math.sqrt(area / (uv_area * width * height))
-
-
-def _enum(settings, name, default):
-    try:
-        return getattr(settings, name) or default  # "" for a value it does not know
-    except (AttributeError, TypeError, ValueError):
-        return default
-
-
-def params_from_settings(settings, area=None, model=None):
-    """The core's moldtex_sim_params for settings on a surface of `area` mesh units²;
-    model (engine.MODEL_*, default: what the settings ask for) decides whether the
-    MoMaS pattern lengths apply (the continuous model ignores them and gets
-    length_unit 0, which the core always accepts)."""
-    if model is None:
-        model = model_of(settings)
-    params = {name: getattr(settings, name) for name in PARAM_PROPERTIES}
-    params["thread_count"] = min(int(params["thread_count"]), 256)  # the core's limit
-    params["time_step"] = float(settings.time_step)
-    params["length_unit"] = (length_unit(settings, area) if model == engine.MODEL_MOMAS
-                             else 0.0)
-    params["hunger_rate"] = settings.hunger_rate
-    obj = settings.id_data
-    params["food_radius"] = (length_in_mesh_units(obj, settings.food_radius)
-                             if obj is not None else settings.food_radius)
-    return params
-
-
-def known_pattern_unit(settings, area):
-    """pattern_unit(settings, area), or engine.EngineError when it is not known (no
-    area yet in Pattern Scale Mode Object)."""
-    unit = pattern_unit(settings, area)
-    if not unit > 0.0 or not math.isfinite(unit):
-        raise engine.EngineError(
-            "The pattern unit is not known yet (the surface's area is needed for Pattern "
-            "Scale Mode Object): press Reset.", engine.ERROR_INVALID_ARGUMENT)
-    return unit
-
-
-def reaction_params_from_settings(settings, area):
-    """The core's moldtex_reaction_params (Gray-Scott) for settings on a surface of
-    `area` mesh units²: diffusion rates from pattern units² to mesh units², the seed
-    radius from pattern units. Raises engine.EngineError when the pattern unit is not
-    known."""
-    reaction = settings.reaction
-    unit = known_pattern_unit(settings, area)
-    return {
-        "feed": float(reaction.feed),
-        "kill": float(reaction.kill),
-        "diffusion_u": float(reaction.diffusion_u) * unit * unit,
-        "diffusion_v": float(reaction.diffusion_v) * unit * unit,
-        "time_step": float(reaction.time_step),
-        "seed_count": int(reaction.seed_count),
-        "seed_radius": float(reaction.seed_radius) * unit,
-    }
-
-
-def reaction_seeds(settings):
-    """What a Gray-Scott simulation takes only at Reset: the seeds' count and radius,
-    and what turns the radius into mesh units (the pattern scale settings); None for
-    the other models."""
-    if model_of(settings) != engine.MODEL_GRAY_SCOTT:
-        return None
-    return (int(settings.reaction.seed_count), float(settings.reaction.seed_radius),
-            float(settings.pattern_scale), _enum(settings, "pattern_scale_mode", 'OBJECT'),
-            float(settings.pattern_length))
-
-
-def continuous_params_from_settings(settings, area):
-    """The core's moldtex_continuous_params for settings on a surface of `area` mesh
-    units²: lengths from pattern units to mesh units (pattern_unit), the sensor angle
-    in degrees. Raises engine.EngineError when the pattern unit is not known (no
-    area in Object mode)."""
-    from .properties import enum_value  # (properties imports this module)
-    cont = settings.continuous
-    unit = known_pattern_unit(settings, area)
-    return {
-        "move_rate": float(cont.move_rate) * unit,
-        "turn_rate": float(cont.turn_rate),
-        "turn_frequency": float(cont.turn_frequency),
-        "sensor_distance": float(cont.sensor_distance) * unit,
-        "sensor_angle": math.degrees(float(cont.sensor_angle)),
-        "deposit_rate": float(cont.deposit_rate),
-        "diffusion_rate": float(cont.diffusion_rate) * unit * unit,
-        "decay_rate": float(cont.decay_rate),
-        "mean_lifetime": float(cont.mean_lifetime),
-        "activation_time": float(cont.activation_time),
-        "time_step": float(settings.time_step),
-        "integrator": INTEGRATORS.get(enum_value(cont, "integrator"),
-                                      engine.INTEGRATOR_AUTO),
-        "bias_strength": float(cont.bias_strength),
-        "bias_symmetry": int(cont.bias_symmetry),
-        "bias_spawn": 1 if cont.bias_spawn else 0,
-        "boundary": (engine.BOUNDARY_ABSORB if enum_value(cont, "boundary") == 'ABSORB'
-                     else engine.BOUNDARY_REFLECT),
-    }
-
-
-def bias_direction_in_mesh(obj):
-    """The continuous model's Bias Direction (object axes) in the exported mesh's
-    coordinates (mesh_export: a non-uniform object scale is applied to them, so a
-    direction along the surface scales with it), normalised; None when it is zero or
-    the bias is off (Bias Strength 0)."""
-    cont = obj.moldtex.continuous
-    if not (cont.bias_strength > 0.0 or cont.bias_spawn):
-        return None
-    direction = [float(v) for v in cont.bias_direction]
-    scale = export_scale(obj)
-    if scale is not None:
-        direction = [d * float(k) for d, k in zip(direction, scale)]
-    length = math.sqrt(sum(d * d for d in direction))
-    if not (length > 0.0 and math.isfinite(length)):
-        return None
-    return tuple(d / length for d in direction)
-
-
-def bias_vectors(direction, triangle_count):
-    """moldtex_sim_set_bias' vectors: `direction` for each of the triangles (array('f')
-    of triangle_count * 3), or None for None (no bias)."""
-    if direction is None:
-        return None
-    return array.array("f", direction) * int(triangle_count)
-
-
-def bias_from_settings(obj, triangle_count, depsgraph=None):
-    """(key, vectors) of the bias obj's settings ask for: the Bias Direction on every
-    triangle, or with Bias Source Attribute each face's vector of that Face attribute
-    (maps/mesh_values.py); vectors None = no bias. Raises engine.EngineError."""
-    cont = obj.moldtex.continuous
-    if getattr(cont, "bias_source", 'DIRECTION') == 'ATTRIBUTE':
-        if not (cont.bias_strength > 0.0 or cont.bias_spawn):
-            return (None, triangle_count), None
-        try:
-            vectors = mesh_values.bias_vectors_from_attribute(obj, depsgraph, cont.bias_attribute,
-                                                              triangle_count)
-        except MeshExportError as error:
-            raise engine.EngineError(str(error), engine.ERROR_INVALID_ARGUMENT) from None
-        return (("ATTRIBUTE", zlib.crc32(vectors.tobytes())), triangle_count), vectors
-    direction = bias_direction_in_mesh(obj)
-    return (direction, triangle_count), bias_vectors(direction, triangle_count)
-
-
-def _push_bias(entry, obj, sim=None, depsgraph=None):
-    """Gives the simulation the bias vectors of obj's settings when they differ from
-    the last ones it got (entry.bias_key). sim: a new simulation, not yet entry's,
-    which always gets them; its key is returned for the caller to store."""
-    fresh = sim is not None
-    sim = sim if fresh else entry.sim
-    key, vectors = bias_from_settings(obj, sim.triangle_count, depsgraph)
-    if not fresh and key == entry.bias_key:
-        return key
-    sim.set_bias(vectors)
-    if not fresh:
-        entry.bias_key = key
-    return key
-
-
-# ---- U (layton-intrinsic-slime.md Eq. 5) --------------------------------------------
-
-def agents_per_species(settings):
-    """Agents of species 0 at the configured count (agent i belongs to species i %
-    species_count): the N of Eq. 5 as the core counts it."""
-    count = max(1, int(settings.species_count))
-    return -(-int(settings.agent_count) // count)
-
-
-def surface_area(obj, compute=True):
-    """3D area (mesh units²) of obj's surface as the core measures it: the area stored
-    at the last build, else the live simulation's, else (compute=True, not while
-    drawing) measured from the evaluated mesh now and stored. None if unknown (no core,
-    a mesh that cannot be exported)."""
-    settings = obj.moldtex
-    stored = float(settings.continuous.surface_area)
-    if stored > 0.0:
-        return stored
-    entry = _registry.get(obj.name)
-    if entry is not None and entry.surface_info.get("area"):
-        return float(entry.surface_info["area"])
-    if not compute or not engine.available():
-        return None
-    try:
-        import bpy
-        mesh = export_object(obj, bpy.context.evaluated_depsgraph_get(), settings.uv_map)
-        surface = engine.Surface(mesh.positions, mesh.triangles, mesh.uvs,
-                                 mesh.triangle_uvs)
-        try:
-            area = float(surface.info()["area"])
-        finally:
-            surface.release()
-    except (MeshExportError, engine.EngineError):
-        return None
-    if area > 0.0:
-        settings.continuous.surface_area = area
-        return area
-    return None
-
-
-def u_from_settings(settings, area=None, compute=True):
-    """U (Eq. 5) that the settings give on obj's surface (area: mesh units², default
-    surface_area(obj, compute)); None when the area is not known. +inf without decay."""
-    obj = settings.id_data
-    if area is None:
-        area = surface_area(obj, compute) if obj is not None else None
-    if not area:
-        return None
-    cont = settings.continuous
-    return engine.u_metric(agents_per_species(settings), float(cont.deposit_rate),
-                           float(cont.decay_rate), area, float(cont.activation_time),
-                           float(cont.mean_lifetime))
-
-
-def deposit_rate_for_target(settings, area=None):
-    """The deposit rate giving the stored target U (Keep U) with the current agent
-    count, area, decay rate, mean lifetime and activation time; None if none can."""
-    obj = settings.id_data
-    if area is None:
-        area = surface_area(obj) if obj is not None else None
-    if not area:
-        return None
-    cont = settings.continuous
-    return engine.deposit_rate_for_u(float(cont.target_u), agents_per_species(settings),
-                                     float(cont.decay_rate), area,
-                                     float(cont.activation_time), float(cont.mean_lifetime))
-
-
-FOOD_STRENGTH_PROPERTY = "moldtex_strength"
-FOOD_AMOUNT_PROPERTY = "moldtex_amount"
-
-
-def _number(value, default):
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        return default
-    return value if math.isfinite(value) else default
-
-
-def food_from_settings(obj):
-    """(sources, dropped): sources = [(name, position, strength, amount)] for the Empties
-    in the object's Food collection (sorted by name, at most engine.MAX_FOOD_SOURCES),
-    positions in the exported mesh's coordinates, strength converted from scene units²;
-    dropped = how many Empties were left out."""
-    collection = obj.moldtex.food_collection
-    if collection is None:
-        return [], 0
-    empties = sorted((o for o in collection.all_objects if o is not None
-                      and o.type == 'EMPTY'), key=lambda o: o.name)
-    dropped = max(0, len(empties) - engine.MAX_FOOD_SOURCES)
-    empties = empties[:engine.MAX_FOOD_SOURCES]
-    to_mesh = world_to_mesh(obj)
-    factor = length_in_mesh_units(obj, 1.0)
-    sources = []
-    for empty in empties:
-        point = to_mesh @ empty.matrix_world.translation
-        strength = max(0.0, _number(empty.get(FOOD_STRENGTH_PROPERTY, 1.0), 1.0))
-        amount = _number(empty.get(FOOD_AMOUNT_PROPERTY, -1.0), -1.0)
-        if amount < 0.0:
-            amount = -1.0
-        sources.append((empty.name, tuple(round(float(v), 6) for v in point),
-                        strength * factor * factor, amount))
-    return sources, dropped
 
 
 def _push_food(entry, obj, fresh):
@@ -675,21 +202,6 @@ def food_status(obj):
              source[2]) for i, source in enumerate(current)]
 
 
-def species_params_from_settings(settings):
-    """[(index, dict)] for every species when there are 2 or more, else [] (one species
-    takes the object's own agent settings through set_params)."""
-    count = int(settings.species_count)
-    if count < 2:
-        return []
-    result = []
-    for index in range(min(count, len(settings.species))):
-        item = settings.species[index]
-        params = {name: getattr(item, name) for name in SPECIES_PROPERTIES}
-        params["attraction"] = tuple(item.attraction)
-        result.append((index, params))
-    return result
-
-
 def _push_species(entry, settings):
     # Only the species the simulation has: a new Species count waits for Reset (a
     # parameter change meanwhile is no error).
@@ -703,131 +215,6 @@ def _push_species(entry, settings):
 MAX_SPECIES_PUSHED = engine.MAX_SPECIES
 
 
-# Settings naming the vertex group or attribute of each field channel (R, G, B).
-FIELD_ATTRIBUTES = ("spawn_attribute", "obstacle_attribute", "attractor_attribute")
-FIELD_LABELS = ("Spawn", "Obstacle", "Attractor")
-
-
-def fields_from_settings(settings, width, height, mesh=None, surface=None, depsgraph=None):
-    """The static fields as width*height*4 floats, or None without any. Raises
-    engine.EngineError with plain words.
-
-    Fields Source 'IMAGE': the Fields image (nearest resampling when its size differs).
-    'ATTRIBUTES': the named vertex groups / attributes of the evaluated mesh, baked over
-    the UV layout by the core; mesh (export_object's MeshArrays), surface (an
-    engine.Surface of that mesh) and depsgraph are made here when not given."""
-    if settings.fields_source == 'ATTRIBUTES':
-        return _fields_from_attributes(settings, width, height, mesh, surface, depsgraph)
-    image = settings.fields_image
-    if image is None:
-        return None
-    source_width, source_height = image.size
-    channels = image.channels
-    if source_width == 0 or source_height == 0 or channels == 0:
-        raise engine.EngineError(
-            f"The Fields image '{image.name}' has no pixels (is its file missing?): pick "
-            f"another image or clear Fields (Moldtex ▸ Species & Start).")
-    source = image_io.read_pixels(image)
-    if channels == 4 and (source_width, source_height) == (width, height):
-        fields = source
-    else:
-        fields = _resample_nearest(source, source_width, source_height, channels,
-                                   width, height)
-    if not all(math.isfinite(value) for value in fields):
-        raise engine.EngineError(f"The Fields image '{image.name}' holds values that are "
-                                 f"not numbers: repaint it or pick another image.")
-    return fields
-
-
-def _fields_from_attributes(settings, width, height, mesh, surface, depsgraph):
-    names = tuple(getattr(settings, name) for name in FIELD_ATTRIBUTES)
-    if not any(names):
-        return None
-    obj = settings.id_data
-    try:
-        if depsgraph is None:
-            import bpy
-            depsgraph = bpy.context.evaluated_depsgraph_get()
-        if mesh is None:
-            mesh = export_object(obj, depsgraph, settings.uv_map)
-        corners = read_corner_fields(obj, depsgraph, mesh, names, FIELD_LABELS)
-    except MeshExportError as error:
-        raise engine.EngineError(str(error), engine.ERROR_INVALID_ARGUMENT) from None
-    # The core's ranges: spawn weight >= 0, attractor 0 .. 1 (the obstacle is a
-    # threshold, any value goes). Interpolation keeps texels within the corners' range.
-    spawn, attractor = corners[0::4], corners[2::4]
-    if min(spawn, default=0.0) < 0.0:
-        corners[0::4] = array.array("f", [value if value > 0.0 else 0.0 for value in spawn])
-    if min(attractor, default=0.0) < 0.0 or max(attractor, default=0.0) > 1.0:
-        corners[2::4] = array.array("f", [min(1.0, max(0.0, value)) for value in attractor])
-    own_surface = surface is None
-    if own_surface:
-        surface = engine.Surface(mesh.positions, mesh.triangles, mesh.uvs, mesh.triangle_uvs)
-    try:
-        return surface.rasterize_corners(width, height, corners)
-    finally:
-        if own_surface:
-            surface.release()
-
-
-# (image_io.resample_nearest; the parameter maps resample their images with it too)
-_resample_nearest = image_io.resample_nearest
-
-
-def _check_spawn_map(settings, fields):
-    if settings.seed_shape != 'SPAWN_MAP':
-        return
-    if settings.fields_source == 'ATTRIBUTES':
-        name = settings.spawn_attribute
-        if not name:
-            raise engine.EngineError(
-                "Start is Spawn Map, but no Spawn vertex group or attribute is set: name "
-                "one whose weights mark where agents start (Moldtex ▸ Species & Start ▸ "
-                "Fields), or choose another Start.")
-        if fields is None or not any(red > 0.0 and green <= 0.5
-                                     for red, green in zip(fields[0::4], fields[1::4])):
-            raise engine.EngineError(
-                f"Start is Spawn Map, but the Spawn source '{name}' is 0 everywhere "
-                f"outside the obstacles: paint some weight into it, or choose another "
-                f"Start.")
-        return
-    if fields is None:
-        raise engine.EngineError(
-            "Start is Spawn Map, but no Fields image is set: pick one whose red channel "
-            "marks where agents start (Moldtex ▸ Species & Start), or choose another Start.")
-    if not any(red > 0.0 and green <= 0.5
-               for red, green in zip(fields[0::4], fields[1::4])):
-        raise engine.EngineError(
-            f"Start is Spawn Map, but the Fields image '{settings.fields_image.name}' has "
-            f"no spawn region (red) outside the walls (green): paint some red, or choose "
-            f"another Start.")
-
-
-def _check_seed_radius(obj, settings, radius, mesh):
-    """Refuses a Circle or Starburst radius the core cannot use, saying why (the core
-    only knows that its number is out of range)."""
-    if settings.seed_shape not in {'CIRCLE', 'STARBURST'}:
-        return
-    positions = mesh.positions
-    extent = max((max(positions[a::3]) - min(positions[a::3]) for a in range(3)),
-                 default=0.0)
-    if not (math.isfinite(radius) and 0.0 < radius <= 1e6 * max(extent, 1e-30)):
-        shape = settings.bl_rna.properties["seed_shape"].enum_items[settings.seed_shape].name
-        raise engine.EngineError(
-            f"The {shape} Radius ({settings.seed_radius:.3g}) is far larger than "
-            f"'{obj.name}' itself (about {extent:.3g} across in its own units"
-            f"{'' if radius == settings.seed_radius else f', where the radius is {radius:.3g}'}"
-            f"): use a radius the size of the object or smaller (Moldtex ▸ Species & "
-            f"Start).", engine.ERROR_INVALID_ARGUMENT)
-
-
-def seed_center(obj, surface, location):
-    """(triangle, barycentrics) of the surface point nearest `location` (world space),
-    in mesh_export's triangle order (the core's exact closest-point query)."""
-    triangle, bary, _distance = surface.closest_point(tuple(world_to_mesh(obj) @ location))
-    return (triangle, tuple(bary))
-
-
 def needs_reset(obj):
     """True when config-type settings differ from the ones the live sim was built with."""
     entry = _registry.get(obj.name) if obj is not None else None
@@ -836,26 +223,26 @@ def needs_reset(obj):
     settings = obj.moldtex
     return (entry.config != config_from_settings(settings, entry.surface_info)
             or entry.uv_map_setting != settings.uv_map
-            or entry.reaction_seeds != reaction_seeds(settings))
+            or entry.reset_key != model_for(settings).reset_key(settings))
 
 
 def _build(entry, obj, mesh, depsgraph=None):
     settings = obj.moldtex
-    from .properties import repair_enums  # (properties imports this module)
     # unknown enum values -> defaults
-    repaired = " ".join(repair_enums(settings) + repair_enums(settings.continuous))
+    repaired = " ".join(repair_enums(settings) + [
+        note for model in models.MODELS if model.settings_name
+        for note in repair_enums(getattr(settings, model.settings_name))])
     config = config_from_settings(settings)
     device_note = backend_note(settings)
     note = " ".join(filter(None, (repaired, device_note)))
     if len(settings.species) < settings.species_count:
-        from .properties import ensure_species  # (properties imports this module)
         ensure_species(settings)
     if mesh.uvs is None and config.get("domain") != engine.DOMAIN_INTRINSIC:
         raise MeshExportError(no_uv_map_message(obj.name, mesh.flat_uv_map))
     create_config = dict(config)
     create_config["seed_radius"] = length_in_mesh_units(obj, config["seed_radius"])
     create_config["intrinsic_bound"] = length_in_mesh_units(obj, config["intrinsic_bound"])
-    _check_seed_radius(obj, settings, create_config["seed_radius"], mesh)
+    check_seed_radius(obj, settings, create_config["seed_radius"], mesh)
     surface = engine.Surface(mesh.positions, mesh.triangles, mesh.uvs, mesh.triangle_uvs)
     try:
         if settings.seed_shape in CENTERED_SHAPES:
@@ -864,17 +251,14 @@ def _build(entry, obj, mesh, depsgraph=None):
                                                        bpy.context.scene.cursor.location)
         fields = fields_from_settings(settings, config["width"], config["height"], mesh,
                                       surface, depsgraph)
-        _check_spawn_map(settings, fields)
+        check_spawn_map(settings, fields)
         surface_info = surface.info()
         area = surface_info.get("area")
         # Detail: Auto follows the surface's texels per pattern unit.
         config["detail"] = create_config["detail"] = detail_for(settings, config["width"],
                                                                 surface_info)
-        continuous = reaction = None
-        if config["model"] == engine.MODEL_CONTINUOUS:
-            continuous = continuous_params_from_settings(settings, area)
-        elif config["model"] == engine.MODEL_GRAY_SCOTT:
-            reaction = reaction_params_from_settings(settings, area)
+        model = models.of_engine_id(config["model"])
+        model_arguments = model.create_arguments(settings, area)
         map_values, map_keys = {}, {}
         kinds = map_sampling.kinds_for_model(config["model"])
         if kinds:
@@ -888,7 +272,7 @@ def _build(entry, obj, mesh, depsgraph=None):
                                          mesh.signature, kinds)
         sim = engine.Simulation(surface, create_config,
                                 params_from_settings(settings, area, config["model"]),
-                                fields, continuous, reaction)
+                                fields, **model_arguments)
     except engine.EngineError as error:
         # The core's message says what failed (out of memory already suggests what to
         # lower); for an unusable device, say where to choose another one.
@@ -900,15 +284,12 @@ def _build(entry, obj, mesh, depsgraph=None):
         raise
     finally:
         surface.release()  # the simulation holds its own reference
-    bias_key = None
     try:
-        if continuous is not None:
-            _note_u_area(sim, settings, surface_info.get("area"))
-            bias_key = _push_bias(entry, obj, sim, depsgraph)
+        stored = model.after_build(entry, obj, sim, surface_info, depsgraph)
         for kind, values in map_values.items():
             if values is not None:
                 sim.set_map(kind, values)
-        if config["model"] != engine.MODEL_GRAY_SCOTT:  # (no agents there)
+        if model.has_agents:
             _push_species(_Holder(sim), settings)
         holder = LiveSim(entry.name)
         holder.sim = sim
@@ -919,7 +300,9 @@ def _build(entry, obj, mesh, depsgraph=None):
     if entry.sim is not None:
         entry.sim.release()
     entry.sim = sim
-    entry.bias_key = bias_key
+    entry.bias_key = None
+    for name, value in stored.items():
+        setattr(entry, name, value)
     entry.map_keys = map_keys
     entry.maps_error = ""
     entry.maps_failed = None
@@ -928,7 +311,7 @@ def _build(entry, obj, mesh, depsgraph=None):
     entry.config = config
     entry.uv_map = mesh.uv_map
     entry.uv_map_setting = settings.uv_map
-    entry.reaction_seeds = reaction_seeds(settings)
+    entry.reset_key = model.reset_key(settings)
     entry.signature = mesh.signature
     entry.surface_info = surface_info
     entry.pixels = sim.new_rgba_buffer()
@@ -947,31 +330,6 @@ def _build(entry, obj, mesh, depsgraph=None):
     entry.warning = " ".join(filter(None, (note, entry.vertex_problem)))
     entry.food_key, entry.food_names = holder.food_key, holder.food_names
     entry.food_dropped = holder.food_dropped
-
-
-def _note_u_area(sim, settings, triangle_area):
-    """Stores the area U's Eq. 5 uses on this simulation (the core's A: the 3D area of
-    the island texels, the PDE's cells, which the triangles' area approaches as the
-    resolution grows), read back from the U the core reports; then, with Keep U on,
-    sets the deposit rate for the target U on it (a new mesh, resolution or agent
-    count) and gives it to the simulation."""
-    cont = settings.continuous
-    stats = sim.get_stats()
-    u_value = stats.get("u_metric", 0.0)
-    rate = float(cont.deposit_rate)
-    agents = agents_per_species(settings)
-    area = triangle_area
-    if 0.0 < u_value < math.inf and rate > 0.0 and cont.decay_rate > 0.0:
-        # U = N r_dep alive / (r_dec A) with the float32 values the core holds.
-        core = sim.get_continuous_params()
-        alive = (math.exp(-core["activation_time"] / core["mean_lifetime"])
-                 if core["mean_lifetime"] > 0.0 else 1.0)
-        area = agents * core["deposit_rate"] * alive / (core["decay_rate"] * u_value)
-    if area and area > 0.0 and math.isfinite(area):
-        cont.surface_area = area
-    from .properties import keep_u  # (properties imports this module)
-    if keep_u(settings):
-        sim.set_continuous_params({"deposit_rate": float(cont.deposit_rate)})
 
 
 class _Holder:
@@ -1020,9 +378,7 @@ def ensure(obj, depsgraph, rebuild=False):
         entry = LiveSim(obj.name)
     if entry.sim is not None and not rebuild and mesh.signature == entry.signature:
         entry.dirty = False
-        if (sim_model(entry) == engine.MODEL_CONTINUOUS
-                and getattr(settings.continuous, "bias_source", "") == 'ATTRIBUTE'):
-            _push_bias(entry, obj, depsgraph=depsgraph)  # the attribute may have changed
+        sim_model_for(entry).same_mesh(entry, obj, depsgraph)
         return entry
     restarted = entry.sim is not None and not rebuild
     if uv_map != settings.uv_map:
@@ -1125,16 +481,13 @@ def _push_settings(entry, obj):
     surface's area) and species."""
     settings = obj.moldtex
     area = entry.surface_info.get("area")
-    model = sim_model(entry)
-    entry.sim.set_params(params_from_settings(settings, area, model))
-    if model == engine.MODEL_CONTINUOUS:
-        entry.sim.set_continuous_params(continuous_params_from_settings(settings, area))
-        _push_bias(entry, obj)
+    model = sim_model_for(entry)
+    entry.sim.set_params(params_from_settings(settings, area, model.engine_id))
+    model.push_params(entry.sim, settings, area)
+    model.after_push(entry, obj)
+    if map_sampling.kinds_for_model(model.engine_id):
         _push_maps(entry, obj, quiet=True)
-    elif model == engine.MODEL_GRAY_SCOTT:
-        # (the seeds' count and radius wait for Reset: needs_reset says so)
-        entry.sim.set_reaction_params(reaction_params_from_settings(settings, area))
-        _push_maps(entry, obj, quiet=True)
+    if not model.has_agents:
         return  # no agents, so no species
     _push_species(entry, settings)
 
@@ -1490,3 +843,33 @@ def poll_fields_image(entry, obj):
     entry.sim.set_fields(fields)
     entry.fields_crc = crc
     return True
+
+
+# ---- what a settings change asks of the session (settings/events.py) -------------------
+
+def _reported(push):
+    # A refusal of the core becomes the panel's notice instead of an exception inside
+    # Blender's property update.
+    def listener(obj):
+        try:
+            push(obj)
+        except engine.EngineError as error:
+            entry = registry.get(obj.name)
+            if entry is not None:
+                entry.notice = str(error)
+            print(f"Moldtex: {error}")
+    return listener
+
+
+_LISTENERS = (("params", _reported(push_params)), ("fields", _reported(push_fields)),
+              ("maps", _reported(push_maps)))
+
+
+def register():
+    for topic, listener in _LISTENERS:
+        events.listen(topic, listener)
+
+
+def unregister():
+    for topic, listener in _LISTENERS:
+        events.forget(topic, listener)

@@ -5,8 +5,9 @@ UV Map ▸ Image Texture ▸ Map Range ▸ Color Ramp ▸ Principled BSDF Base C
 without UVs (the Intrinsic domain runs on it), Color Attribute "Moldtex" (one colour per
 vertex, vertex_colours.py) in place of the UV Map and Image Texture. The Map
 Range node spans what the image holds: MoMaS pheromone 0..1, the continuous model's
-u / U 0..Display Range (1 = the uniform steady state), Gray-Scott's V (the image's R
-alone, through a Separate Color node) 0..its Display Range, so one ramp fits all and the
+u / U 0..Display Range (1 = the uniform steady state), a model's one channel where its
+image holds several (Model.display_channel, through a Separate Color node) 0..its
+Display Range, so one ramp fits all and the
 live image and a baked sequence (the same values) look alike. The user's nodes are
 kept; our nodes are found again by name, so running it twice adds nothing. On the way
 to Base Color the Fields image can be laid over the pheromone (Show Fields: walls
@@ -17,15 +18,12 @@ import json
 
 import bpy
 
-UV_NODE = "Moldtex UV"
-TEXTURE_NODE = "Moldtex Texture"
-VERTEX_NODE = "Moldtex Vertex Colours"  # a mesh without UVs: the colour attribute
-RAMP_NODE = "Moldtex Ramp"
-RANGE_NODE = "Moldtex Range"  # image value 0..display_maximum -> ramp 0..1
-SPECIES_NODE_PREFIX = "Moldtex Species "  # colour by species (2 or more)
-CHANNEL_NODE = "Moldtex V"  # Gray-Scott: the image's R (V) alone into the Range node
-FIELDS_NODE = "Moldtex Fields"
-OVERLAY_NODE = "Moldtex Fields Overlay"  # base colour + fields colour * strength
+from ..settings import events
+from ..sim import convert, registry
+
+from .nodes import (CHANNEL_NODE, FIELDS_NODE, OVERLAY_NODE, RAMP_NODE, RANGE_NODE,  # noqa: F401
+                    SPECIES_NODE_PREFIX, TEXTURE_NODE, UV_NODE, VERTEX_NODE, moldtex_node)
+
 OVERLAY_STRENGTH = 0.6
 
 # Dark violet-black through amber to bright yellow.
@@ -89,7 +87,7 @@ def setup_material(obj, image, uv_map_name):
 
     vertex_colours = not uv_map_name  # no UV map: the pheromone per mesh vertex
     if vertex_colours:
-        from .vertex_colours import ATTRIBUTE  # (imports nothing of ours but bpy)
+        from ..data.vertex_colours import ATTRIBUTE  # (imports nothing of ours but bpy)
         for name in (UV_NODE, TEXTURE_NODE, FIELDS_NODE):
             if nodes.get(name) is not None:
                 nodes.remove(nodes[name])
@@ -126,7 +124,7 @@ def setup_material(obj, image, uv_map_name):
     links.new(span.outputs[0], ramp.inputs["Fac"])
     for node in [n for n in nodes if n.name.startswith(SPECIES_NODE_PREFIX)]:
         nodes.remove(node)
-    count = 1 if _model(obj) == _gray_scott() else int(obj.moldtex.species_count)
+    count = _species_shown(obj)
     if count >= 2:
         base = _species_mix(tree, obj.moldtex, texture, count, ramp.location).outputs["Vector"]
     else:
@@ -152,49 +150,46 @@ def setup_material(obj, image, uv_map_name):
 
 
 def _model(obj):
-    """engine.MODEL_* of the image shown: that of the live simulation (whose image or
-    bake is shown), else the one the settings ask for."""
-    from . import live  # (live does not import this module)
-    entry = live.get(obj.name)
-    model = live.sim_model(entry) if entry is not None and entry.has_sim else None
-    return live.model_of(obj.moldtex) if model is None else model
+    """The models.base.Model of the image shown: that of the live simulation (whose image
+    or bake is shown), else the one the settings ask for."""
+    entry = registry.get(obj.name)
+    model = convert.sim_model_for(entry) if entry is not None and entry.has_sim else None
+    return convert.model_for(obj.moldtex) if model is None else model
 
 
-def _gray_scott():
-    from . import engine
-    return engine.MODEL_GRAY_SCOTT
+def _species_shown(obj):
+    """How many species the image's colours stand for (1 for a model without agents)."""
+    return int(obj.moldtex.species_count) if _model(obj).has_agents else 1
 
 
 def display_maximum(obj):
     """The image value shown at the top of the ramp: 1 for MoMaS (pheromone in [0, 1]),
-    the Display Range for the continuous model (u / U) and for Gray-Scott (V)."""
-    from . import engine
-    model = _model(obj)
-    if model == engine.MODEL_CONTINUOUS:
-        return max(1e-6, float(obj.moldtex.continuous.display_range))
-    if model == engine.MODEL_GRAY_SCOTT:
-        return max(1e-6, float(obj.moldtex.reaction.display_range))
-    return 1.0
+    the model's Display Range for the others (Model.display_maximum)."""
+    return _model(obj).display_maximum(obj.moldtex)
 
 
 def _sync_channel(obj, tree):
-    """Gray-Scott's image holds V in R and U in G: the Range node then reads R alone
-    (through a Separate Color node); the other models' single-species images are grey,
-    read whole. Changes nothing that already matches."""
+    """A model whose image holds several quantities (Model.display_channel) has the
+    Range node read that channel alone (through a Separate Color node); the other
+    models' single-species images are grey, read whole. Changes nothing that already
+    matches."""
     nodes, links = tree.nodes, tree.links
     texture, span = nodes.get(VERTEX_NODE) or nodes.get(TEXTURE_NODE), nodes.get(RANGE_NODE)
     if texture is None or span is None:
         return
     channel = nodes.get(CHANNEL_NODE)
-    if _model(obj) == _gray_scott():
+    shown = _model(obj).display_channel
+    if shown is not None:
         if channel is None:
             channel = nodes.new("ShaderNodeSeparateColor")
             channel.name = CHANNEL_NODE
-            channel.label = "Moldtex V (R)"
             channel.location = (span.location.x - 180.0, span.location.y - 160.0)
+        label = f"Moldtex {_model(obj).label} ({shown})"
+        if channel.label != label:
+            channel.label = label
         if not channel.inputs[0].is_linked:
             links.new(texture.outputs["Color"], channel.inputs[0])
-        wanted = channel.outputs[0]
+        wanted = channel.outputs["RGB".index(shown)]
     else:
         if channel is not None:
             nodes.remove(channel)
@@ -219,7 +214,7 @@ def sync_display_range(obj):
             inputs[index].default_value = value
     settings = obj.moldtex
     tree = obj.active_material.node_tree
-    for index in range(1 if _model(obj) == _gray_scott() else int(settings.species_count)):
+    for index in range(_species_shown(obj)):
         node = tree.nodes.get(f"{SPECIES_NODE_PREFIX}{index + 1}")
         if node is None:
             continue
@@ -339,18 +334,35 @@ def preset_ramp(obj):
         return None, 'LINEAR'
 
 
-def moldtex_node(obj, name):
-    """One of our nodes (UV_NODE, TEXTURE_NODE, RANGE_NODE, RAMP_NODE, FIELDS_NODE,
-    OVERLAY_NODE) in obj's active material."""
-    material = obj.active_material if obj is not None else None
-    if material is None or material.node_tree is None:
-        return None
-    return material.node_tree.nodes.get(name)
-
-
 def show_image(obj, image):
     """Points an existing Moldtex Image Texture node at `image` (e.g. back at the live
     pheromone after a baked sequence was shown)."""
     node = moldtex_node(obj, TEXTURE_NODE)
     if node is not None and node.image != image:
         node.image = image
+
+
+def apply_ramp(obj, stops, interpolation='LINEAR'):
+    """Sets the Moldtex Ramp node of obj's material to `stops` ([(position, (r, g, b,
+    a)), ...]) if it exists, and remembers them so that a later Set Up Material (or a
+    bake's playback setup) uses them too."""
+    store_preset_ramp(obj, stops, interpolation)
+    node = moldtex_node(obj, RAMP_NODE)
+    if node is not None:
+        set_ramp(node, stops, interpolation)
+
+
+# ---- what a settings change asks of the material (settings/events.py) -----------------
+
+def _show_fields_changed(obj):
+    show_fields(obj, obj.moldtex.show_fields)
+
+
+def register():
+    events.listen("show_fields", _show_fields_changed)
+    events.listen("display_range", sync_display_range)
+
+
+def unregister():
+    events.forget("display_range", sync_display_range)
+    events.forget("show_fields", _show_fields_changed)

@@ -9,20 +9,23 @@ backend) shape the simulation itself and take effect on Reset or Start.
 The Backend chooser lists this machine's OpenCL devices, which differ between machines,
 so it stores nothing itself: its get/set map it onto plain saved properties
 (backend_type and the device's indices and names). A file saved with a device this
-machine lacks then reads as Auto, and live.backend_note() says why, instead of Blender
+machine lacks then reads as Auto, and sim.convert.backend_note() says why, instead of Blender
 showing an invalid enum value.
 """
-
-import math
 
 import bpy
 from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty,
                        FloatVectorProperty, IntProperty, PointerProperty, StringProperty)
 
-from . import engine, live
-from .maps.settings import MoldtexMaps
+from .. import engine, models
+from ..colour import material
+from ..looks import scaling
+from ..maps.settings import MoldtexMaps
+from ..sim import convert
+from . import events
+from .common import PATH_OPTIONS, RESET_NOTE, angle_ui
+from .enums import enum_value
 
-_RESET_NOTE = " Takes effect on Reset (or Start)"
 MAX_THREADS = 256  # the core refuses more (moldtex_sim_set_params)
 
 # Bake file formats: identifier -> engine.IMAGE_* (bake.py maps them).
@@ -59,126 +62,9 @@ DETAIL_ITEMS = [
 ]
 
 
-# ---- path options -----------------------------------------------------------------
-# Blender 5.0 warns about a path property holding a blend-relative "//" path unless it
-# declares PATH_SUPPORTS_BLEND_RELATIVE; Blender 4.2 and 3.4 reject that option. Which
-# one runs is only known when the add-on registers (this module is imported then).
-
-def _supports_blend_relative_paths():
-    if bpy.app.version >= (5, 0, 0):
-        return True
-    if bpy.app.version < (4, 5, 0):
-        return False
-    # 4.5.x: try it on a throwaway class (an unknown option fails its registration).
-    probe = type("MOLDTEX_PG_path_option_probe", (bpy.types.PropertyGroup,), {
-        "__annotations__": {"path": StringProperty(
-            subtype='DIR_PATH', options={'PATH_SUPPORTS_BLEND_RELATIVE'})}})
-    try:
-        bpy.utils.register_class(probe)
-    except (TypeError, ValueError, RuntimeError):
-        return False
-    bpy.utils.unregister_class(probe)
-    return True
-
-
-PATH_OPTIONS = ({'PATH_SUPPORTS_BLEND_RELATIVE'} if _supports_blend_relative_paths()
-                else set())
-
-
-# ---- angles -----------------------------------------------------------------------
-# The vision angles are stored in degrees (what the core, presets, scripts and saved
-# files use). The panel shows them through *_ui twins of subtype ANGLE, which Blender
-# keeps in radians and displays in degrees: this is the one place that converts.
-
-def _degrees_as_radians(name):
-    def getter(self):
-        return math.radians(getattr(self, name))
-
-    def setter(self, value):
-        setattr(self, name, math.degrees(value))
-    return getter, setter
-
-
-def _angle_ui(name, description, soft_min=10.0, soft_max=50.0):
-    getter, setter = _degrees_as_radians(name)
-    return FloatProperty(
-        name="Vision Angle", subtype='ANGLE', min=0.0, max=math.pi,
-        soft_min=math.radians(soft_min), soft_max=math.radians(soft_max), precision=1,
-        step=100, get=getter, set=setter, options=set(),
-        description=description)
-
-
-# ---- enum values this version does not know -------------------------------------------
-# A file from another version (or a script writing the raw number, e.g.
-# obj.moldtex["resolution"] = 99) can leave an enum holding a number none of its items
-# has. Blender then reads it as "" (and prints a warning at each read).
-
-def invalid_enums(data):
-    """[(name, stored number)] of data's static enum properties that hold a value
-    matching none of their items."""
-    found = []
-    for prop in data.bl_rna.properties:
-        if prop.type != 'ENUM' or prop.is_enum_flag or prop.is_readonly:
-            continue
-        raw = data.get(prop.identifier) if hasattr(data, "get") else None
-        if not isinstance(raw, int):  # unset (= the default), or a dynamic enum
-            continue
-        items = prop.enum_items
-        if len(items) and raw not in {item.value for item in items}:
-            found.append((prop.identifier, raw))
-    return found
-
-
-def enum_value(data, name):
-    """The identifier of enum `name` of data, or the property's default when the stored
-    value matches none of its items."""
-    raw = data.get(name) if hasattr(data, "get") else None
-    prop = data.bl_rna.properties[name]
-    if isinstance(raw, int) and raw not in {item.value for item in prop.enum_items}:
-        return prop.default
-    return getattr(data, name) or prop.default
-
-
-def _enum_label(data, name, identifier):
-    items = data.bl_rna.properties[name].enum_items
-    return items[identifier].name if identifier in items else identifier
-
-
-def invalid_enum_notes(data):
-    """A sentence per unknown enum value of data, saying what is used instead."""
-    notes = []
-    for name, raw in invalid_enums(data):
-        prop = data.bl_rna.properties[name]
-        notes.append(f"{prop.name} held a value this version of Moldtex does not know "
-                     f"({raw}, from another version?): {_enum_label(data, name, prop.default)}"
-                     f" is used instead.")
-    return notes
-
-
-def repair_enums(data):
-    """Sets every enum of data holding an unknown value back to its default; returns
-    the notes (invalid_enum_notes) for the user."""
-    notes = invalid_enum_notes(data)
-    for name, _raw in invalid_enums(data):
-        data.property_unset(name)
-    return notes
-
-
-def _push(obj, push):
-    # Sends changed settings to the running simulation; a refusal becomes the panel's
-    # notice instead of an exception inside Blender's property update.
-    try:
-        push(obj)
-    except engine.EngineError as error:
-        entry = live.get(obj.name)
-        if entry is not None:
-            entry.notice = str(error)
-        print(f"Moldtex: {error}")
-
-
 def _push_params(self, context):
     # self is the object's settings or one species' settings: both belong to the object.
-    _push(self.id_data, live.push_params)
+    events.changed(self.id_data, "params")
 
 
 def _config_changed(self, context):
@@ -195,14 +81,12 @@ def _species_count_changed(self, context):
 
 
 def _fields_changed(self, context):
-    _push(self.id_data, live.push_fields)
-    from . import material  # (material does not import this module)
-    material.show_fields(self.id_data, self.show_fields)
+    events.changed(self.id_data, "fields")
+    events.changed(self.id_data, "show_fields")
 
 
 def _show_fields_changed(self, context):
-    from . import material
-    material.show_fields(self.id_data, self.show_fields)
+    events.changed(self.id_data, "show_fields")
 
 
 # Display colours of species 1..4 (red, green, blue, yellow: the image's channels).
@@ -269,7 +153,7 @@ class MoldtexSpecies(bpy.types.PropertyGroup):
         description="Vision Angle: angle between the front and side sensors of this "
                     "species, in degrees",
         update=_push_params)
-    vision_angle_ui: _angle_ui(
+    vision_angle_ui: angle_ui(
         "vision_angle", "Vision Angle: angle between the front and side sensors of this "
                         "species")
     deposit: FloatProperty(
@@ -285,90 +169,19 @@ class MoldtexSpecies(bpy.types.PropertyGroup):
                     "it again after changing)")
 
 
-# ---- the continuous model (layton-intrinsic-slime.md §3.2, Table 1) -------------------
-# Lengths are stored as multiples of the pattern unit (live.pattern_unit: Pattern Scale ×
-# √(object area) / 512, or the Pattern Length in the scene), so one look fits any object;
-# live.continuous_params_from_settings converts them to the mesh units the core takes.
-# Angles are Blender angles (radians, shown in degrees); times are seconds.
-
-MODEL_ITEMS = [
-    ("MOMAS", "MoMaS", "MoMaS (momas-paper.md): agents move a fixed step each tick and "
-                       "leave pheromone in [0, 1] that blurs and evaporates", 0),
-    ("CONTINUOUS", "Continuous", "Continuous model (layton-intrinsic-slime.md §3.2): "
-                                 "rates per second, a diffusion-decay PDE, deposits along "
-                                 "each path and agent turnover; the image shows u / U "
-                                 "(1 = the uniform steady state)", 1),
-    ("GRAY_SCOTT", "Gray-Scott", "Gray-Scott reaction-diffusion: two chemicals U and V "
-                                 "react and diffuse over the surface into spots, stripes "
-                                 "or worms; no agents. The image shows V", 2),
-]
-
-BOUNDARY_ITEMS = [
-    ("REFLECT", "Reflect", "Agents turn back into the surface", 0),
-    ("ABSORB", "Absorb", "Agents die where they meet the edge and are reborn (a sink "
-                         "along the edges, Fig. 18; the Spawn map says where)", 1),
-]
-
-INTEGRATOR_ITEMS = [
-    ("AUTO", "Auto", "Forward Euler while 64 sub-steps per step keep it stable, else "
-                     "backward Euler", 0),
-    ("FORWARD", "Forward", "Forward Euler (Eq. 2), sub-stepped for stability (the core "
-                           "refuses more than 256 sub-steps a step)", 1),
-    ("BACKWARD", "Backward", "Backward Euler (Eq. 3): stable at any time step, more work "
-                             "per step", 2),
-]
-
-# Set while Keep U itself writes the deposit rate, so that write is not taken for the
-# user's own change (which makes the new deposit rate's U the one to keep).
-_keeping_u = False
+# The models' own settings (obj.moldtex.<Model.settings_name>) are in models/: the Model
+# menu lists them in models.MODELS' order, with the numbers a .blend stores.
+MODEL_ITEMS = models.enum_items()
 
 
-def keep_u(settings):
-    """With Keep U on, sets the deposit rate so that U (Eq. 5) equals the stored target
-    for the current agent count, surface area, decay rate, mean lifetime and activation
-    time. Returns True if it changed the deposit rate."""
-    global _keeping_u
-    cont = settings.continuous
-    if not cont.keep_u or cont.target_u <= 0.0:
-        return False
-    rate = live.deposit_rate_for_target(settings)
-    if rate is None or abs(rate - cont.deposit_rate) <= 1e-7 * max(rate, 1e-30):
-        return False
-    _keeping_u = True
-    try:
-        cont.deposit_rate = rate
-    finally:
-        _keeping_u = False
-    return True
-
-
-def _continuous_changed(self, context):
-    _push(self.id_data, live.push_params)
-
-
-def _u_input_changed(self, context):
-    # Decay rate, mean lifetime or activation time: Eq. 5's inputs besides r_dep.
-    if not keep_u(self.id_data.moldtex):
-        _push(self.id_data, live.push_params)  # (keep_u's write pushed already)
-
-
-def _deposit_rate_changed(self, context):
-    if self.keep_u and not _keeping_u:
-        # The user set the deposit: its U is the one to keep from now on.
-        self.target_u = live.u_from_settings(self.id_data.moldtex) or 0.0
-    _push(self.id_data, live.push_params)
-
-
-def _keep_u_changed(self, context):
-    if self.keep_u:
-        self.target_u = live.u_from_settings(self.id_data.moldtex) or 0.0
+def _labels(names):
+    return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
 
 
 def _agents_changed(self, context):
     # The agent count (or the species count, which splits it) enters U: with Keep U on
     # the deposit rate follows at once; the simulation takes the count on Reset.
-    if self.model == 'CONTINUOUS':
-        keep_u(self)
+    models.of_key(enum_value(self, "model")).agents_changed(self)
 
 
 def _model_changed(self, context):
@@ -376,160 +189,6 @@ def _model_changed(self, context):
     # the simulation's model, so nothing to do here either.
     pass
 
-
-def _reaction_changed(self, context):
-    _push(self.id_data, live.push_params)
-
-
-def _display_range_changed(self, context):
-    from . import material
-    material.sync_display_range(self.id_data)
-
-
-class MoldtexContinuous(bpy.types.PropertyGroup):
-    """Parameters of the continuous model (layton-intrinsic-slime.md Table 1)."""
-    # ---- agent ----
-    move_rate: FloatProperty(
-        name="Move Rate", default=60.0, min=0.0, max=1e6, soft_min=5.0, soft_max=200.0,
-        description="Move Rate (v): distance an agent walks per second, in pattern units "
-                    "(see Pattern Scale) per second. Larger = longer strands",
-        update=_continuous_changed)
-    turn_rate: FloatProperty(
-        name="Turn Rate", subtype='ANGLE', default=math.radians(720.0), min=0.0,
-        max=1e6, soft_min=0.0, soft_max=math.radians(3600.0), precision=0, step=1000,
-        description="Turn Rate (ω): how fast an agent turns, in degrees per second; each "
-                    "turn decision turns it by ω / f at once",
-        update=_continuous_changed)
-    turn_frequency: FloatProperty(
-        name="Turn Frequency", default=20.0, min=1e-3, max=1e6, soft_min=1.0,
-        soft_max=60.0,
-        description="Turn Frequency (Turn Decision Frequency fi): turn decisions per "
-                    "second. Few decisions = straight runs and sharp turns",
-        update=_continuous_changed)
-    sensor_distance: FloatProperty(
-        name="Sensor Distance", default=12.0, min=0.0, max=1e6, soft_min=1.0,
-        soft_max=60.0,
-        description="Sensor Distance (d): how far ahead the sensors are, along the "
-                    "surface, in pattern units (see Pattern Scale). Larger = bigger cells",
-        update=_continuous_changed)
-    sensor_angle: FloatProperty(
-        name="Sensor Angle", subtype='ANGLE', default=math.radians(30.0),
-        min=-math.pi, max=math.pi, soft_min=math.radians(-90.0),
-        soft_max=math.radians(90.0), precision=1, step=100,
-        description="Sensor Angle (θ): angle between the front and side sensors. "
-                    "Negative = chemo-repulsion (agents turn away from pheromone)",
-        update=_continuous_changed)
-    # ---- pheromone ----
-    deposit_rate: FloatProperty(
-        name="Deposit Rate", default=1.0, min=0.0, max=1e12, soft_min=0.0,
-        soft_max=100.0, precision=4,
-        description="Deposit Rate (r_dep): pheromone an agent lays per second, spread "
-                    "evenly along its path. With Keep U on it follows U: set it, and "
-                    "its U becomes the one kept",
-        update=_deposit_rate_changed)
-    diffusion_rate: FloatProperty(
-        name="Diffusion Rate", default=20.0, min=0.0, max=1e6, soft_min=0.0,
-        soft_max=200.0,
-        description="Diffusion Rate (r_dif): how fast pheromone spreads over the "
-                    "surface, in pattern units² per second (see Pattern Scale)",
-        update=_continuous_changed)
-    decay_rate: FloatProperty(
-        name="Decay Rate", default=5.0, min=0.0, max=1e6, soft_min=0.1, soft_max=30.0,
-        description="Decay Rate (r_dec): fraction of the pheromone lost per second. "
-                    "Larger = thinner, sharper trails",
-        update=_u_input_changed)
-    keep_u: BoolProperty(
-        name="Keep U", default=False,
-        description="Keep U: hold the uniform steady-state concentration U (Eq. 5) at "
-                    "its current value: when the agent count, species, surface area, "
-                    "decay rate, mean lifetime or activation time change, the deposit "
-                    "rate follows (the paper's way to keep a look across meshes and "
-                    "agent counts)",
-        update=_keep_u_changed)
-    target_u: FloatProperty(
-        name="Target U", default=0.0, min=0.0, options={'HIDDEN'},
-        description="Target U: the U (Eq. 5, in the core's mesh units) that Keep U holds")
-    display_range: FloatProperty(
-        name="Display Range", default=3.0, min=0.01, max=1e4, soft_min=0.5, soft_max=10.0,
-        description="Display Range: the u / U shown at the top of the colour ramp (0 at "
-                    "its bottom; 1 is the uniform steady state). The live image and "
-                    "baked EXR files hold u / U itself",
-        update=_display_range_changed)
-    # ---- turnover ----
-    mean_lifetime: FloatProperty(
-        name="Mean Lifetime", default=0.0, min=0.0, max=1e6, soft_min=0.0, soft_max=10.0,
-        precision=3, unit='TIME_ABSOLUTE',
-        description="Mean Lifetime (τ̄): agents die after a random time of this mean and "
-                    "start again anywhere on the surface, which keeps the pattern "
-                    "uniform. 0 = agents live for ever",
-        update=_u_input_changed)
-    activation_time: FloatProperty(
-        name="Activation Time", default=0.0, min=0.0, max=1e6, soft_min=0.0,
-        soft_max=10.0, precision=3, unit='TIME_ABSOLUTE',
-        description="Activation Time (Deposit Activation Time t_a): a new agent lays "
-                    "no pheromone until it is this old, so reborn agents do not blot "
-                    "the pattern",
-        update=_u_input_changed)
-    # ---- directional bias (layton-intrinsic-slime.md §3.3, Fig. 6) ----
-    bias_strength: FloatProperty(
-        name="Bias Strength", default=0.0, min=0.0, max=1e6, soft_min=0.0,
-        soft_max=20.0,
-        description="Bias Strength: how fast agents turn toward the bias direction, per "
-                    "second (times the angle to it). 0 = no bias",
-        update=_continuous_changed)
-    bias_symmetry: IntProperty(
-        name="Bias Symmetry", default=1, min=1, max=6,
-        description="Bias Symmetry (n): agents turn toward the nearest of n copies of "
-                    "the direction, 360° / n apart on each face: 1 pulls one way, 2 "
-                    "aligns the trails along the direction both ways, 4 along it and "
-                    "across it",
-        update=_continuous_changed)
-    bias_spawn: BoolProperty(
-        name="Spawn Along Bias", default=False,
-        description="Spawn Along Bias: agents reborn by turnover start facing one of the "
-                    "bias directions of their face (the paper's sources, Fig. 8), even "
-                    "with Strength 0; off: any heading",
-        update=_continuous_changed)
-    bias_direction: FloatVectorProperty(
-        name="Bias Direction", subtype='XYZ', size=3, default=(1.0, 0.0, 0.0),
-        description="Bias Direction: the direction agents are pulled toward, in the "
-                    "object's local axes; projected onto each face (faces it is normal "
-                    "to feel no pull)",
-        update=_continuous_changed)
-    bias_source: EnumProperty(
-        name="Bias Source", default='DIRECTION',
-        items=(('DIRECTION', "Direction", "One direction for the whole object (Bias "
-                "Direction)"),
-               ('ATTRIBUTE', "Attribute", "A vector per face from a Face vector attribute "
-                "(Map Tools ▸ Gradient to Bias writes one); its length weights the "
-                "strength")),
-        description="Bias Source: where the bias directions come from",
-        update=_continuous_changed)
-    bias_attribute: StringProperty(
-        name="Bias Attribute", default="moldtex_bias",
-        description="Bias Attribute: Face vector attribute holding each face's bias "
-                    "vector in the object's local axes (length 1 = full strength)",
-        update=_continuous_changed)
-    boundary: EnumProperty(
-        name="Open Edges", items=BOUNDARY_ITEMS, default='REFLECT',
-        description="Open Edges: what agents do where the mesh ends (its open boundary "
-                    "edges)",
-        update=_continuous_changed)
-    # ---- simulation ----
-    integrator: EnumProperty(
-        name="Integrator", items=INTEGRATOR_ITEMS, default='AUTO',
-        description="Integrator: how the pheromone's diffusion-decay equation is "
-                    "stepped",
-        update=_continuous_changed)
-    # 3D area (mesh units², as the core measures it) of the surface this object last
-    # simulated: U is known without a simulation (the panel, Keep U before a Reset).
-    surface_area: FloatProperty(
-        name="Surface Area", default=0.0, min=0.0, options={'HIDDEN'},
-        description="Surface Area: area of the mesh last simulated, in mesh units², "
-                    "for U")
-
-
-# ---- Backend chooser ------------------------------------------------------------------
 
 BACKEND_AUTO_VALUE = 0
 BACKEND_CPU_VALUE = 1
@@ -583,7 +242,7 @@ def _get_backend(self):
     if self.backend_type == 'CPU':
         return BACKEND_CPU_VALUE
     if self.backend_type == 'OPENCL':
-        device, _note = live.find_opencl_device(self)
+        device, _note = convert.find_opencl_device(self)
         if device is not None:
             return _DEVICE_VALUE_BASE + device["index"]
     # Auto, or a device this machine does not have (live.backend_note says so).
@@ -607,87 +266,35 @@ def _set_backend(self, value):
     self.backend_type = 'AUTO'
 
 
-class MoldtexReaction(bpy.types.PropertyGroup):
-    """Parameters of the Gray-Scott model. Diffusion rates and the seed radius are in
-    pattern units (see Pattern Scale): the classic pixel-unit values (D_u 0.2, D_v 0.1)
-    give the textbook patterns with one pattern unit as the pixel."""
-    feed: FloatProperty(
-        name="Feed", default=0.037, min=0.0, max=1.0, soft_min=0.01, soft_max=0.1,
-        precision=4, step=0.1,
-        description="Feed (F): how fast U is replenished, per second. With Kill it picks "
-                    "the pattern: spots (0.03, 0.062), labyrinth (0.037, 0.06), "
-                    "dividing spots (0.0367, 0.0649), worms (0.078, 0.061)",
-        update=_reaction_changed)
-    kill: FloatProperty(
-        name="Kill", default=0.06, min=0.0, max=1.0, soft_min=0.04, soft_max=0.07,
-        precision=4, step=0.1,
-        description="Kill (k): how fast V is removed, per second",
-        update=_reaction_changed)
-    diffusion_u: FloatProperty(
-        name="Diffusion U", default=0.2, min=0.0, max=1e6, soft_min=0.01, soft_max=1.0,
-        precision=3,
-        description="Diffusion U (D_u): how fast U spreads, in pattern units² per second "
-                    "(see Pattern Scale). Twice Diffusion V in the classic patterns; "
-                    "larger rates give larger features",
-        update=_reaction_changed)
-    diffusion_v: FloatProperty(
-        name="Diffusion V", default=0.1, min=0.0, max=1e6, soft_min=0.005, soft_max=0.5,
-        precision=3,
-        description="Diffusion V (D_v): how fast V spreads, in pattern units² per second",
-        update=_reaction_changed)
-    time_step: FloatProperty(
-        name="Time Step", default=1.0, min=0.01, max=100.0, soft_min=0.1, soft_max=4.0,
-        precision=2, unit='TIME_ABSOLUTE',
-        description="Time Step: simulated seconds per step. The core sub-steps as "
-                    "stability needs, so a larger step only runs the pattern faster "
-                    "(up to its own cost)",
-        update=_reaction_changed)
-    seed_count: IntProperty(
-        name="Seeds", default=64, min=1, max=1024,
-        description="Seeds: how many small disks of V start the pattern (where the "
-                    "Start's Spawn Map says, with that start; else anywhere)." + _RESET_NOTE,
-        update=_config_changed)
-    seed_radius: FloatProperty(
-        name="Seed Radius", default=5.0, min=0.01, max=1e6, soft_min=1.0, soft_max=50.0,
-        description="Seed Radius: radius of each starting disk, in pattern units (see "
-                    "Pattern Scale)." + _RESET_NOTE,
-        update=_config_changed)
-    display_range: FloatProperty(
-        name="Display Range", default=0.5, min=0.01, max=10.0, soft_min=0.1, soft_max=1.0,
-        description="Display Range: the V shown at the top of the colour ramp (0 at its "
-                    "bottom). The live image and baked files hold V itself",
-        update=_display_range_changed)
-
-
 DOMAIN_ITEMS = [
     ('TEXTURE', "Texture", "The texels of the UV layout (every model)"),
     ('INTRINSIC', "Intrinsic", "An intrinsic Delaunay triangulation of the surface "
                                "(layton-intrinsic-slime.md §3.1): no UV seams or stretch; "
-                               "continuous and Gray-Scott models"),
+                               + _labels(models.on_domain(engine.DOMAIN_INTRINSIC)).lower()
+                               + " models"),
 ]
 
 
 class MoldtexSettings(bpy.types.PropertyGroup):
     model: EnumProperty(
         name="Model", items=MODEL_ITEMS, default='MOMAS',
-        description="Model: how the agents and the pheromone behave." + _RESET_NOTE,
+        description="Model: how the agents and the pheromone behave." + RESET_NOTE,
         update=_model_changed)
     domain: EnumProperty(
         name="Domain", items=DOMAIN_ITEMS, default='TEXTURE',
         description="Domain: where the pheromone (or the chemicals) live. The texture's "
                     "texels follow the UV layout; Intrinsic uses a triangulation of the "
                     "surface itself (no UV seams, no UV stretch), still written into the "
-                    "same texture. Continuous and Gray-Scott models." + _RESET_NOTE,
+                    "same texture. " + _labels(models.on_domain(engine.DOMAIN_INTRINSIC))
+                    + " models." + RESET_NOTE,
         update=_config_changed)
     intrinsic_size: FloatProperty(
         name="Triangle Size", default=0.0, min=0.0, max=1e6, soft_max=1.0,
         subtype='DISTANCE',
         description="Triangle Size: the largest circumradius of an intrinsic triangle, a "
                     "length in the scene. 0 = from the texture resolution (about one "
-                    "vertex per texel). Smaller: finer and slower." + _RESET_NOTE,
+                    "vertex per texel). Smaller: finer and slower." + RESET_NOTE,
         update=_config_changed)
-    continuous: PointerProperty(type=MoldtexContinuous)
-    reaction: PointerProperty(type=MoldtexReaction)
     # Parameter maps and stimuli of the continuous model (maps/settings.py; registered
     # by maps.register() before this class).
     maps: PointerProperty(type=MoldtexMaps)
@@ -713,7 +320,7 @@ class MoldtexSettings(bpy.types.PropertyGroup):
         description="Vision Angle (ϑs): angle between the front and side sensors, in "
                     "degrees. Larger = thicker trails",
         update=_push_params)
-    vision_angle_ui: _angle_ui(
+    vision_angle_ui: angle_ui(
         "vision_angle", "Vision Angle (ϑs): angle between the front and side sensors. "
                         "Larger = thicker trails")
     pattern_units: EnumProperty(
@@ -787,11 +394,11 @@ class MoldtexSettings(bpy.types.PropertyGroup):
     # ---- simulation setup (need a reset) ----
     agent_count: IntProperty(
         name="Agents", default=60000, min=1, max=67108864, soft_max=4000000,
-        description="Agents: number of agents." + _RESET_NOTE,
+        description="Agents: number of agents." + RESET_NOTE,
         update=_agents_changed)
     resolution: EnumProperty(
         name="Resolution", items=RESOLUTION_ITEMS, default="512",
-        description="Resolution: size of the pheromone texture." + _RESET_NOTE,
+        description="Resolution: size of the pheromone texture." + RESET_NOTE,
         update=_config_changed)
     detail: EnumProperty(
         name="Detail", items=DETAIL_ITEMS, default="AUTO",
@@ -800,69 +407,69 @@ class MoldtexSettings(bpy.types.PropertyGroup):
                     "shows their mean; the pattern is the same, computed more finely (and "
                     "more slowly). Auto aims at about two simulated texels per pattern "
                     "unit, which a UV sphere's poles need (one texel per unit leaves them "
-                    "about 30% thin)." + _RESET_NOTE,
+                    "about 30% thin)." + RESET_NOTE,
         update=_config_changed)
     seed: IntProperty(
         name="Seed", default=0, min=0,
-        description="Random seed: the same seed gives the same pattern." + _RESET_NOTE,
+        description="Random seed: the same seed gives the same pattern." + RESET_NOTE,
         update=_config_changed)
     backend: EnumProperty(
         name="Backend", items=backend_items, get=_get_backend, set=_set_backend,
         description="Where the simulation runs. Auto uses OpenCL only on a GPU (on a "
                     "CPU OpenCL device the native CPU code is as fast), otherwise the "
-                    "CPU; or pick the CPU or one OpenCL device." + _RESET_NOTE,
+                    "CPU; or pick the CPU or one OpenCL device." + RESET_NOTE,
         update=_config_changed)
     # What the Backend chooser stores (saved; not shown in the panel). Scripts may set
     # backend_type = 'OPENCL' with opencl_platform/opencl_device and an empty
     # opencl_device_name: the indices are then used as they are.
     backend_type: EnumProperty(
         name="Backend Type", items=BACKEND_TYPE_ITEMS, default="AUTO",
-        description="Kind of backend the Backend chooser stored." + _RESET_NOTE,
+        description="Kind of backend the Backend chooser stored." + RESET_NOTE,
         update=_config_changed)
     opencl_platform: IntProperty(
         name="OpenCL Platform", default=0, min=0,
-        description="Index of the chosen OpenCL device's platform." + _RESET_NOTE,
+        description="Index of the chosen OpenCL device's platform." + RESET_NOTE,
         update=_config_changed)
     opencl_device: IntProperty(
         name="OpenCL Device", default=0, min=0,
-        description="Index of the chosen OpenCL device on its platform." + _RESET_NOTE,
+        description="Index of the chosen OpenCL device on its platform." + RESET_NOTE,
         update=_config_changed)
     opencl_device_name: StringProperty(
         name="OpenCL Device Name", default="",
         description="Name of the chosen OpenCL device, to find it again on another "
                     "machine or after drivers change (empty = use the indices as they "
-                    "are)." + _RESET_NOTE,
+                    "are)." + RESET_NOTE,
         update=_config_changed)
     opencl_platform_name: StringProperty(
         name="OpenCL Platform Name", default="",
-        description="Name of the chosen OpenCL device's platform." + _RESET_NOTE,
+        description="Name of the chosen OpenCL device's platform." + RESET_NOTE,
         update=_config_changed)
     uv_map: StringProperty(
         name="UV Map", default="",
         description="UV Map the mold grows in. Empty = the mesh's render UV map (the one "
                     "marked with the camera icon in Object Data ▸ UV Maps)."
-                    + _RESET_NOTE,
+                    + RESET_NOTE,
         update=_config_changed)
     # ---- species, starting seeds and fields (momas-paper.md §2.5) ----
     species_count: IntProperty(
         name="Species", default=1, min=1, max=4,
         description="Number of competing species, each with its own trail and settings "
-                    "(the image's R, G, B, A channels)." + _RESET_NOTE,
+                    "(the image's R, G, B, A channels)." + RESET_NOTE,
         update=_species_count_changed)
     species: CollectionProperty(type=MoldtexSpecies)
     seed_shape: EnumProperty(
         name="Start", items=SEED_SHAPE_ITEMS, default="RANDOM",
-        description="Where the agents start." + _RESET_NOTE,
+        description="Where the agents start." + RESET_NOTE,
         update=_config_changed)
     seed_radius: FloatProperty(
         name="Radius", default=0.5, min=1e-6, max=1e9, soft_min=0.01, soft_max=10.0,
         subtype='DISTANCE', unit='LENGTH',
         description="Radius of the Circle or Starburst, in scene units, measured along "
-                    "the surface from the point nearest the 3D cursor." + _RESET_NOTE,
+                    "the surface from the point nearest the 3D cursor." + RESET_NOTE,
         update=_config_changed)
     seed_rays: IntProperty(
         name="Rays", default=8, min=1, max=1024,
-        description="Number of Starburst rays." + _RESET_NOTE,
+        description="Number of Starburst rays." + RESET_NOTE,
         update=_config_changed)
     fields_image: PointerProperty(
         name="Fields", type=bpy.types.Image,
@@ -989,17 +596,19 @@ class MoldtexSettings(bpy.types.PropertyGroup):
     def scaled_agent_count(self, agents_at_512):
         """Agent count giving the density `agents_at_512` agents have on 512 × 512
         pattern units: per texel of this resolution in Units: Texels, per pattern unit
-        (whatever the resolution) in Units: Surface (presets.agents_per_preset_agent)."""
-        from . import presets
-        return presets.scaled_agent_count(agents_at_512, presets.agents_per_preset_agent(self))
+        (whatever the resolution) in Units: Surface (looks/scaling.py)."""
+        return scaling.scaled_agent_count(agents_at_512, scaling.agents_per_preset_agent(self))
 
     def apply_ramp(self, stops, interpolation='LINEAR'):
         """Sets the Moldtex colour ramp: stops = [(position, (r, g, b, a)), ...]."""
-        from . import presets
-        presets.apply_ramp(self.id_data, stops, interpolation)
+        material.apply_ramp(self.id_data, stops, interpolation)
 
 
-CLASSES = (MoldtexSpecies, MoldtexContinuous, MoldtexReaction, MoldtexSettings)
+# Each model's own settings group (registered by models.register() before this class).
+for _name, _group in models.settings_groups().items():
+    MoldtexSettings.__annotations__[_name] = PointerProperty(type=_group)
+
+CLASSES = (MoldtexSpecies, MoldtexSettings)
 
 
 def register():

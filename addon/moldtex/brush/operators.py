@@ -12,7 +12,7 @@ import bpy
 from bpy.props import CollectionProperty, FloatVectorProperty, StringProperty
 from mathutils import Vector
 
-from . import brush
+from . import session as brush
 
 # Events the viewport tool leaves to Blender: view navigation and the timers that
 # drive a running simulation (moldtex.start) and the interface.

@@ -13,9 +13,14 @@ import time
 import bpy
 from bpy.props import BoolProperty, IntProperty, StringProperty
 
-from . import bake, engine, image_io, live, material, vertex_colours
-from .mesh_export import MeshExportError, check_object, no_uv_map_message, resolve_uv_map_name
-from .properties import BAKE_FORMAT_ITEMS
+from ..bake import sequence as bake
+from .. import engine
+from ..data import image_io, vertex_colours
+from ..sim import convert
+from ..sim import session as live
+from ..colour import material
+from ..data.mesh_export import MeshExportError, check_object, no_uv_map_message, resolve_uv_map_name
+from ..settings.properties import BAKE_FORMAT_ITEMS
 
 USER_ERRORS = (MeshExportError, bake.BakeError, engine.EngineError)
 
@@ -513,7 +518,7 @@ material's Base Color (keeps your nodes; safe to run again)"""
         entry = live.get(obj.name)
         on_vertices = entry is not None and entry.has_sim and entry.vertex_colours
         if ((len(obj.data.uv_layers) == 0 or on_vertices)
-                and live.domain_of(settings) == engine.DOMAIN_INTRINSIC):
+                and convert.domain_of(settings) == engine.DOMAIN_INTRINSIC):
             material.setup_material(obj, None, "")  # the vertex colours (no usable UV map)
             if on_vertices and not entry.baking:
                 _show(entry, obj)

@@ -20,8 +20,12 @@ import time
 
 import bpy
 
-from . import engine, live, material
-from .mesh_export import resolve_uv_map_name
+from .. import engine
+from ..sim import convert
+from ..sim import session as live
+from ..colour import material
+from ..data.mesh_export import resolve_uv_map_name
+from ..settings.enums import enum_value
 
 # properties.BAKE_FORMAT_ITEMS identifier -> engine.IMAGE_*
 FORMAT_VALUES = {
@@ -130,18 +134,17 @@ def plan_for(obj, scene):
     if len(prefix.encode("utf-8")) > MAX_PREFIX:
         raise BakeError(f"The File Prefix is {len(prefix)} characters long; at most "
                         f"{MAX_PREFIX} fit in a file name: shorten it.")
-    from .properties import enum_value  # (properties imports live, which imports us)
     return BakePlan(obj.name, output_directory(obj), prefix, first, last,
                     settings.bake_steps_per_frame, enum_value(settings, "bake_format"),
                     settings.bake_resume,
-                    live.model_of(settings) == engine.MODEL_CONTINUOUS)
+                    convert.model_of(settings) == engine.MODEL_CONTINUOUS)
 
 
 def clipping_note(obj, plan):
     """Why this bake's files cannot hold what the simulation makes, or "": the
     continuous model's u / U runs above 1 (1 = the uniform steady state), which PNG
     (0..1) cuts off."""
-    if (live.model_of(obj.moldtex) != engine.MODEL_CONTINUOUS
+    if (convert.model_of(obj.moldtex) != engine.MODEL_CONTINUOUS
             or plan.image_format not in (engine.IMAGE_PNG8, engine.IMAGE_PNG16)):
         return ""
     return ("PNG holds 0 to 1, but the continuous model's u / U runs above 1 on the "

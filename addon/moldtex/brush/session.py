@@ -27,8 +27,12 @@ import bpy
 from bpy.props import (BoolProperty, EnumProperty, FloatProperty, IntProperty)
 from mathutils import Matrix, Vector
 
-from . import engine, image_io, live
-from .mesh_export import (MeshExportError, export_object, export_scale,
+from .. import engine
+from ..data import image_io
+from ..settings.enums import repair_enums
+from ..sim import convert
+from ..sim import session as live
+from ..data.mesh_export import (MeshExportError, export_object, export_scale,
                           length_in_mesh_units, world_to_mesh)
 
 TARGETS = (
@@ -38,8 +42,8 @@ TARGETS = (
      "channel of the Fields image)", 'FORCE_MAGNETIC', 1),
     ('SPAWN', "Spawn", "Where agents start with Start = Spawn Map (red channel of the "
      "Fields image; used at the next Reset)", 'OUTLINER_OB_POINTCLOUD', 2),
-    ('SLIME', "Slime", "Adds agents to the live simulation (erase removes them); in "
-     "Gray-Scott, which has no agents, seeds V (erase clears it)",
+    ('SLIME', "Slime", "Adds agents to the live simulation (erase removes them); in a "
+     "reaction-diffusion model, which has no agents, seeds its pattern (erase clears it)",
      'OUTLINER_OB_FORCE_FIELD', 3),
     ('FOOD', "Food", "Places food Empties in the Food collection (erase removes them)",
      'FORCE_FORCE', 4),
@@ -389,8 +393,8 @@ def _empty_record(empty):
     return {"name": empty.name, "matrix": [tuple(row) for row in empty.matrix_world],
             "display_type": empty.empty_display_type,
             "display_size": empty.empty_display_size,
-            "properties": {key: empty[key] for key in (live.FOOD_STRENGTH_PROPERTY,
-                                                       live.FOOD_AMOUNT_PROPERTY)
+            "properties": {key: empty[key] for key in (convert.FOOD_STRENGTH_PROPERTY,
+                                                       convert.FOOD_AMOUNT_PROPERTY)
                            if key in empty.keys()},
             "collections": [c.name for c in empty.users_collection]}
 
@@ -461,8 +465,8 @@ class _FoodEdit:
         empty.empty_display_type = 'SPHERE'
         empty.empty_display_size = max(settings.radius * 0.5, 1e-4)
         empty.location = centre
-        empty[live.FOOD_STRENGTH_PROPERTY] = float(settings.food_strength)
-        empty[live.FOOD_AMOUNT_PROPERTY] = float(settings.food_amount)
+        empty[convert.FOOD_STRENGTH_PROPERTY] = float(settings.food_strength)
+        empty[convert.FOOD_AMOUNT_PROPERTY] = float(settings.food_amount)
         collection.objects.link(empty)
         self.added.append(_empty_record(empty))
 
@@ -489,7 +493,6 @@ class _FoodEdit:
 def repair_settings(settings):
     """Sets brush enums holding a value this version does not know (a file from another
     version) back to their defaults, with a note on the console; returns the notes."""
-    from .properties import repair_enums  # (properties imports live, not this module)
     notes = repair_enums(settings)
     for note in notes:
         print(f"Moldtex brush: {note}")
