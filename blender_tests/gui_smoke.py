@@ -98,7 +98,7 @@ def _tick():
         # Run on the first OpenCL device when there is one (the panel then shows
         # "Backend: OpenCL: <device>"), else on Auto.
         from moldtex import engine
-        from moldtex.settings import properties as properties
+        from moldtex.settings import properties
         devices, _reason = engine.opencl_devices()
         if devices:
             obj.moldtex.backend = properties.device_identifier(devices[0])

@@ -227,7 +227,7 @@ def screen_vs_vertices(obj, label):
     without UVs: each cell's expected luminance is the mean, over the mesh vertices in
     it, of the ramp's luminance at the vertex colour the add-on wrote (through the
     material's Map Range: 0 .. the display maximum)."""
-    from moldtex.colour import material as material
+    from moldtex.colour import material
     screen = screen_cells(label)
     table = ramp_table(obj)
     top = material.display_maximum(obj)
@@ -322,7 +322,7 @@ def _tick():
         rv3d.view_location = (0.0, 0.0, 0.0)
         rv3d.view_distance = 2.6
         # Start before Set Up Material sets the material up itself.
-        from moldtex.colour import material as material
+        from moldtex.colour import material
         check(call(bpy.ops.moldtex.start, 'INVOKE_DEFAULT') == {'RUNNING_MODAL'},
               "Start without Set Up Material")
         node = material.moldtex_node(obj, material.TEXTURE_NODE)

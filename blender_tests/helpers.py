@@ -269,7 +269,7 @@ def load_pixels(path):
 def fresh_sim(obj):
     """A new engine.Simulation built from obj's settings and mesh as Reset builds it."""
     from moldtex.sim import session as live_module
-    from moldtex.data import mesh_export as mesh_export
+    from moldtex.data import mesh_export
     eng = engine()
     mesh = mesh_export.export_object(obj, bpy.context.evaluated_depsgraph_get(),
                                      obj.moldtex.uv_map)

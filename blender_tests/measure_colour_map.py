@@ -26,9 +26,9 @@ def main():
     import addon_utils
     sys.path.insert(0, os.path.abspath(args.addon_dir))
     addon_utils.enable("moldtex", default_set=True)
-    from moldtex.colour import colour_map as colour_map
+    from moldtex.colour import colour_map
     from moldtex import engine
-    from moldtex.data import image_io as image_io
+    from moldtex.data import image_io
 
     width, height = args.width, args.height
     # One row: black -> red -> yellow -> white along x; every row the same.

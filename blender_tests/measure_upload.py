@@ -26,7 +26,7 @@ def main():
     sys.path.insert(0, os.path.abspath(args.addon_dir))
     addon_utils.enable("moldtex", default_set=True)
     from moldtex import engine
-    from moldtex.data import image_io as image_io
+    from moldtex.data import image_io
     from moldtex.sim import session as live
 
     for obj in list(bpy.data.objects):

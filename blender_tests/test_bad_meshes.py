@@ -58,7 +58,7 @@ class BadMeshTests(unittest.TestCase):
             self.assertEqual(result, {'CANCELLED'})
             self.assertIn("manifold", message.lower(), message)
         # The engine says why, with the status for a bad mesh.
-        from moldtex.data import mesh_export as mesh_export
+        from moldtex.data import mesh_export
         obj = bpy.context.active_object
         arrays = mesh_export.export_object(obj, bpy.context.evaluated_depsgraph_get())
         engine = h.engine()

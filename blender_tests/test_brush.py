@@ -238,7 +238,7 @@ class BrushTests(unittest.TestCase):
         self.assertEqual(_stroke(obj, (0.4, 0.0)), {'FINISHED'})
 
     def test_show_fields_lays_the_painted_fields_over_the_pheromone(self):
-        from moldtex.colour import material as material
+        from moldtex.colour import material
         obj = _plane()
         h.activate(obj)
         self.assertEqual(bpy.ops.moldtex.setup_material(), {'FINISHED'})

@@ -153,7 +153,7 @@ class KilledBakeTests(CliTestCase):
 
     @staticmethod
     def preset_path(name):
-        from moldtex.looks import presets as presets
+        from moldtex.looks import presets
         return presets.find(name)
 
 

@@ -19,7 +19,7 @@ CONTINUOUS_LOOKS = ("branching_veins", "coral_maze", "zebra_stripes", "starburst
 
 
 def presets_module():
-    from moldtex.looks import presets as presets
+    from moldtex.looks import presets
     return presets
 
 

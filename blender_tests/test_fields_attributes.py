@@ -143,7 +143,7 @@ class FieldAttributeTests(unittest.TestCase):
         # that has none, as the evaluated mesh would be.)
         group = obj.vertex_groups.new(name="Wall")
         group.add([0, 1, 2], 1.0, 'REPLACE')
-        from moldtex.data import mesh_export as mesh_export
+        from moldtex.data import mesh_export
         bare = bpy.data.meshes.new("Bare")
         bare.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [], [(0, 1, 2)])
         with self.assertRaises(mesh_export.MeshExportError) as caught:

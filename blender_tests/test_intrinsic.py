@@ -1,4 +1,4 @@
-"""Intrinsic Delaunay triangulation (issue 11) through engine.py: Suzanne and a UV
+"""Intrinsic Delaunay triangulation (issue 11) through the binding (engine/): Suzanne and a UV
 sphere, refined and not; counts near area / bound^2; vertex points map to intrinsic
 vertices and back to the same 3D positions; an absurd bound is a clear EngineError."""
 
@@ -11,7 +11,7 @@ import helpers as h
 
 
 def surface_of(obj):
-    from moldtex.data import mesh_export as mesh_export
+    from moldtex.data import mesh_export
     arrays = mesh_export.export_object(obj, bpy.context.evaluated_depsgraph_get())
     engine = h.engine()
     return engine.Surface(arrays.positions, arrays.triangles, arrays.uvs, arrays.triangle_uvs)

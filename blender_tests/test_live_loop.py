@@ -153,7 +153,7 @@ class StartSetsUpMaterialTests(unittest.TestCase):
     def test_start_sets_up_the_material_when_there_is_none(self):
         # Start needs the interface (gui_viewport.py presses it); the part that sets up
         # the material is this function, which Start calls before showing the image.
-        from moldtex.colour import material as material
+        from moldtex.colour import material
         from moldtex.operators import simulation as operators
         h.clear_scene()
         obj = h.plane(resolution="128", agents=3000)

@@ -429,7 +429,7 @@ class MapPresetTests(unittest.TestCase):
         h.clear_scene()
 
     def test_presets_leave_maps_alone(self):
-        from moldtex.looks import presets as presets
+        from moldtex.looks import presets
         obj = maps_plane()
         h.activate(obj)
         set_map(obj, "deposit_rate", "Right", at1=3.0)

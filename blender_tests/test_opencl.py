@@ -38,7 +38,7 @@ def first_opencl_device(test):
 
 
 def backend_identifiers(obj):
-    from moldtex.settings import properties as properties
+    from moldtex.settings import properties
     return [item[0] for item in properties.backend_items(obj.moldtex, bpy.context)]
 
 
@@ -56,7 +56,7 @@ class DeviceListTests(unittest.TestCase):
         else:
             self.assertTrue(reason, "no devices and no reason")
         obj = h.add_primitive("sphere")
-        from moldtex.settings import properties as properties
+        from moldtex.settings import properties
         expected = ["AUTO", "CPU"] + [properties.device_identifier(d) for d in devices]
         self.assertEqual(backend_identifiers(obj), expected)
         self.assertEqual(obj.moldtex.backend, "AUTO")  # the default
@@ -126,7 +126,7 @@ class OpenCLRunTests(unittest.TestCase):
 
     def test_pattern_on_opencl_matches_cpu(self):
         device = first_opencl_device(self)
-        from moldtex.settings import properties as properties
+        from moldtex.settings import properties
         obj = h.add_primitive("sphere")
         h.configure(obj)
         obj.moldtex.backend = properties.device_identifier(device)
@@ -235,7 +235,7 @@ class BackendPersistenceTests(unittest.TestCase):
         return bpy.data.objects[name]
 
     def test_backend_survives_save_and_reload(self):
-        from moldtex.settings import properties as properties
+        from moldtex.settings import properties
         devices, _reason = h.engine().opencl_devices()
         cpu = h.add_primitive("torus")
         cpu.name = "OnCPU"

@@ -69,7 +69,7 @@ class PathOptionTests(unittest.TestCase):
         self.assertFalse([m for m in messages if "blend relative" in m], messages)
         self.assertEqual(obj.moldtex.bake_directory, "//elsewhere/")
         if has_option:  # 5.0 warns without the option: the add-on must declare it
-            from moldtex.settings import properties as properties
+            from moldtex.settings import properties
             self.assertIn('PATH_SUPPORTS_BLEND_RELATIVE', properties.PATH_OPTIONS)
 
 

@@ -41,7 +41,7 @@ BANDS = {
 
 
 def presets_module():
-    from moldtex.looks import presets as presets
+    from moldtex.looks import presets
     return presets
 
 
@@ -133,7 +133,7 @@ class ShippedPresetTests(unittest.TestCase):
         self.assertEqual(execute_preset(presets_module().find("lava_rivers")), {'FINISHED'})
         self.assertIsNone(obj.active_material)  # nothing to change yet: remembered
         self.assertEqual(bpy.ops.moldtex.setup_material(), {'FINISHED'})
-        from moldtex.colour import material as material
+        from moldtex.colour import material
         remembered, interpolation = material.preset_ramp(obj)
         self.assertEqual(len(remembered), 6)  # lava_rivers.py has six stops
         self.assertEqual(ramp_of(obj), ([(round(p, 4), tuple(round(c, 4) for c in color))

@@ -23,7 +23,7 @@ SCALE = 4.0
 
 
 def presets_module():
-    from moldtex.looks import presets as presets
+    from moldtex.looks import presets
     return presets
 
 
@@ -123,7 +123,7 @@ class ReactionModelTests(unittest.TestCase):
             obj.moldtex.model = 'MOMAS'
             h.run(obj, 1)
             bpy.ops.moldtex.step(steps=1)
-            from moldtex.colour import material as material
+            from moldtex.colour import material
             material.sync_display_range(obj)
             self.assertNotIn("Moldtex V", nodes)
             self.assertEqual(span.inputs[0].links[0].from_node.name, "Moldtex Texture")

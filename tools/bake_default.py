@@ -197,7 +197,7 @@ def grow(suzanne, args, out):
         sys.stdout.flush()
     if plan is not None and done == plan.frame_count * plan.steps_per_frame:
         # No live step after the bake: copy its last state into the live image.
-        from moldtex.data import image_io as image_io
+        from moldtex.data import image_io
         image = image_io.ensure_image(suzanne, entry.sim.width, entry.sim.height)
         image_io.upload(image, live.read_pixels(entry))
     return time.perf_counter() - began, plan
@@ -212,7 +212,7 @@ def main():
     enable_addon(args.addon_dir)
     suzanne = build_scene(args)
     if args.preset:
-        from moldtex.looks import presets as presets
+        from moldtex.looks import presets
         path = presets.find(args.preset)
         if not path:
             fail(f"no preset '{args.preset}' (presets: {', '.join(sorted(presets.available()))})")

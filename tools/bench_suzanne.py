@@ -53,7 +53,7 @@ def main():
     sys.path.insert(0, os.path.abspath(args.addon_dir))
     import bpy
     from moldtex import engine
-    from moldtex.data import mesh_export as mesh_export
+    from moldtex.data import mesh_export
     if not engine.available():
         sys.exit(engine.status_text())
     depsgraph = bpy.context.evaluated_depsgraph_get()

@@ -28,7 +28,7 @@ def main():
     args = parser.parse_args(argv)
     sys.path.insert(0, os.path.abspath(args.addon_dir))
     import bpy
-    from moldtex.data import mesh_export as mesh_export
+    from moldtex.data import mesh_export
     for obj in list(bpy.data.objects):
         bpy.data.objects.remove(obj, do_unlink=True)
     if args.sphere:

@@ -5,7 +5,7 @@ The core's bake worker (engine.Bake) writes the frames on its own thread into
 <folder>/<prefix><frame, 4 digits>.exr|png, with <prefix>metrics.csv (frame, step,
 coverage, presence) and <prefix>checkpoint.bin beside them. It runs on the object's
 live simulation, rebuilt from the current settings and mesh as Reset does; while it
-runs the core answers ERROR_BUSY to every other call on that simulation, so live.py
+runs the core answers ERROR_BUSY to every other call on that simulation, so sim/session.py
 refuses to step it (live.check_not_baking) and skips parameter pushes.
 
 BakeJob is shared by the modal operator (a timer polls it), the synchronous path used

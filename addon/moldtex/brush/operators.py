@@ -2,7 +2,7 @@
 """Brush operators: the viewport tool (moldtex.brush_paint, modal), one scripted
 stroke (moldtex.brush_stroke, works in background mode) and Undo/Redo Stroke.
 
-The brush settings are the scene's (Scene.moldtex_brush, see brush.py); strokes act on
+The brush settings are the scene's (Scene.moldtex_brush, see brush/session.py); strokes act on
 the active object (or object_name).
 """
 

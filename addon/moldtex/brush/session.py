@@ -14,8 +14,8 @@ step of a per-object history that Undo/Redo Stroke walk back and forth:
   food    the Empties it created or removed.
 Blender's own undo does not reach the image's pixels or the core, hence this history.
 
-This module talks to the core only through engine.py and to the live simulations only
-through live.py.
+This module talks to the core only through the binding (engine/) and to the live simulations
+only through sim/session.py.
 """
 
 import array
@@ -96,7 +96,7 @@ class MoldtexBrushSettings(bpy.types.PropertyGroup):
 
 class _SurfaceCache:
     """The core surface of an object's exported mesh. Exporting costs time on big
-    meshes, so the mesh is read again only after its geometry changed (handlers.py
+    meshes, so the mesh is read again only after its geometry changed (sim/handlers.py
     calls invalidate), its UV map setting or its non-uniform scale changed; a new
     surface is built only when the exported data really differ."""
 

@@ -5,7 +5,7 @@ The Intrinsic domain runs on the surface itself and needs UVs only to write a te
 On a mesh without a UV map the core reads its result at the mesh's vertices
 (moldtex_sim_read_vertex_rgba, the values the image would hold) and this module stores
 them in the colour attribute ATTRIBUTE of the object's mesh (Vertex domain, float
-colour), which the material reads through a Color Attribute node (material.py).
+colour), which the material reads through a Color Attribute node (colour/material.py).
 
 The simulation runs on the evaluated mesh (after modifiers); the attribute lives on the
 object's own mesh. They match vertex for vertex when no modifier changes the topology.

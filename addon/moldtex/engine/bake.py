@@ -6,7 +6,7 @@ import ctypes
 import os
 
 from . import library
-from .library import (_Bake, _DomainBuild, _check, _decode, _fill, _path_bytes, _require,
+from .library import (Handle, _Bake, _DomainBuild, _check, _decode, _fill, _path_bytes, _require,
                       _struct_to_dict)
 from .structs import *  # noqa: F401,F403  (the header's constants and structs)
 
@@ -24,7 +24,7 @@ def checkpoint_file_name(prefix):
     return f"{prefix}checkpoint.bin"
 
 
-class Bake:
+class Bake(Handle):
     """A native bake (moldtex_bake): frames first_frame..last_frame of a simulation
     written into `directory` by the core's own thread.
 
@@ -36,6 +36,8 @@ class Bake:
     call on the simulation raises EngineError with status ERROR_BUSY.
     progress() never blocks; wait() blocks (without holding Python's GIL).
     """
+    _release = "moldtex_bake_release"
+    _what = "bake"
 
     def __init__(self, sim, directory, first_frame, last_frame, steps_per_frame,
                  image_format=IMAGE_EXR_HALF, file_prefix="moldtex_", resume=False,
@@ -67,12 +69,6 @@ class Bake:
         self.steps_per_frame = desc.steps_per_frame
         self.image_format = desc.format
         self.resume = bool(resume)
-
-    @property
-    def handle(self):
-        if self._handle is None:
-            raise EngineError("This bake was released.", ERROR_INVALID_ARGUMENT)
-        return self._handle
 
     @property
     def frame_count(self):
@@ -107,26 +103,16 @@ class Bake:
         bake is not a failure: see progress()["state"])."""
         _check(library._lib.moldtex_bake_wait(self.handle), "The bake")
 
-    def release(self):
-        """Cancels and waits if still running, then frees the handle."""
-        if self._handle is not None and library._lib is not None:
-            library._lib.moldtex_bake_release(self._handle)
-        self._handle = None
 
-    def __del__(self):
-        try:
-            self.release()
-        except Exception:
-            pass
-
-
-class DomainBuild:
+class DomainBuild(Handle):
     """Builds the intrinsic domain a Simulation(surface, config) would run on, on the
     core's own thread (moldtex_domain_build), so that an interface can show its progress
     and cancel it; the Simulation created next with the same surface, size and bound
     reuses it (domain_info()["from_cache"]). config as for Simulation (domain must be
     DOMAIN_INTRINSIC); thread_count as the params' (0 = all cores).
     progress() never blocks; wait() blocks (without holding Python's GIL)."""
+    _release = "moldtex_domain_build_release"
+    _what = "domain build"
 
     def __init__(self, surface, config, thread_count=0):
         lib = _require()
@@ -142,12 +128,6 @@ class DomainBuild:
                                               int(thread_count), ctypes.byref(handle)),
                "Building the intrinsic triangulation")
         self._handle = handle
-
-    @property
-    def handle(self):
-        if self._handle is None:
-            raise EngineError("This domain build was released.", ERROR_INVALID_ARGUMENT)
-        return self._handle
 
     def progress(self):
         """dict: state (BAKE_RUNNING / _FINISHED / _CANCELLED / _FAILED), stage (BUILD_*),
@@ -173,15 +153,3 @@ class DomainBuild:
         """Blocks until the build ends; raises EngineError if it failed or was cancelled
         (status ERROR_CANCELLED)."""
         _check(library._lib.moldtex_domain_build_wait(self.handle), "Building the intrinsic triangulation")
-
-    def release(self):
-        """Cancels and waits if still running, then frees the handle."""
-        if self._handle is not None and library._lib is not None:
-            library._lib.moldtex_domain_build_release(self._handle)
-        self._handle = None
-
-    def __del__(self):
-        try:
-            self.release()
-        except Exception:
-            pass

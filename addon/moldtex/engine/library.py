@@ -464,3 +464,30 @@ def _path_bytes(path):
     if not path:
         raise EngineError("The file path is empty.", ERROR_INVALID_ARGUMENT)
     return os.fsencode(os.fspath(path))
+
+
+class Handle:
+    """An object of the core owned by one Python object (a subclass sets _release, the
+    name of its moldtex_*_release function, and _what, its name in messages): freed once,
+    by release() or when the Python object is collected."""
+    _release = ""
+    _what = "object"
+    _handle = None
+
+    @property
+    def handle(self):
+        if self._handle is None:
+            raise EngineError(f"This {self._what} was released.", ERROR_INVALID_ARGUMENT)
+        return self._handle
+
+    def release(self):
+        """Frees the core's object (a running bake or build is cancelled and waited for)."""
+        if self._handle is not None and _lib is not None:
+            getattr(_lib, self._release)(self._handle)
+        self._handle = None
+
+    def __del__(self):
+        try:
+            self.release()
+        except Exception:
+            pass

@@ -6,14 +6,16 @@ import array
 import ctypes
 
 from . import library, structs
-from .library import (_Sim, _brush, _buffer_address, _check, _decode, _fill, _path_bytes, _require,
+from .library import (Handle, _Sim, _brush, _buffer_address, _check, _decode, _fill, _path_bytes, _require,
                       _struct_to_dict)
 from .structs import *  # noqa: F401,F403  (the header's constants and structs)
 
 
-class Simulation:
+class Simulation(Handle):
     """A simulation on a surface's UV layout (moldtex_sim): MoMaS, or the continuous
     model when config["model"] is MODEL_CONTINUOUS."""
+    _release = "moldtex_sim_release"
+    _what = "simulation"
 
     def __init__(self, surface, config=None, params=None, fields=None, continuous=None,
                  reaction=None):
@@ -78,12 +80,6 @@ class Simulation:
             except (EngineError, KeyError, TypeError):
                 self.release()
                 raise
-
-    @property
-    def handle(self):
-        if self._handle is None:
-            raise EngineError("This simulation was released.", ERROR_INVALID_ARGUMENT)
-        return self._handle
 
     def set_params(self, params):
         """Changes parameters between steps; fields not given keep their current value."""
@@ -396,14 +392,3 @@ class Simulation:
         """Undoes a stroke: removes the agents added with `batch`, restores those erased
         with it."""
         _check(library._lib.moldtex_sim_undo_agents(self.handle, int(batch)), "Undoing a brush stroke")
-
-    def release(self):
-        if self._handle is not None and library._lib is not None:
-            library._lib.moldtex_sim_release(self._handle)
-        self._handle = None
-
-    def __del__(self):
-        try:
-            self.release()
-        except Exception:
-            pass

@@ -6,13 +6,15 @@ import array
 import ctypes
 
 from . import library
-from .library import (_Intrinsic, _Surface, _brush, _buffer_address, _check, _decode, _float_ptr,
+from .library import (Handle, _Intrinsic, _Surface, _brush, _buffer_address, _check, _decode, _float_ptr,
                       _require, _struct_to_dict, _uint_ptr)
 from .structs import *  # noqa: F401,F403  (the header's constants and structs)
 
 
-class Surface:
+class Surface(Handle):
     """A triangle mesh with a UV layout (moldtex_surface)."""
+    _release = "moldtex_surface_release"
+    _what = "surface"
 
     def __init__(self, positions, triangles, uvs, triangle_uvs=None):
         """positions: array('f') of x,y,z; triangles: array('I'/'i') of vertex indices,
@@ -48,12 +50,6 @@ class Surface:
         _check(lib.moldtex_surface_create(ctypes.byref(desc), ctypes.byref(handle)),
                "Building the surface")
         self._handle = handle
-
-    @property
-    def handle(self):
-        if self._handle is None:
-            raise EngineError("This surface was released.", ERROR_INVALID_ARGUMENT)
-        return self._handle
 
     def info(self):
         info = SurfaceInfo()
@@ -206,17 +202,6 @@ class Surface:
                "Taking a map's gradient")
         return out
 
-    def release(self):
-        if self._handle is not None and library._lib is not None:
-            library._lib.moldtex_surface_release(self._handle)
-        self._handle = None
-
-    def __del__(self):
-        try:
-            self.release()
-        except Exception:
-            pass
-
 
 def _points_array(points, what):
     """A ctypes array of SurfacePoint from (triangle, (b0, b1, b2)) pairs."""
@@ -241,13 +226,15 @@ def _points_list(points):
     return [(p.triangle, tuple(p.bary)) for p in points]
 
 
-class Intrinsic:
+class Intrinsic(Handle):
     """Intrinsic Delaunay triangulation of a surface (moldtex_intrinsic, issue 11).
 
     max_circumradius: bound on the triangles' circumradius in mesh units (0: only
     Delaunay edge flips, no refinement); max_insertions: cap on inserted vertices.
     Points are (triangle, (b0, b1, b2)) pairs: triangles of the surface for input
     points, of the intrinsic triangulation for intrinsic ones. Keeps the surface alive."""
+    _release = "moldtex_intrinsic_release"
+    _what = "intrinsic triangulation"
 
     def __init__(self, surface, max_circumradius=0.0, max_insertions=None):
         lib = _require()
@@ -262,13 +249,6 @@ class Intrinsic:
                                             ctypes.byref(handle)),
                "Building the intrinsic triangulation")
         self._handle = handle
-
-    @property
-    def handle(self):
-        if self._handle is None:
-            raise EngineError("This intrinsic triangulation was released.",
-                              ERROR_INVALID_ARGUMENT)
-        return self._handle
 
     def info(self):
         info = IntrinsicInfo()
@@ -303,14 +283,3 @@ class Intrinsic:
         _check(library._lib.moldtex_intrinsic_vertex_points(self.handle, out, count),
                "Reading the intrinsic vertices' points")
         return _points_list(out)
-
-    def release(self):
-        if self._handle is not None and library._lib is not None:
-            library._lib.moldtex_intrinsic_release(self._handle)
-        self._handle = None
-
-    def __del__(self):
-        try:
-            self.release()
-        except Exception:
-            pass

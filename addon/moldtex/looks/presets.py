@@ -26,8 +26,8 @@ Presets neither store nor change the parameter maps (s.maps, maps/): a look is a
 the parameters, while a map names one object's vertex groups and images, which another
 object would not have (applying a look keeps the object's maps as they are).
 
-scaled_agent_count and apply_ramp are methods of the settings (settings/properties.py), so a
-preset never imports this add-on, whose module name differs between installs
+scaled_agent_count and apply_ramp are methods of the settings (settings/properties.py),
+so a preset never imports this add-on, whose module name differs between installs
 ("moldtex" as a legacy add-on, "bl_ext.<repository>.moldtex" as a 4.2 extension).
 
 Where presets are found (the same on Blender 3.4 and 4.2+):

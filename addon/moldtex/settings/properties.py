@@ -28,7 +28,7 @@ from .enums import enum_value
 
 MAX_THREADS = 256  # the core refuses more (moldtex_sim_set_params)
 
-# Bake file formats: identifier -> engine.IMAGE_* (bake.py maps them).
+# Bake file formats: identifier -> engine.IMAGE_* (bake/sequence.py maps them).
 BAKE_FORMAT_ITEMS = [
     ("EXR_HALF", "OpenEXR Half", "16-bit float OpenEXR, one channel (small, plenty for a "
                                  "texture: 11 significant bits)"),
@@ -557,7 +557,7 @@ class MoldtexSettings(bpy.types.PropertyGroup):
     ramp_stops: StringProperty(
         name="Preset Ramp", default="", options={'HIDDEN'},
         description="Colour ramp stops of the last preset, for Set Up Material")
-    # ---- bake (image sequence, bake.py) ----
+    # ---- bake (image sequence, bake/sequence.py) ----
     bake_use_scene_range: BoolProperty(
         name="Scene Frame Range", default=False,
         description="Bake the scene's frame range (Output Properties ▸ Frame Range); off: "
@@ -591,7 +591,7 @@ class MoldtexSettings(bpy.types.PropertyGroup):
                     "settings, frame range and steps per frame) instead of starting over; "
                     "the frames equal those of an uninterrupted bake")
 
-    # ---- helpers for preset files (presets.py); methods, so that a preset needs no
+    # ---- helpers for preset files (looks/presets.py); methods, so that a preset needs no
     # import of this add-on (its module name differs between installs) ----
     def scaled_agent_count(self, agents_at_512):
         """Agent count giving the density `agents_at_512` agents have on 512 × 512

@@ -7,7 +7,7 @@ undo the objects are new Python wrappers, so entries are looked up by name and m
 dirty: the next step re-reads the evaluated mesh and rebuilds the simulation if the
 mesh (or its UV map) is not the one the simulation was built on.
 
-This module talks to the core only through engine.py.
+This module talks to the core only through the binding (engine/).
 """
 
 import array
@@ -62,7 +62,7 @@ class LiveSim:
         self.domain_info = None   # Simulation.domain_info() of the running sim
         self.backend_note = ""    # why the sim does not run on the chosen backend
         self.create_config = None  # config given to the core (seed centre, radius)
-        # Bake (bake.py): the core's bake worker owns self.sim while it runs.
+        # Bake (bake/sequence.py): the core's bake worker owns self.sim while it runs.
         self.bake = None          # engine.Bake while a bake runs, else None
         self.bake_plan = None     # bake.BakePlan of the running or last bake
         self.bake_progress = {}   # last engine.Bake.progress() (the panel shows it)
@@ -315,7 +315,7 @@ def _build(entry, obj, mesh, depsgraph=None):
     entry.signature = mesh.signature
     entry.surface_info = surface_info
     entry.pixels = sim.new_rgba_buffer()
-    # A mesh without UVs shows its pattern per vertex (vertex_colours.py).
+    # A mesh without UVs shows its pattern per vertex (data/vertex_colours.py).
     entry.vertex_colours = mesh.uvs is None
     entry.flat_uv_map = mesh.flat_uv_map  # (a UV map of zero area counts as none)
     entry.vertex_pixels = None

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The "Moldtex" tab of the 3D Viewport sidebar. Draws only; never calls the engine's
-C functions (it reads cached stats from live.py).
+C functions (it reads cached stats from sim/session.py).
 
 Settings use Blender's property-split layout (label column, value column, no animate
 dots) with the short labels of LABELS, which fit the label column at the sidebar's
