@@ -178,13 +178,14 @@ def _sync_channel(obj, tree):
     if texture is None or span is None:
         return
     channel = nodes.get(CHANNEL_NODE)
-    shown = _model(obj).display_channel
+    model = _model(obj)
+    shown = model.display_channel
     if shown is not None:
         if channel is None:
             channel = nodes.new("ShaderNodeSeparateColor")
             channel.name = CHANNEL_NODE
             channel.location = (span.location.x - 180.0, span.location.y - 160.0)
-        label = f"Moldtex {_model(obj).label} ({shown})"
+        label = f"Moldtex {model.label} ({shown})"
         if channel.label != label:
             channel.label = label
         if not channel.inputs[0].is_linked:

@@ -42,6 +42,11 @@ def settings_groups():
     return {m.settings_name: m.settings_class for m in MODELS if m.settings_class}
 
 
+def own_settings(settings):
+    """The models' own settings groups on an object's settings (obj.moldtex)."""
+    return [getattr(settings, m.settings_name) for m in MODELS if m.settings_name]
+
+
 def register():
     for cls in settings_groups().values():
         bpy.utils.register_class(cls)

@@ -398,8 +398,11 @@ class _Panel(ui_layout.ModelPanel):
     model_key = "CONTINUOUS"
 
 
+_PANEL_LABELS = {**ui_layout.LABELS, **LABELS}  # (merged once, not at every draw)
+
+
 def _prop(column, data, name, **kwargs):
-    ui_layout.prop(column, data, name, labels={**ui_layout.LABELS, **LABELS}, **kwargs)
+    ui_layout.prop(column, data, name, labels=_PANEL_LABELS, **kwargs)
 
 
 def _u_text(obj):

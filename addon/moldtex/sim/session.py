@@ -230,8 +230,7 @@ def _build(entry, obj, mesh, depsgraph=None):
     settings = obj.moldtex
     # unknown enum values -> defaults
     repaired = " ".join(repair_enums(settings) + [
-        note for model in models.MODELS if model.settings_name
-        for note in repair_enums(getattr(settings, model.settings_name))])
+        note for group in models.own_settings(settings) for note in repair_enums(group)])
     config = config_from_settings(settings)
     device_note = backend_note(settings)
     note = " ".join(filter(None, (repaired, device_note)))

@@ -79,8 +79,8 @@ class MOLDTEX_PT_main(bpy.types.Panel):
         except MeshExportError as error:
             _wrapped(layout.box(), str(error), icon='ERROR')
         notes = invalid_enum_notes(settings) + [
-            note for model in models.MODELS if model.settings_name
-            for note in invalid_enum_notes(getattr(settings, model.settings_name))]
+            note for group in models.own_settings(settings)
+            for note in invalid_enum_notes(group)]
         for note in notes:
             _wrapped(layout, note + " Reset fixes it.", icon='ERROR')
         column = _split(layout)
